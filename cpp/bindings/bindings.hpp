@@ -1,0 +1,8 @@
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace pydrill::bindings {
+void bind_params(pybind11::module_& m);
+void bind_simulate(pybind11::module_& m);
+}  // namespace pydrill::bindings

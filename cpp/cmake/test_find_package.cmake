@@ -1,0 +1,32 @@
+# ctest driver: install the library into a scratch prefix, then configure,
+# build and run the example as an outside project would (find_package).
+foreach(var BUILD_DIR EXAMPLE_DIR WORK_DIR)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "${var} not set")
+  endif()
+endforeach()
+file(REMOVE_RECURSE ${WORK_DIR})
+set(prefix ${WORK_DIR}/prefix)
+execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix}
+                RESULT_VARIABLE rc)
+if(rc)
+  message(FATAL_ERROR "cmake --install failed: ${rc}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${EXAMPLE_DIR} -B ${WORK_DIR}/build
+                        -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release
+                RESULT_VARIABLE rc)
+if(rc)
+  message(FATAL_ERROR "configuring the example against the installed package failed: ${rc}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIABLE rc)
+if(rc)
+  message(FATAL_ERROR "building the example failed: ${rc}")
+endif()
+execute_process(COMMAND ${WORK_DIR}/build/pydrill_example OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+message("${out}")
+if(rc)
+  message(FATAL_ERROR "the example exited with ${rc}")
+endif()
+if(NOT out MATCHES "regime: stick-slip")
+  message(FATAL_ERROR "the example did not report the paper's stick-slip regime")
+endif()

@@ -1,0 +1,75 @@
+// Equations of motion of the chain in twist coordinates (DESIGN.md §2).
+//
+// State layout (n = 2·dof − 1):  y = (ω_0, θ_0, ω_1, θ_1, …, θ_{N−2}, ω_{N−1})
+// with ω_i at index 2i and the twist θ_i = φ_i − φ_{i+1} at index 2i+1.
+// Twists rather than absolute angles: the angles grow like Ω·t and would eat
+// the digits of the differences that drive the dynamics. With this order the
+// Jacobian is pentadiagonal (bandwidth 2), so linear algebra is O(dof).
+#pragma once
+
+#include <vector>
+
+#include "pydrill/friction.hpp"
+#include "pydrill/params.hpp"
+
+namespace pydrill {
+
+// How the bit–rock contact is currently treated. The mode is part of the
+// simulator's discrete state; the right-hand side only reads it.
+enum class Mode {
+  SlipPositive,  // bit turns forward, friction = +f_b(ω_b)
+  SlipNegative,  // bit turns backward, friction = −f_b(|ω_b|)
+  Stick,         // bit held still (exact friction): ω_b ≡ 0, friction = T_e
+  Band,          // Karnopp zero-velocity band |ω_b| < D_v: friction = clip(T_e, ±T_s)
+};
+
+const char* mode_name(Mode m);
+
+class Chain {
+ public:
+  Chain(const Params& params, double wob, double torque);
+
+  int dof() const { return dof_; }
+  int size() const { return 2 * dof_ - 1; }
+  int bit_index() const { return 2 * dof_ - 2; }
+  double torque() const { return torque_; }
+  double wob() const { return wob_; }
+  const Params& params() const { return params_; }
+  const BitFriction& friction() const { return friction_; }
+  double static_torque() const { return friction_.static_torque(); }
+
+  // Reaction torque T_e = k θ_{N−2} + c (ω_{N−2} − ω_b) − c_b ω_b: what the
+  // rock must hold for the bit to stay still (Eq. 12).
+  double reaction_torque(const double* y) const;
+
+  // Friction torque on the bit in the given mode.
+  double friction_torque(const double* y, Mode mode) const;
+
+  // ẏ = f(y) in the given mode. Pure: no state is changed.
+  void rhs(const double* y, Mode mode, double* ydot) const;
+
+  // Jacobian ∂f/∂y in band storage: band[5*r + (c − r + 2)] = J(r, c) for
+  // |c − r| <= 2. Entries outside the matrix are set to zero.
+  void jacobian_band(const double* y, Mode mode, double* band) const;
+
+  // Power balance densities: input power u·ω_0, viscous dissipation
+  // c_r ω_0² + Σ c_i (ω_i − ω_{i+1})² + c_b ω_b², friction power T_f·ω_b.
+  double input_power(const double* y) const { return torque_ * y[0]; }
+  double viscous_power(const double* y, Mode mode) const;
+  double friction_power(const double* y, Mode mode) const;
+
+  // Kinetic plus elastic energy ½Σ I ω² + ½Σ k θ².
+  double energy(const double* y) const;
+
+  // Mode in which a simulation starting from y must begin.
+  Mode initial_mode(const double* y, bool karnopp) const;
+
+ private:
+  Params params_;
+  BitFriction friction_;
+  int dof_;
+  double wob_, torque_;
+  std::vector<double> inv_inertia_;
+};
+
+}  // namespace pydrill

@@ -1,0 +1,119 @@
+// Event-driven simulation of the drillstring with CVODES (DESIGN.md §2).
+//
+// Every stick/slip/reversal switch is located by CVODES's rootfinding and the
+// integrator is re-initialised there, so no smoothing band is ever used for
+// the exact friction law and no chattering occurs.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pydrill/model.hpp"
+#include "pydrill/params.hpp"
+
+namespace pydrill {
+
+enum class Method { Auto, BDF, Adams };
+enum class FrictionLaw { Exact, Karnopp };
+enum class Initial { Rest, Equilibrium, State };
+
+const char* method_name(Method m);
+Method parse_method(const std::string& s);            // "auto", "bdf", "adams"
+FrictionLaw parse_friction(const std::string& s);     // "exact", "karnopp"
+Initial parse_initial(const std::string& s);          // "rest", "equilibrium"
+
+struct SimulationOptions {
+  double t_end = 300.0;              // s
+  std::vector<double> t_out;         // output times in [0, t_end]; empty: n_out uniform
+  int n_out = 3001;                  // used when t_out is empty
+  Method method = Method::Auto;
+  FrictionLaw friction = FrictionLaw::Exact;
+  Initial initial = Initial::Rest;
+  std::vector<double> state;         // twist-coordinate start (Initial::State)
+  double perturbation = 1e-3;        // Initial::Equilibrium: ω_b = (1 + perturbation)·Ω
+  double rtol = 1e-8;
+  double atol = 1e-8;
+  double max_step = 0.0;             // 0: no limit
+  long max_steps = 50'000'000;       // internal steps over the whole run
+  double window_fraction = 0.5;      // last fraction of the run judged for the regime
+  double max_switch_rate = 1e4;      // switches per simulated second before it is chattering
+  void validate(int dof) const;
+};
+
+enum class SwitchKind { Stick, Slip, Reversal, BandEnter, BandLeave };
+const char* switch_kind_name(SwitchKind k);
+
+struct Switch {
+  double t;              // s
+  SwitchKind kind;
+  int direction;         // bit direction after the switch: +1, −1, 0 (stuck)
+  double reaction;       // T_e at the switch, N·m
+  double root_residual;  // value of the triggering root function at t (≈ 0)
+};
+
+struct SolverStats {
+  std::string method;          // "bdf" or "adams" (what actually ran)
+  std::string method_reason;   // why "auto" chose it
+  double stiffness_ratio = 0;  // estimate used by "auto"
+  long steps = 0, rhs_evals = 0, jac_evals = 0, lin_setups = 0, lin_solves = 0;
+  long nonlin_iters = 0, nonlin_conv_fails = 0, err_test_fails = 0, root_evals = 0;
+  long reinits = 0;
+  long switches = 0;
+  double wall_time = 0;        // s spent in the core
+};
+
+struct Summary {
+  std::string regime;          // "steady", "stick-slip", "stuck", "oscillation"
+  double window_start = 0, window_end = 0;
+  double bit_min = 0, bit_max = 0, bit_mean = 0;
+  double top_min = 0, top_max = 0, top_mean = 0;
+  double severity = 0;         // (max ω_b − min ω_b) / (2 mean ω_b)
+  double bit_top_ratio = 0;    // max ω_b / mean ω_top
+  double stuck_fraction = 0;   // fraction of the window spent in stick
+  double period = -1;          // s; < 0 when there is none
+  long stick_events = 0;       // slip→stick transitions in the window
+  double static_torque = 0;    // T_s = μ_sb W_ob R_b
+  std::vector<double> omega_equilibrium;  // every Ω > 0 for (W_ob, u)
+};
+
+struct Result {
+  int dof = 0;
+  double wob = 0, torque = 0;
+  std::vector<double> t;        // output times
+  std::vector<double> states;   // row-major (t.size(), 2·dof−1), twist coordinates
+  std::vector<double> top_angle;  // φ_0 at the output times (φ_0(0) = 0)
+  // Energy ledger at the output times (J), all zero at t = 0:
+  std::vector<double> work_input;        // ∫ u ω_0 dt
+  std::vector<double> viscous_loss;      // ∫ viscous dissipation dt
+  std::vector<double> friction_loss;     // ∫ T_f ω_b dt
+  std::vector<double> energy;            // kinetic + elastic at the output times
+  std::vector<int> modes;                // Mode at each output time
+  std::vector<Switch> switches;
+  SolverStats stats;
+  Summary summary;
+};
+
+// A solver failure: CVODES's own message and where the integration stopped.
+class SolverError : public std::runtime_error {
+ public:
+  SolverError(const std::string& what, double t_reached)
+      : std::runtime_error(what), t_reached_(t_reached) {}
+  double t_reached() const { return t_reached_; }
+
+ private:
+  double t_reached_;
+};
+
+// Stiffness estimate used by Method::Auto: ratio of the highest natural
+// frequency (Gershgorin bound) to the fundamental (Rayleigh estimate of the
+// string clamped at the bit).
+double stiffness_ratio(const Params& params);
+Method choose_method(const Params& params, std::string* reason = nullptr);
+
+// Runs one simulation. Throws std::invalid_argument on bad input (nothing is
+// computed) and SolverError if CVODES fails. Thread-safe: no global state.
+Result simulate(const Params& params, double wob, double torque, const SimulationOptions& options);
+
+}  // namespace pydrill

@@ -1,0 +1,109 @@
+#include "pydrill/equilibrium.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "pydrill/friction.hpp"
+
+namespace pydrill {
+namespace {
+
+// g(Ω) = (c_r + c_b) Ω + f_b(Ω): the surface torque that holds Ω.
+struct TorqueCurve {
+  double C;
+  BitFriction f;
+  double operator()(double omega) const { return C * omega + f.magnitude(omega); }
+};
+
+// Bisection on a bracket where g − u changes sign; runs until the bracket
+// cannot shrink any further in floating point, so the root is exact to the ulp.
+double bisect(const TorqueCurve& g, double u, double lo, double hi) {
+  double glo = g(lo) - u;
+  for (int it = 0; it < 2000; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    const double gm = g(mid) - u;
+    if (gm == 0.0) return mid;
+    if ((gm < 0) == (glo < 0)) {
+      lo = mid;
+      glo = gm;
+    } else {
+      hi = mid;
+    }
+  }
+  return std::fabs(g(lo) - u) <= std::fabs(g(hi) - u) ? lo : hi;
+}
+
+}  // namespace
+
+double equilibrium_torque(const Params& params, double wob, double omega) {
+  params.validate();
+  check_operating_point(wob, 0.0);
+  if (!std::isfinite(omega) || !(omega > 0)) {
+    throw std::invalid_argument("omega = " + std::to_string(omega) +
+                                " is not allowed: steady drilling needs a finite omega > 0 rad/s");
+  }
+  const BitFriction f(params, wob);
+  return (params.top_damping + params.bit_damping) * omega + f.magnitude(omega);
+}
+
+std::vector<double> equilibrium_velocities(const Params& params, double wob, double torque) {
+  params.validate();
+  check_operating_point(wob, torque);
+  const TorqueCurve g{params.top_damping + params.bit_damping, BitFriction(params, wob)};
+  const double ts = g.f.static_torque();
+  const double slope0 = g.f.delta(0.0);  // −d f_b/dΩ at 0⁺
+  std::vector<double> roots;
+
+  // Turning point Ω_m where δ(Ω_m) = C (g is convex, so this is its minimum).
+  double omega_min = 0.0;
+  if (g.C <= 0.0) {
+    omega_min = std::numeric_limits<double>::infinity();
+  } else if (slope0 > g.C) {
+    omega_min = std::log(slope0 / g.C) / g.f.decay;
+  }
+
+  if (std::isinf(omega_min)) {
+    // No damping: g falls from T_s towards the Coulomb level W R μ_c.
+    if (torque < ts && torque > g.f.scale * g.f.mu_c) {
+      double hi = 1.0;
+      while (g(hi) > torque) hi *= 2.0;
+      roots.push_back(bisect(g, torque, 0.0, hi));
+    }
+    return roots;
+  }
+  auto right_root = [&](double lo) {
+    double hi = std::max(1.0, 2.0 * lo);
+    while (g(hi) <= torque) {
+      lo = hi;
+      hi *= 2.0;
+    }
+    return bisect(g, torque, lo, hi);
+  };
+  if (omega_min == 0.0) {
+    // g increases from T_s: one steady state iff the torque exceeds T_s.
+    if (torque > ts) roots.push_back(right_root(0.0));
+    return roots;
+  }
+  const double gmin = g(omega_min);
+  if (torque == gmin) {
+    roots.push_back(omega_min);  // fold: the two branches meet
+  } else if (torque > gmin) {
+    if (torque < ts) roots.push_back(bisect(g, torque, 0.0, omega_min));
+    roots.push_back(right_root(omega_min));
+  }
+  return roots;
+}
+
+std::vector<double> equilibrium_state(const Params& params, double wob, double omega) {
+  const double u = equilibrium_torque(params, wob, omega);  // validates
+  const double h = u - params.top_damping * omega;          // torque every spring carries
+  const int N = params.dof();
+  std::vector<double> y(static_cast<std::size_t>(2 * N - 1));
+  for (int i = 0; i < N; ++i) y[2 * i] = omega;
+  for (int i = 0; i < N - 1; ++i) y[2 * i + 1] = h / params.stiffnesses[i];
+  return y;
+}
+
+}  // namespace pydrill

@@ -1,0 +1,159 @@
+#include "pydrill/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pydrill {
+
+const char* mode_name(Mode m) {
+  switch (m) {
+    case Mode::SlipPositive: return "slip+";
+    case Mode::SlipNegative: return "slip-";
+    case Mode::Stick: return "stick";
+    case Mode::Band: return "band";
+  }
+  return "?";
+}
+
+Chain::Chain(const Params& params, double wob, double torque)
+    : params_(params), friction_(params, wob), dof_(params.dof()), wob_(wob), torque_(torque) {
+  params_.validate();
+  check_operating_point(wob, torque);
+  inv_inertia_.resize(params_.inertias.size());
+  for (std::size_t i = 0; i < inv_inertia_.size(); ++i) inv_inertia_[i] = 1.0 / params_.inertias[i];
+}
+
+double Chain::reaction_torque(const double* y) const {
+  const int b = bit_index();
+  const double k = params_.stiffnesses.back(), c = params_.dampings.back();
+  return k * y[b - 1] + c * (y[b - 2] - y[b]) - params_.bit_damping * y[b];
+}
+
+double Chain::friction_torque(const double* y, Mode mode) const {
+  const double wb = y[bit_index()];
+  switch (mode) {
+    case Mode::SlipPositive: return friction_.slip_torque(wb, +1);
+    case Mode::SlipNegative: return friction_.slip_torque(wb, -1);
+    case Mode::Stick: return reaction_torque(y);
+    case Mode::Band: {
+      const double ts = friction_.static_torque();
+      return std::clamp(reaction_torque(y), -ts, ts);
+    }
+  }
+  return 0.0;
+}
+
+void Chain::rhs(const double* y, Mode mode, double* ydot) const {
+  const int N = dof_;
+  const double* k = params_.stiffnesses.data();
+  const double* c = params_.dampings.data();
+  // Spring torques s_i = k_i θ_i + c_i (ω_i − ω_{i+1}) are computed once and
+  // used by both neighbours (Newton's third law holds exactly).
+  double s_prev = 0.0;
+  for (int i = 0; i < N - 1; ++i) {
+    const double wi = y[2 * i], wn = y[2 * i + 2];
+    const double s = k[i] * y[2 * i + 1] + c[i] * (wi - wn);
+    const double external = (i == 0) ? torque_ - params_.top_damping * wi : s_prev;
+    ydot[2 * i] = (external - s) * inv_inertia_[i];
+    ydot[2 * i + 1] = wi - wn;
+    s_prev = s;
+  }
+  const int b = bit_index();
+  if (mode == Mode::Stick) {
+    // The rock holds the bit: ω_b stays exactly 0.
+    ydot[b] = 0.0;
+    return;
+  }
+  const double te = s_prev - params_.bit_damping * y[b];
+  ydot[b] = (te - friction_torque(y, mode)) * inv_inertia_[N - 1];
+}
+
+void Chain::jacobian_band(const double* y, Mode mode, double* band) const {
+  const int N = dof_, n = size();
+  const double* k = params_.stiffnesses.data();
+  const double* c = params_.dampings.data();
+  std::fill(band, band + 5 * n, 0.0);
+  auto at = [&](int r, int col) -> double& { return band[5 * r + (col - r + 2)]; };
+  for (int i = 0; i < N; ++i) {
+    const int r = 2 * i;
+    const double inv = inv_inertia_[i];
+    double diag = 0.0;
+    if (i == 0) diag -= params_.top_damping;
+    if (i > 0) {  // spring i−1 above
+      at(r, r - 2) = c[i - 1] * inv;
+      at(r, r - 1) = k[i - 1] * inv;
+      diag -= c[i - 1];
+    }
+    if (i < N - 1) {  // spring i below
+      at(r, r + 1) = -k[i] * inv;
+      at(r, r + 2) = c[i] * inv;
+      diag -= c[i];
+      at(r + 1, r) = 1.0;       // θ̇_i = ω_i − ω_{i+1}
+      at(r + 1, r + 2) = -1.0;
+    }
+    at(r, r) = diag * inv;
+  }
+  const int b = bit_index();
+  double& bdiag = at(b, b);
+  bdiag -= params_.bit_damping * inv_inertia_[N - 1];
+  switch (mode) {
+    case Mode::SlipPositive:
+    case Mode::SlipNegative: {
+      const int dir = (mode == Mode::SlipPositive) ? 1 : -1;
+      // d/dω [dir·f(|ω|)] = f'(|ω|)·dir·sgn(ω) = slip_slope when ω has the mode's sign.
+      const double wb = y[b];
+      const double sign = (wb == 0.0) ? 1.0 : ((wb > 0) == (dir > 0) ? 1.0 : -1.0);
+      bdiag -= sign * friction_.slip_slope(wb) * inv_inertia_[N - 1];
+      break;
+    }
+    case Mode::Stick:
+      at(b, b - 2) = at(b, b - 1) = at(b, b) = 0.0;
+      break;
+    case Mode::Band:
+      if (std::fabs(reaction_torque(y)) <= friction_.static_torque()) {
+        at(b, b - 2) = at(b, b - 1) = at(b, b) = 0.0;  // friction cancels T_e exactly
+      }
+      break;
+  }
+}
+
+double Chain::viscous_power(const double* y, Mode mode) const {
+  const int N = dof_;
+  const double* c = params_.dampings.data();
+  double p = params_.top_damping * y[0] * y[0];
+  for (int i = 0; i < N - 1; ++i) {
+    const double dw = y[2 * i] - y[2 * i + 2];
+    p += c[i] * dw * dw;
+  }
+  const double wb = (mode == Mode::Stick) ? 0.0 : y[bit_index()];
+  return p + params_.bit_damping * wb * wb;
+}
+
+double Chain::friction_power(const double* y, Mode mode) const {
+  if (mode == Mode::Stick) return 0.0;
+  return friction_torque(y, mode) * y[bit_index()];
+}
+
+double Chain::energy(const double* y) const {
+  double e = 0.0;
+  for (int i = 0; i < dof_; ++i) e += 0.5 * params_.inertias[i] * y[2 * i] * y[2 * i];
+  for (int i = 0; i < dof_ - 1; ++i) e += 0.5 * params_.stiffnesses[i] * y[2 * i + 1] * y[2 * i + 1];
+  return e;
+}
+
+Mode Chain::initial_mode(const double* y, bool karnopp) const {
+  const double wb = y[bit_index()];
+  if (karnopp) {
+    if (wb >= params_.karnopp_band) return Mode::SlipPositive;
+    if (wb <= -params_.karnopp_band) return Mode::SlipNegative;
+    return Mode::Band;
+  }
+  if (wb > 0) return Mode::SlipPositive;
+  if (wb < 0) return Mode::SlipNegative;
+  const double te = reaction_torque(y), ts = friction_.static_torque();
+  if (te > ts) return Mode::SlipPositive;
+  if (te < -ts) return Mode::SlipNegative;
+  return Mode::Stick;
+}
+
+}  // namespace pydrill

@@ -1,0 +1,106 @@
+#include "summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pydrill/equilibrium.hpp"
+
+namespace pydrill::detail {
+namespace {
+
+bool is_held(Mode m) { return m == Mode::Stick || m == Mode::Band; }
+
+// Mean spacing of upward crossings of `level` (linear interpolation between
+// samples); < 0 when fewer than two crossings exist.
+double crossing_period(const Trace& tr, double level) {
+  std::vector<double> ups;
+  for (std::size_t i = 1; i < tr.t.size(); ++i) {
+    const double a = tr.bit[i - 1] - level, b = tr.bit[i] - level;
+    if (a < 0 && b >= 0) ups.push_back(tr.t[i - 1] + (tr.t[i] - tr.t[i - 1]) * (-a) / (b - a));
+  }
+  if (ups.size() < 2) return -1.0;
+  return (ups.back() - ups.front()) / static_cast<double>(ups.size() - 1);
+}
+
+double span(const Trace& tr, double t0, double t1) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < tr.t.size(); ++i) {
+    if (tr.t[i] < t0 || tr.t[i] > t1) continue;
+    lo = std::min(lo, tr.bit[i]);
+    hi = std::max(hi, tr.bit[i]);
+  }
+  return hi >= lo ? hi - lo : 0.0;
+}
+
+}  // namespace
+
+Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeChange>& modes,
+                  const WindowAngles& w, bool karnopp) {
+  Summary s;
+  s.window_start = w.t0;
+  s.window_end = w.t1;
+  s.static_torque = chain.static_torque();
+  s.omega_equilibrium = equilibrium_velocities(chain.params(), chain.wob(), chain.torque());
+  const double T = w.t1 - w.t0;
+
+  if (!tr.t.empty()) {
+    const auto [bmin, bmax] = std::minmax_element(tr.bit.begin(), tr.bit.end());
+    const auto [tmin, tmax] = std::minmax_element(tr.top.begin(), tr.top.end());
+    s.bit_min = *bmin;
+    s.bit_max = *bmax;
+    s.top_min = *tmin;
+    s.top_max = *tmax;
+  }
+  // Means from the angle advance over the window: exact, whatever the sampling.
+  s.bit_mean = T > 0 ? (w.bit1 - w.bit0) / T : 0.0;
+  s.top_mean = T > 0 ? (w.top1 - w.top0) / T : 0.0;
+  s.severity = s.bit_mean != 0.0 ? (s.bit_max - s.bit_min) / (2.0 * std::fabs(s.bit_mean))
+                                 : std::numeric_limits<double>::infinity();
+  if (s.bit_max == s.bit_min) s.severity = 0.0;
+  s.bit_top_ratio = s.top_mean != 0.0 ? s.bit_max / s.top_mean : 0.0;
+
+  // Time held by the rock inside the window, and stick onsets in it.
+  double held = 0.0;
+  std::vector<double> onsets;
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    const double a = modes[i].t;
+    const double b = (i + 1 < modes.size()) ? modes[i + 1].t : w.t1;
+    if (is_held(modes[i].mode)) {
+      held += std::max(0.0, std::min(b, w.t1) - std::max(a, w.t0));
+      const bool onset = i > 0 && !is_held(modes[i - 1].mode);
+      if (onset && a >= w.t0 && a <= w.t1) onsets.push_back(a);
+    }
+  }
+  s.stuck_fraction = T > 0 ? std::clamp(held / T, 0.0, 1.0) : 0.0;
+  s.stick_events = static_cast<long>(onsets.size());
+  if (onsets.size() >= 2) {
+    s.period = (onsets.back() - onsets.front()) / static_cast<double>(onsets.size() - 1);
+  }
+
+  const bool held_throughout = s.stuck_fraction >= 1.0 - 1e-12;
+  if (held_throughout) {
+    // In stick the string relaxes towards T_e = u. If |u| <= T_s the rock
+    // holds it for good; otherwise it must break free later: the window only
+    // caught one long stick phase of a stick-slip cycle.
+    s.regime = std::fabs(chain.torque()) <= chain.static_torque() || karnopp ? "stuck" : "stick-slip";
+    s.severity = 0.0;
+  } else if (held > 0.0) {
+    s.regime = "stick-slip";
+  } else {
+    // No sticking: steady if the bit velocity settles, oscillation if the
+    // swing is sustained over the second half of the window.
+    const double mid = 0.5 * (w.t0 + w.t1);
+    const double a1 = span(tr, w.t0, mid), a2 = span(tr, mid, w.t1);
+    const double scale = std::max(std::fabs(s.bit_mean), 1e-12);
+    if (a2 <= 2e-6 * scale || a2 < 0.7 * a1) {
+      s.regime = "steady";
+    } else {
+      s.regime = "oscillation";
+      s.period = crossing_period(tr, s.bit_mean);
+    }
+  }
+  return s;
+}
+
+}  // namespace pydrill::detail

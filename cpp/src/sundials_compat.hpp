@@ -1,0 +1,64 @@
+// The few places where SUNDIALS 6.x and 7.x differ, kept in one header so a
+// build against any SUNDIALS >= 6.4 compiles the rest of the code unchanged.
+#pragma once
+
+#include <cvodes/cvodes.h>
+#include <sundials/sundials_config.h>
+#include <sundials/sundials_context.h>
+
+#include <stdexcept>
+#include <string>
+
+#if SUNDIALS_VERSION_MAJOR < 6 || (SUNDIALS_VERSION_MAJOR == 6 && SUNDIALS_VERSION_MINOR < 4)
+#error "pydrill needs SUNDIALS >= 6.4"
+#endif
+
+namespace pydrill::detail {
+
+// Owns one SUNContext; each simulation has its own, so runs are thread-safe.
+class Context {
+ public:
+  Context() {
+#if SUNDIALS_VERSION_MAJOR >= 7
+    const int flag = SUNContext_Create(SUN_COMM_NULL, &ctx_);
+#else
+    const int flag = SUNContext_Create(nullptr, &ctx_);
+#endif
+    if (flag != 0 || ctx_ == nullptr) throw std::runtime_error("SUNContext_Create failed");
+  }
+  ~Context() { SUNContext_Free(&ctx_); }
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+  operator SUNContext() const { return ctx_; }
+
+ private:
+  SUNContext ctx_ = nullptr;
+};
+
+// Routes CVODES's error and warning messages into `sink` instead of stderr,
+// so they can travel with the exception that reports the failure.
+#if SUNDIALS_VERSION_MAJOR >= 7
+inline void capture_messages(void* /*cvode_mem*/, SUNContext ctx, std::string* sink) {
+  SUNContext_ClearErrHandlers(ctx);
+  SUNContext_PushErrHandler(
+      ctx,
+      [](int, const char* func, const char*, const char* msg, SUNErrCode, void* data, SUNContext) {
+        auto* s = static_cast<std::string*>(data);
+        *s = std::string(func ? func : "CVODES") + ": " + (msg ? msg : "");
+      },
+      sink);
+}
+#else
+inline void capture_messages(void* cvode_mem, SUNContext /*ctx*/, std::string* sink) {
+  CVodeSetErrHandlerFn(
+      cvode_mem,
+      [](int, const char* module, const char* function, char* msg, void* data) {
+        auto* s = static_cast<std::string*>(data);
+        *s = std::string(module ? module : "CVODES") + "/" + (function ? function : "") + ": " +
+             (msg ? msg : "");
+      },
+      sink);
+}
+#endif
+
+}  // namespace pydrill::detail

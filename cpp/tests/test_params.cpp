@@ -1,0 +1,73 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "pydrill/params.hpp"
+
+using pydrill::Params;
+using pydrill::preset;
+
+namespace {
+std::string refusal(const Params& p) {
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST_CASE("reduced-scale preset builds the chain of Eq. (14) for any dof", "[params]") {
+  for (int dof : {2, 3, 4, 13, 503}) {
+    const Params p = preset("reduced-scale", dof);
+    REQUIRE(p.dof() == dof);
+    REQUIRE(p.stiffnesses.size() == static_cast<std::size_t>(dof - 1));
+    CHECK(p.inertias.front() == 0.518);
+    CHECK(p.inertias.back() == 0.0318);
+    if (dof >= 3) CHECK(p.inertias[dof - 2] == 0.0318);  // J_l = J_b
+    if (dof >= 4) CHECK(p.inertias[1] == 0.025);        // pipes
+  }
+  const Params r = preset("real-string", 2);
+  CHECK(r.inertias[1] == 471.9698);
+  CHECK(r.stiffnesses[0] == 861.5336);
+  CHECK_THROWS_AS(preset("real-string", 4), std::invalid_argument);
+  CHECK_THROWS_AS(preset("nonsense", 4), std::invalid_argument);
+  CHECK_THROWS_AS(preset("reduced-scale", 1), std::invalid_argument);
+}
+
+TEST_CASE("bad parameters are refused with their name, value and range", "[params]") {
+  const Params good = preset("reduced-scale", 4);
+  REQUIRE(refusal(good).empty());
+
+  Params p = good;
+  p.inertias[2] = -1.0;
+  CHECK(refusal(p).find("inertias[2] = -1") != std::string::npos);
+  CHECK(refusal(p).find("> 0") != std::string::npos);
+
+  p = good;
+  p.dampings[0] = -1e-3;
+  CHECK(refusal(p).find("dampings[0]") != std::string::npos);
+
+  p = good;
+  p.stiffnesses[1] = std::numeric_limits<double>::quiet_NaN();
+  CHECK(refusal(p).find("stiffnesses[1]") != std::string::npos);
+
+  p = good;
+  p.mu_static = 0.4;  // below μ_c = 0.5
+  CHECK(refusal(p).find("mu_static") != std::string::npos);
+
+  p = good;
+  p.stiffnesses.pop_back();
+  CHECK(refusal(p).find("stiffnesses has 2 entries") != std::string::npos);
+
+  p = good;
+  p.bit_radius = std::numeric_limits<double>::infinity();
+  CHECK(refusal(p).find("bit_radius") != std::string::npos);
+
+  CHECK_THROWS_WITH(pydrill::check_operating_point(0.0, 8.3), Catch::Contains("wob = 0"));
+  CHECK_THROWS_WITH(pydrill::check_operating_point(100.0, std::nan("")), Catch::Contains("torque"));
+}

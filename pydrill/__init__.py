@@ -1,0 +1,38 @@
+"""pydrill — stick-slip, stuck bits and steady drilling of torsional drillstring models.
+
+The physics and its corrections to the paper are in DESIGN.md; the fast work runs in the C++
+core (``pydrill._core``), which this package re-exports with documentation and plain data.
+"""
+
+from . import _core
+from ._core import SolverError
+from .model import PRESETS, Params, preset
+from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
+
+__version__: str = _core.__version__
+
+
+def equilibrium_velocities(params: Params, wob: float, torque: float) -> list[float]:
+    """Every steady bit velocity Ω > 0 (rad/s) at which ``torque`` balances the string."""
+    return list(_core.equilibrium_velocities(params.to_core(), float(wob), float(torque)))
+
+
+def equilibrium_torque(params: Params, wob: float, omega: float) -> float:
+    """Surface torque (N·m) that keeps the whole string turning at ``omega`` rad/s."""
+    return float(_core.equilibrium_torque(params.to_core(), float(wob), float(omega)))
+
+
+__all__ = [
+    "PRESETS",
+    "REGIMES",
+    "Params",
+    "SimulationResult",
+    "SolverError",
+    "SolverStats",
+    "Summary",
+    "Switch",
+    "equilibrium_torque",
+    "equilibrium_velocities",
+    "preset",
+    "simulate",
+]
