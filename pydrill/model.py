@@ -128,7 +128,22 @@ def preset(
     (0.073, 0.2)
     """
     default = 2 if name == "real-string" else 4
+    if dof is None and pipes is None:
+        # A full list of inertias (or springs) says how long the string is.
+        if "inertias" in overrides:
+            default = len(_as_list("inertias", overrides["inertias"], 0))
+        elif "stiffnesses" in overrides:
+            default = len(_as_list("stiffnesses", overrides["stiffnesses"], 0)) + 1
     n = resolve_dof(dof, pipes, default)
+    for key in _LISTS:
+        if key in overrides:
+            values = _as_list(key, overrides[key], n)
+            need = n if key == "inertias" else n - 1
+            if len(values) != need:
+                raise ValueError(
+                    f"{key} has {len(values)} entries: dof = {n} needs {need}"
+                    + (" (one per inertia)" if key == "inertias" else " (one per spring)")
+                )
     core = _core.preset(name, n)
     fields = {key: getattr(core, key) for key in _LISTS + _SCALARS}
     params = Params(**fields, name=name)

@@ -81,6 +81,7 @@ class Summary:
     stick_events: int
     static_torque: float  #: T_s = μ_sb W_ob R_b
     omega_equilibrium: tuple[float, ...]  #: every steady velocity Ω > 0 for (W_ob, u)
+    note: str = ""  #: caveat about the judgement (e.g. the run was too short)
 
 
 class SimulationResult:
@@ -203,6 +204,7 @@ class SimulationResult:
             "static_torque": s.static_torque,
             "omega_equilibrium": list(s.omega_equilibrium),
             "window": [s.window_start, s.window_end],
+            "note": s.note or None,
             "solver": {
                 k: v
                 for k, v in asdict(self.stats).items()

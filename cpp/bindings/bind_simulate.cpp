@@ -39,6 +39,7 @@ py::dict summary_dict(const Summary& s) {
   d["stick_events"] = s.stick_events;
   d["static_torque"] = s.static_torque;
   d["omega_equilibrium"] = s.omega_equilibrium;
+  d["note"] = s.note;
   return d;
 }
 

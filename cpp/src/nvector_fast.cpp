@@ -29,6 +29,9 @@
 #include "nvector_fast.hpp"
 
 #include <sundials/sundials_math.h>
+#if SUNDIALS_VERSION_MAJOR >= 7
+#include <sundials/sundials_errors.h>  // SUNErrCode values
+#endif
 
 #include <cmath>
 #include <cstdio>

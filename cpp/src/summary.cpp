@@ -83,8 +83,23 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     // In stick the string relaxes towards T_e = u. If |u| <= T_s the rock
     // holds it for good; otherwise it must break free later: the window only
     // caught one long stick phase of a stick-slip cycle.
-    s.regime = std::fabs(chain.torque()) <= chain.static_torque() || karnopp ? "stuck" : "stick-slip";
+    // In stick the string relaxes towards T_e = u. If |u| <= T_s the rock
+    // holds it for good. Otherwise it must break free later: if it already
+    // did once, the window caught one long stick phase of a stick-slip cycle;
+    // if it never did, the run ended inside the first wind-up.
+    const bool must_slip = std::fabs(chain.torque()) > chain.static_torque();
+    const bool ever_slipped = modes.size() > 1 || !is_held(modes.front().mode);
+    s.regime = must_slip && ever_slipped ? "stick-slip" : "stuck";
+    if (must_slip && !ever_slipped) {
+      s.note = "the bit has not broken free yet although |u| > T_s: the run ended during the "
+               "first wind-up of the string; simulate longer to see the regime";
+    } else if (must_slip) {
+      s.note = "the window holds a single stick phase of a slow stick-slip cycle; simulate longer "
+               "for its period";
+    }
     s.severity = 0.0;
+    if (!karnopp) s.bit_mean = 0.0;  // exact stick: the bit does not move at all
+    if (s.bit_max == 0.0) s.bit_top_ratio = 0.0;
   } else if (held > 0.0) {
     s.regime = "stick-slip";
   } else {

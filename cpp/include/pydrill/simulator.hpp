@@ -76,6 +76,7 @@ struct Summary {
   long stick_events = 0;       // slip→stick transitions in the window
   double static_torque = 0;    // T_s = μ_sb W_ob R_b
   std::vector<double> omega_equilibrium;  // every Ω > 0 for (W_ob, u)
+  std::string note;            // caveat about the judgement, empty when there is none
 };
 
 struct Result {

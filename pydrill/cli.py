@@ -1,0 +1,258 @@
+"""The ``pydrill`` command.
+
+Bad input ends with a one-line message and exit status 2 (no traceback); a solver failure with
+exit status 3. ``--json`` prints exactly one JSON object on stdout for scripts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+EXIT_USAGE = 2
+EXIT_SOLVER = 3
+
+SIMULATE_EPILOG = """\
+examples:
+  pydrill simulate --wob 100 --torque 8.3                 # paper Fig. 4: stick-slip
+  pydrill simulate --wob 160 --torque 8.3 --json          # stuck bit, machine-readable
+  pydrill simulate --pipes 100 --wob 100 --torque 8.3 --plot run.png
+  pydrill simulate --wob 40 --torque 8.3 --initial equilibrium --friction karnopp
+
+regimes (judged on the last --window fraction of the run):
+  steady       the bit converges to the steady velocity Omega > 0
+  stick-slip   the bit repeatedly sticks and slips
+  stuck        the bit sticks and stays stuck (u <= T_s = mu_s * W_ob * R_b)
+  oscillation  sustained torsional oscillation without sticking (a Hopf limit cycle)
+
+units: wob N, torque N*m, time s, velocities rad/s.
+"""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # exit 2 with a one-line message
+        self.print_usage(sys.stderr)
+        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        raise SystemExit(EXIT_USAGE)
+
+
+def _positive(name: str):
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+        if not math.isfinite(value) or value <= 0:
+            raise argparse.ArgumentTypeError(f"{name} must be a finite number > 0, got {text}")
+        return value
+
+    return parse
+
+
+def _finite(name: str):
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+        if not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{name} must be finite, got {text}")
+        return value
+
+    return parse
+
+
+def _list(name: str):
+    def parse(text: str) -> list[float]:
+        try:
+            return [float(v) for v in text.split(",") if v.strip()]
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be comma-separated numbers, got {text!r}"
+            ) from None
+
+    return parse
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from . import PRESETS, __version__
+
+    parser = _Parser(
+        prog="pydrill",
+        description="Stick-slip, stuck bits and steady drilling of torsional drillstring models.",
+        epilog="Run 'pydrill COMMAND --help' for the options of each command.",
+    )
+    parser.add_argument("--version", action="version", version=f"pydrill {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+
+    sim = sub.add_parser(
+        "simulate",
+        help="simulate one operating point and report its regime",
+        description="Simulate the string at one (W_ob, u) and judge the regime: steady, "
+        "stick-slip, stuck or oscillation. Every stick/slip switch is located exactly by "
+        "CVODES rootfinding.",
+        epilog=SIMULATE_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    model = sim.add_argument_group("string")
+    model.add_argument(
+        "--preset",
+        choices=PRESETS,
+        default="reduced-scale",
+        help="parameter set (default: reduced-scale, the paper's Eq. 14)",
+    )
+    size = model.add_mutually_exclusive_group()
+    size.add_argument("--dof", type=int, help="number of inertias, >= 2 (default 4)")
+    size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
+    model.add_argument(
+        "--inertias",
+        type=_list("--inertias"),
+        metavar="I0,I1,...",
+        help="override every inertia (kg m^2), top drive first",
+    )
+    model.add_argument(
+        "--stiffnesses",
+        type=_list("--stiffnesses"),
+        metavar="K0,...",
+        help="override every spring stiffness (N m/rad)",
+    )
+    model.add_argument(
+        "--dampings",
+        type=_list("--dampings"),
+        metavar="C0,...",
+        help="override every spring damping (N m s/rad)",
+    )
+    op = sim.add_argument_group("operating point")
+    op.add_argument("--wob", type=_positive("--wob"), required=True, help="weight on bit (N)")
+    op.add_argument(
+        "--torque", type=_finite("--torque"), required=True, help="surface torque u (N m)"
+    )
+    run = sim.add_argument_group("simulation")
+    run.add_argument(
+        "--t-end", type=_positive("--t-end"), default=300.0, help="simulated time (s, default 300)"
+    )
+    run.add_argument(
+        "--initial",
+        choices=("rest", "equilibrium"),
+        default="rest",
+        help="start at rest (default) or near the steady state",
+    )
+    run.add_argument(
+        "--friction",
+        choices=("exact", "karnopp"),
+        default="exact",
+        help="exact event-driven stick/slip (default) or the paper's Eq. 9 band",
+    )
+    run.add_argument(
+        "--method",
+        choices=("auto", "bdf", "adams"),
+        default="auto",
+        help="integrator: auto (by a stiffness estimate), bdf or adams",
+    )
+    run.add_argument("--rtol", type=_positive("--rtol"), default=1e-8, help="relative tolerance")
+    run.add_argument("--atol", type=_positive("--atol"), default=1e-8, help="absolute tolerance")
+    run.add_argument("--n-out", type=int, default=3001, help="number of output times")
+    run.add_argument(
+        "--window",
+        type=_positive("--window"),
+        default=0.5,
+        help="fraction of the run (at its end) judged for the regime (default 0.5)",
+    )
+    out = sim.add_argument_group("output")
+    out.add_argument("--json", action="store_true", help="print one JSON object for scripts")
+    out.add_argument("--plot", metavar="FILE.png", help="draw velocities and bit torque")
+    sim.set_defaults(handler=_cmd_simulate)
+    return parser
+
+
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    from . import simulate
+    from .plot import save, simulation_figure
+
+    overrides: dict[str, Any] = {}
+    for key in ("inertias", "stiffnesses", "dampings"):
+        if getattr(args, key) is not None:
+            overrides[key] = getattr(args, key)
+    result = simulate(
+        preset=args.preset,
+        dof=args.dof,
+        pipes=args.pipes,
+        wob=args.wob,
+        torque=args.torque,
+        t_end=args.t_end,
+        initial=args.initial,
+        friction=args.friction,
+        method=args.method,
+        rtol=args.rtol,
+        atol=args.atol,
+        n_out=args.n_out,
+        window_fraction=args.window,
+        **overrides,
+    )
+    if args.plot:
+        save(simulation_figure(result), args.plot)
+    if args.json:
+        data = result.to_dict()
+        if args.plot:
+            data["plot"] = args.plot
+        print(json.dumps(data, indent=2, allow_nan=False))
+    else:
+        print(_describe(result, args.plot))
+    return 0
+
+
+def _describe(result: Any, plot: str | None) -> str:
+    s = result.summary
+    st = result.stats
+    lines = [
+        f"regime          {s.regime}",
+        f"bit velocity    min {s.bit_min:.4g}  max {s.bit_max:.4g}  mean {s.bit_mean:.4g} rad/s",
+        f"top velocity    min {s.top_min:.4g}  max {s.top_max:.4g}  mean {s.top_mean:.4g} rad/s",
+        f"severity        {s.severity:.3g}   (max-min)/(2 mean) of the bit velocity",
+        f"stuck           {100 * s.stuck_fraction:.1f} % of [{s.window_start:g}, "
+        f"{s.window_end:g}] s, {s.stick_events} stick events"
+        + (f", period {s.period:.4g} s" if s.period else ""),
+        "steady states   "
+        + (
+            ", ".join(f"{w:.6g}" for w in s.omega_equilibrium) + " rad/s"
+            if s.omega_equilibrium
+            else "none (the torque cannot balance the bit friction)"
+        ),
+        f"static torque   T_s = {s.static_torque:.4g} N m (surface torque {result.torque:g})",
+        f"solver          {st.method} ({st.method_reason}); {st.steps} steps, "
+        f"{st.switches} switches, {1e3 * st.wall_time:.1f} ms in the core",
+    ]
+    if s.note:
+        lines.append(f"note            {s.note}")
+    if plot:
+        lines.append(f"figure          {plot}")
+    return "\n".join(lines)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    from . import SolverError
+
+    try:
+        return int(args.handler(args))
+    except BrokenPipeError:  # e.g. piped into head: not an error of ours
+        sys.stderr.close()
+        return 0
+    except ValueError as exc:
+        sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
+        return EXIT_USAGE
+    except SolverError as exc:
+        t = getattr(exc, "t_reached", None)
+        where = f" (reached t = {t:g} s)" if t is not None else ""
+        sys.stderr.write(f"pydrill {args.command}: solver failed{where}: {exc}\n")
+        return EXIT_SOLVER
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,128 @@
+"""The pydrill command as a user and a script meet it: real subprocesses."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+CMD = [sys.executable, "-m", "pydrill"]
+
+
+def run(*args, check=True):
+    proc = subprocess.run([*CMD, *args], capture_output=True, text=True, timeout=300)
+    if check and proc.returncode != 0:
+        raise AssertionError(f"exit {proc.returncode}: {proc.stderr}")
+    return proc
+
+
+def test_simulate_json_has_the_documented_fields(tmp_path):
+    png = tmp_path / "fig4.png"
+    proc = run(
+        "simulate",
+        "--preset",
+        "reduced-scale",
+        "--dof",
+        "4",
+        "--wob",
+        "100",
+        "--torque",
+        "8.3",
+        "--t-end",
+        "300",
+        "--json",
+        "--plot",
+        str(png),
+    )
+    data = json.loads(proc.stdout)  # exactly one JSON object
+    assert data["regime"] == "stick-slip"
+    for key in ("bit_velocity", "top_velocity"):
+        assert set(data[key]) == {"min", "max", "mean"}
+    for key in ("severity", "stuck_fraction", "period", "stick_events", "omega_equilibrium"):
+        assert key in data
+    assert data["period"] > 0
+    assert data["omega_equilibrium"] == [pytest.approx(17.368418484246266, rel=1e-12)]
+    solver = data["solver"]
+    for key in ("method", "steps", "rhs_evals", "jac_evals", "switches", "wall_time"):
+        assert key in solver
+    assert solver["switches"] > 10 and solver["wall_time"] > 0
+    assert data["units"]["bit_velocity"] == "rad/s"
+    assert data["units"]["period"] == "s"
+    assert png.stat().st_size > 20_000
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_pipes_is_dof_plus_three():
+    a = json.loads(
+        run(
+            "simulate", "--pipes", "2", "--wob", "160", "--torque", "8.3", "--t-end", "20", "--json"
+        ).stdout
+    )
+    b = json.loads(
+        run(
+            "simulate", "--dof", "5", "--wob", "160", "--torque", "8.3", "--t-end", "20", "--json"
+        ).stdout
+    )
+    assert a["inputs"]["dof"] == b["inputs"]["dof"] == 5
+    assert a["regime"] == b["regime"] == "stuck"
+    assert a["period"] is None
+
+
+def test_stuck_json_is_strict_json():
+    proc = run("simulate", "--wob", "160", "--torque", "8.3", "--json", "--friction", "karnopp")
+    data = json.loads(proc.stdout)
+    assert data["regime"] == "stuck"
+    assert data["solver"]["method"] in ("adams", "bdf")
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--wob", "-5", "--torque", "8.3"], "--wob must be a finite number > 0"),
+        (["--wob", "abc", "--torque", "8.3"], "--wob must be a number"),
+        (["--wob", "100", "--torque", "nan"], "--torque must be finite"),
+        (["--wob", "100", "--torque", "8.3", "--dof", "1"], "dof = 1"),
+        (
+            ["--wob", "100", "--torque", "8.3", "--preset", "real-string", "--dof", "5"],
+            "real-string",
+        ),
+        (["--wob", "100", "--torque", "8.3", "--dampings", "1,-1,1"], "dampings[1] = -1"),
+        (["--wob", "100", "--torque", "8.3", "--initial", "sideways"], "invalid choice"),
+        (["--wob", "160", "--torque", "8.3", "--initial", "equilibrium"], "no steady rotation"),
+        (["--torque", "8.3"], "--wob"),
+    ],
+)
+def test_bad_input_exits_2_without_traceback(args, needle):
+    proc = run("simulate", *args, check=False)
+    assert proc.returncode == 2
+    assert needle in proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert proc.stdout == ""
+
+
+def test_solver_failure_exits_3_with_cvodes_message():
+    proc = run(
+        "simulate",
+        "--wob",
+        "100",
+        "--torque",
+        "8.3",
+        "--t-end",
+        "300",
+        "--rtol",
+        "1e-14",
+        "--atol",
+        "1e-20",
+        check=False,
+    )
+    # Either CVODES gives up or it succeeds; it never crashes.
+    assert proc.returncode in (0, 3)
+    if proc.returncode == 3:
+        assert "solver failed" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_help_teaches():
+    text = run("simulate", "--help").stdout
+    for needle in ("--wob", "weight on bit", "stick-slip", "examples:", "units:"):
+        assert needle in text
+    assert "simulate" in run("--help").stdout
