@@ -164,8 +164,10 @@ def test_user_state_start_and_solver_choice():
 def test_auto_method_reports_its_choice():
     r = pydrill.simulate(wob=100.0, torque=8.3, dof=4, t_end=10.0)
     assert r.stats.method == "adams"
-    assert "stiffness ratio" in r.stats.method_reason
-    stiff = pydrill.preset("reduced-scale", dof=4, stiffnesses=[0.073, 500.0, 500.0])
+    assert "non-stiff" in r.stats.method_reason
+    stiff = pydrill.preset(
+        "reduced-scale", dof=4, stiffnesses=[0.073, 500.0, 500.0], dampings=[1e-4, 5.0, 5.0]
+    )
     r = pydrill.simulate(stiff, wob=100.0, torque=8.3, t_end=10.0)
     assert r.stats.method == "bdf"
 

@@ -94,39 +94,51 @@ void SimulationOptions::validate(int dof) const {
   }
 }
 
-double stiffness_ratio(const Params& p) {
+StiffnessEstimate estimate_stiffness(const Params& p) {
   const int N = p.dof();
-  // Highest frequency: Gershgorin bound on M⁻¹K, plus the fastest damping rate.
-  double w2max = 0.0, rate = 0.0;
+  StiffnessEstimate e;
+  // Gershgorin bounds on M⁻¹K (squared frequencies) and M⁻¹C (decay rates).
+  double w2max = 0.0;
   for (int i = 0; i < N; ++i) {
     double ksum = 0.0, csum = (i == 0 ? p.top_damping : 0.0) + (i == N - 1 ? p.bit_damping : 0.0);
     if (i > 0) { ksum += p.stiffnesses[i - 1]; csum += p.dampings[i - 1]; }
     if (i < N - 1) { ksum += p.stiffnesses[i]; csum += p.dampings[i]; }
     w2max = std::max(w2max, 2.0 * ksum / p.inertias[i]);
-    rate = std::max(rate, 2.0 * csum / p.inertias[i]);
+    e.fastest_decay = std::max(e.fastest_decay, 2.0 * csum / p.inertias[i]);
   }
+  e.fastest_frequency = std::sqrt(w2max);
   // Fundamental: the string clamped at a still bit, lumped as one spring
   // (series compliance) and the inertia above it (Rayleigh quotient).
   double compliance = 0.0, inertia = 0.0;
   for (int i = 0; i < N - 1; ++i) { compliance += 1.0 / p.stiffnesses[i]; inertia += p.inertias[i]; }
-  const double w1 = std::sqrt(1.0 / (compliance * inertia));
-  return std::max(std::sqrt(w2max), rate) / w1;
+  e.fundamental = std::sqrt(1.0 / (compliance * inertia));
+  return e;
+}
+
+double stiffness_ratio(const Params& p) {
+  const StiffnessEstimate e = estimate_stiffness(p);
+  return e.fastest_decay / e.fundamental;
 }
 
 Method choose_method(const Params& p, std::string* reason) {
-  const double ratio = stiffness_ratio(p);
-  // Measured crossover (benchmarks/bench_methods.py): below it Adams' cheap
-  // fixed-point steps win; above it BDF's larger steps do.
-  constexpr double crossover = 200.0;
-  const Method m = ratio > crossover ? Method::BDF : Method::Adams;
+  // Stiff means fast modes that decay: BDF steps over them once they have died.
+  // Fast modes that only ring must be resolved by any method, and then Adams'
+  // cheap fixed-point steps win. Thresholds measured by
+  // benchmarks/bench_methods.py (Adams vs BDF on soft, real and refined strings).
+  const StiffnessEstimate e = estimate_stiffness(p);
+  const double zeta = e.fastest_decay / (2.0 * e.fastest_frequency);
+  const double ratio = e.fastest_decay / e.fundamental;
+  constexpr double zeta_min = 0.5, ratio_min = 100.0;
+  const bool stiff = zeta > zeta_min && ratio > ratio_min;
   if (reason) {
     std::ostringstream o;
     o.precision(3);
-    o << "stiffness ratio " << ratio << (m == Method::BDF ? " > " : " <= ") << crossover << ": "
-      << (m == Method::BDF ? "stiff, BDF with the banded chain solver" : "non-stiff, Adams");
+    o << "fastest decay " << e.fastest_decay << "/s = " << ratio << "x the fundamental "
+      << e.fundamental << " rad/s, damping ratio of the fastest modes " << zeta << ": "
+      << (stiff ? "stiff, BDF with the banded chain solver" : "non-stiff, Adams");
     *reason = o.str();
   }
-  return m;
+  return stiff ? Method::BDF : Method::Adams;
 }
 
 namespace {

@@ -107,9 +107,16 @@ class SolverError : public std::runtime_error {
   double t_reached_;
 };
 
-// Stiffness estimate used by Method::Auto: ratio of the highest natural
-// frequency (Gershgorin bound) to the fundamental (Rayleigh estimate of the
-// string clamped at the bit).
+// Stiffness estimate behind Method::Auto, from Gershgorin bounds and a
+// Rayleigh estimate of the fundamental (the string clamped at a still bit).
+struct StiffnessEstimate {
+  double fastest_decay = 0;      // 1/s, bound on the largest decay rate (M⁻¹C)
+  double fastest_frequency = 0;  // rad/s, bound on the highest natural frequency (M⁻¹K)
+  double fundamental = 0;        // rad/s, lowest natural frequency
+};
+StiffnessEstimate estimate_stiffness(const Params& params);
+// fastest_decay / fundamental: how much faster the fastest mode dies than the
+// slowest one moves.
 double stiffness_ratio(const Params& params);
 Method choose_method(const Params& params, std::string* reason = nullptr);
 
