@@ -257,6 +257,7 @@ def simulate(
     rtol: float = 1e-8,
     atol: float = 1e-8,
     max_step: float = 0.0,
+    max_order: int = 0,
     max_steps: int = 50_000_000,
     perturbation: float = 1e-3,
     window_fraction: float = 0.5,
@@ -307,6 +308,7 @@ def simulate(
     opts.rtol = float(rtol)
     opts.atol = float(atol)
     opts.max_step = float(max_step)
+    opts.max_order = _integer("max_order", max_order)
     opts.max_steps = _integer("max_steps", max_steps)
     opts.perturbation = float(perturbation)
     opts.window_fraction = float(window_fraction)

@@ -76,6 +76,7 @@ void bind_simulate(py::module_& m) {
       .def_readwrite("rtol", &SimulationOptions::rtol)
       .def_readwrite("atol", &SimulationOptions::atol)
       .def_readwrite("max_step", &SimulationOptions::max_step)
+      .def_readwrite("max_order", &SimulationOptions::max_order)
       .def_readwrite("max_steps", &SimulationOptions::max_steps)
       .def_readwrite("window_fraction", &SimulationOptions::window_fraction)
       .def_readwrite("max_switch_rate", &SimulationOptions::max_switch_rate)

@@ -73,6 +73,7 @@ void SimulationOptions::validate(int dof) const {
   if (!(atol > 0) || !std::isfinite(atol)) refuse("atol = " + num(atol) + " is not allowed: must be a finite number > 0");
   if (!(max_step >= 0) || !std::isfinite(max_step)) refuse("max_step = " + num(max_step) + " is not allowed: must be >= 0 (0 = no limit)");
   if (max_steps < 1) refuse("max_steps = " + std::to_string(max_steps) + " is not allowed: must be >= 1");
+  if (max_order < 0 || max_order > 12) refuse("max_order = " + std::to_string(max_order) + " is not allowed: need 0 (method default) or 1..12 (Adams), 1..5 (BDF)");
   if (!(window_fraction > 0) || !(window_fraction <= 1)) refuse("window_fraction = " + num(window_fraction) + " is not allowed: need 0 < window_fraction <= 1");
   if (!(max_switch_rate > 0) || std::isnan(max_switch_rate)) refuse("max_switch_rate = " + num(max_switch_rate) + " is not allowed: must be > 0 switches/s");
   if (!std::isfinite(perturbation) || std::fabs(perturbation) >= 1) refuse("perturbation = " + num(perturbation) + " is not allowed: need |perturbation| < 1 (relative to the steady bit velocity)");
@@ -256,8 +257,8 @@ class Run {
 
     y_.reset(detail::make_vector(n_, ctx_));
     tmp_.reset(detail::make_vector(n_, ctx_));
-    q_.reset(N_VNew_Serial(kQuads, ctx_));
-    qtmp_.reset(N_VNew_Serial(kQuads, ctx_));
+    q_.reset(detail::make_vector(kQuads, ctx_));
+    qtmp_.reset(detail::make_vector(kQuads, ctx_));
     std::copy(y0.begin(), y0.end(), N_VGetArrayPointer(y_.get()));
     N_VConst(0.0, q_.get());
 
@@ -272,6 +273,7 @@ class Run {
     check(CVodeSetMaxErrTestFails(m, 20), "CVodeSetMaxErrTestFails");
     check(CVodeSetMaxConvFails(m, 50), "CVodeSetMaxConvFails");
     if (opt.max_step > 0) check(CVodeSetMaxStep(m, opt.max_step), "CVodeSetMaxStep");
+    if (opt.max_order > 0) check(CVodeSetMaxOrd(m, opt.max_order), "CVodeSetMaxOrd");
     check(CVodeSetStopTime(m, opt.t_end), "CVodeSetStopTime");
     check(CVodeRootInit(m, kRoots, root_fn), "CVodeRootInit");
     check(CVodeSetNoInactiveRootWarn(m), "CVodeSetNoInactiveRootWarn");

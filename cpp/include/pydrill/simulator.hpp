@@ -36,6 +36,7 @@ struct SimulationOptions {
   double rtol = 1e-8;
   double atol = 1e-8;
   double max_step = 0.0;             // 0: no limit
+  int max_order = 0;                 // 0: the method's default (BDF 5, Adams 12)
   long max_steps = 50'000'000;       // internal steps over the whole run
   double window_fraction = 0.5;      // last fraction of the run judged for the regime
   double max_switch_rate = 1e4;      // switches per simulated second before it is chattering
