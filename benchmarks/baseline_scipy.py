@@ -32,11 +32,11 @@ import math
 import time
 
 import numpy as np
+import scipy.sparse as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
-import scipy.sparse as sp
 
-__all__ = ["simulate_baseline", "reduced_scale", "equilibrium_velocity", "DEFAULT_METHOD"]
+__all__ = ["DEFAULT_METHOD", "equilibrium_velocity", "reduced_scale", "simulate_baseline"]
 
 # Fastest accurate method measured on this machine (see the benchmark notes in the report /
 # ``--compare``): explicit DOP853 for every string length.  The chain is not stiff (its highest
@@ -117,8 +117,21 @@ def equilibrium_velocity(*, torque, wob, c_r, c_b, mu_cb, mu_sb, R_b, gamma_b, v
 class _Model:
     """Matrices, right-hand sides, Jacobians and event functions for one parameter set."""
 
-    def __init__(self, inertias, stiffnesses, dampings, c_r, c_b, mu_cb, mu_sb, R_b,
-                 gamma_b, v_f, wob, torque):
+    def __init__(
+        self,
+        inertias,
+        stiffnesses,
+        dampings,
+        c_r,
+        c_b,
+        mu_cb,
+        mu_sb,
+        R_b,
+        gamma_b,
+        v_f,
+        wob,
+        torque,
+    ):
         I = np.asarray(inertias, dtype=float).ravel()
         k = np.asarray(stiffnesses, dtype=float).ravel()
         c = np.asarray(dampings, dtype=float).ravel()
@@ -185,7 +198,7 @@ class _Model:
         if wb < 0.0:
             return SLIP_NEG
         if self.wob == 0.0:
-            return SLIP_POS           # no friction: the slip sign only labels a zero term
+            return SLIP_POS  # no friction: the slip sign only labels a zero term
         Te = self.reaction_torque(y)
         if abs(Te) <= self.T_s:
             return STICK
@@ -216,16 +229,19 @@ class _Model:
             A = self.A_stick if stick else self.A_slip
             b0 = u / self.I[0]
             if no_friction:
+
                 def f(t, y):
                     out = A @ y
                     out[0] += b0
                     return out
             else:
+
                 def f(t, y):
                     out = A @ y
                     out[0] += b0
                     out[-1] -= fs * (mu_cb + dmu * exp(min(-gs * y[-1], 700.0)))
                     return out
+
             return f
 
         invI = 1.0 / self.I
@@ -237,9 +253,9 @@ class _Model:
             w = y[0::2]
             dw = w[:-1] - w[1:]
             s_ = k * y[1::2]
-            s_ += c * dw                 # spring torques, length N-1
+            s_ += c * dw  # spring torques, length N-1
             out = empty(n)
-            tor = out[0::2]              # view: net torques on the N inertias
+            tor = out[0::2]  # view: net torques on the N inertias
             tor[1:] = s_
             tor[0] = u - c_r * w[0]
             tor[:-1] -= s_
@@ -277,9 +293,9 @@ class _Model:
             out[n - 1] -= Tfb / I[-1]
             w = y[0::2]
             dw = w[:-1] - w[1:]
-            out[n] = u * w[0]                                            # work of u
-            out[n + 1] = c_r * w[0] ** 2 + c_b * wb ** 2 + np.dot(c, dw * dw)  # viscous
-            out[n + 2] = Tfb * wb                                        # friction
+            out[n] = u * w[0]  # work of u
+            out[n + 1] = c_r * w[0] ** 2 + c_b * wb**2 + np.dot(c, dw * dw)  # viscous
+            out[n + 2] = Tfb * wb  # friction
             return out
 
         return f
@@ -294,7 +310,9 @@ class _Model:
         s = 0.0 if stick else _SIGN[mode]
         # d(w_b')/d(w_b) from friction: +delta(w_b)/I_b,
         # delta = R W (mu_sb - mu_cb) (gamma/v_f) exp(-gamma s w_b / v_f)
-        dcoef = self.R_b * self.wob * (self.mu_sb - self.mu_cb) * self.gamma_b / self.v_f / self.I[-1]
+        dcoef = (
+            self.R_b * self.wob * (self.mu_sb - self.mu_cb) * self.gamma_b / self.v_f / self.I[-1]
+        )
         gs = s * self.gamma_b / self.v_f
         A = self.A_stick if stick else self.A_slip
         n = self.n
@@ -302,27 +320,32 @@ class _Model:
         if method == "LSODA":
             lb, ub = self.lband, self.uband
             P0 = np.zeros((lb + ub + 1, n))
-            for d in range(-ub, lb + 1):         # d = i - j
+            for d in range(-ub, lb + 1):  # d = i - j
                 j = np.arange(max(0, -d), min(n, n - d))
                 P0[ub + d, j] = A[j + d, j]
             if stick or self.wob == 0.0:
+
                 def jac(t, y):
                     return P0
             else:
+
                 def jac(t, y):
                     P = P0.copy()
                     P[ub, -1] += dcoef * exp(min(-gs * y[-1], 700.0))
                     return P
+
             return dict(jac=jac, lband=lb, uband=ub)
 
         # Radau / BDF
         if n <= _DENSE_JAC_MAX_STATES:
             if stick or self.wob == 0.0:
                 return dict(jac=A)
+
             def jac(t, y):
                 J = A.copy()
                 J[-1, -1] += dcoef * exp(min(-gs * y[-1], 700.0))
                 return J
+
             return dict(jac=jac)
         As = sp.csc_matrix(A)
         As.sort_indices()
@@ -330,12 +353,13 @@ class _Model:
             return dict(jac=As)
         # position of (n-1, n-1) in the CSC data (the last column holds it last)
         col = As.indptr[n - 1], As.indptr[n]
-        pos = col[0] + int(np.nonzero(As.indices[col[0]:col[1]] == n - 1)[0][0])
+        pos = col[0] + int(np.nonzero(As.indices[col[0] : col[1]] == n - 1)[0][0])
 
         def jac(t, y):
             J = As.copy()
             J.data[pos] += dcoef * exp(min(-gs * y[-1], 700.0))
             return J
+
         return dict(jac=jac)
 
     # ---- events -------------------------------------------------------------------------
@@ -343,22 +367,23 @@ class _Model:
         """Terminal event functions of a mode and the mode each one leads to (None: decide
         in the switch handler).  Indices are absolute so that the checking variant's extra
         states (appended at the end) do not shift them."""
-        ib, it, iw = self.n - 1, self.n - 2, self.n - 3     # w_b, th_{N-2}, w_{N-2}
+        ib, it, iw = self.n - 1, self.n - 2, self.n - 3  # w_b, th_{N-2}, w_{N-2}
         if mode == STICK:
             kl, cl, cb, Ts = self.k_last, self.c_last, self.c_b, self.T_s
 
-            def rise(t, y):           # T_e - T_s, rising -> slip+
+            def rise(t, y):  # T_e - T_s, rising -> slip+
                 return kl * y[it] + cl * (y[iw] - y[ib]) - cb * y[ib] - Ts
 
-            def fall(t, y):           # T_e + T_s, falling -> slip-
+            def fall(t, y):  # T_e + T_s, falling -> slip-
                 return kl * y[it] + cl * (y[iw] - y[ib]) - cb * y[ib] + Ts
 
             rise.terminal = fall.terminal = True
             rise.direction, fall.direction = 1.0, -1.0
             return [rise, fall], [SLIP_POS, SLIP_NEG]
 
-        def zero(t, y):               # w_b crosses zero against the slip direction
+        def zero(t, y):  # w_b crosses zero against the slip direction
             return y[ib]
+
         zero.terminal = True
         zero.direction = -_SIGN[mode]
         return [zero], [None]
@@ -367,10 +392,31 @@ class _Model:
 # --------------------------------------------------------------------------------------------
 # simulation
 # --------------------------------------------------------------------------------------------
-def simulate_baseline(inertias, stiffnesses, dampings, *, c_r, c_b, mu_cb, mu_sb, R_b, gamma_b,
-                      v_f, wob, torque, t_end, initial="rest", y0=None, method=DEFAULT_METHOD,
-                      rtol=1e-8, atol=1e-8, t_eval=None, max_switches_per_second=1e4,
-                      t0=0.0, track_energy=False):
+def simulate_baseline(
+    inertias,
+    stiffnesses,
+    dampings,
+    *,
+    c_r,
+    c_b,
+    mu_cb,
+    mu_sb,
+    R_b,
+    gamma_b,
+    v_f,
+    wob,
+    torque,
+    t_end,
+    initial="rest",
+    y0=None,
+    method=DEFAULT_METHOD,
+    rtol=1e-8,
+    atol=1e-8,
+    t_eval=None,
+    max_switches_per_second=1e4,
+    t0=0.0,
+    track_energy=False,
+):
     """Exact event-driven stick-slip simulation with ``scipy.integrate.solve_ivp``.
 
     Parameters follow DESIGN.md section 2 (SI units).  ``initial`` is ``"rest"`` or
@@ -445,7 +491,7 @@ def simulate_baseline(inertias, stiffnesses, dampings, *, c_r, c_b, mu_cb, mu_sb
             evs, targets = m.events(md)
             opts = {} if track_energy else m.jac_options(md, method)
             if m.wob == 0.0 and md != STICK:
-                evs, targets = [], []     # no friction at all: nothing to switch
+                evs, targets = [], []  # no friction at all: nothing to switch
             cache[md] = (fun, evs, targets, opts)
         return cache[md]
 
@@ -467,15 +513,24 @@ def simulate_baseline(inertias, stiffnesses, dampings, *, c_r, c_b, mu_cb, mu_sb
         # heuristic may then try an absurdly long step; it is rejected (inf error norm) and
         # retried, but numpy would warn about the overflow on the way.
         with np.errstate(over="ignore", invalid="ignore"):
-            sol = solve_ivp(fun, (t, t_end), y, method=method, t_eval=seg_eval,
-                            events=evs or None, rtol=rtol, atol=atol, **opts)
+            sol = solve_ivp(
+                fun,
+                (t, t_end),
+                y,
+                method=method,
+                t_eval=seg_eval,
+                events=evs or None,
+                rtol=rtol,
+                atol=atol,
+                **opts,
+            )
         nseg += 1
         nfev += sol.nfev
         njev += sol.njev
         nlu += sol.nlu
         if sol.status < 0:
             raise RuntimeError(f"solve_ivp ({method}) failed at t={t}: {sol.message}")
-        if len(sol.t):                      # (a list when no t_eval point falls in it)
+        if len(sol.t):  # (a list when no t_eval point falls in it)
             if seg_eval is None and not first:
                 ts.append(sol.t[1:])
                 ys.append(sol.y[:, 1:])
@@ -491,7 +546,7 @@ def simulate_baseline(inertias, stiffnesses, dampings, *, c_r, c_b, mu_cb, mu_sb
         i_ev = min(hit, key=lambda i: sol.t_events[i][0])
         t_new = float(sol.t_events[i_ev][0])
         y = np.array(sol.y_events[i_ev][0], dtype=float)
-        y[n - 1] = 0.0                      # the bit is exactly at rest at every switch
+        y[n - 1] = 0.0  # the bit is exactly at rest at every switch
         Te = m.reaction_torque(y[:n])
         if mode == STICK:
             new_mode = targets[i_ev]
@@ -509,13 +564,14 @@ def simulate_baseline(inertias, stiffnesses, dampings, *, c_r, c_b, mu_cb, mu_sb
             raise RuntimeError(
                 f"chattering at t={t_new:.9g}: {len(window)} mode switches within 1 s "
                 f"({stalled} without progress); cap max_switches_per_second="
-                f"{max_switches_per_second:g}")
+                f"{max_switches_per_second:g}"
+            )
 
         switch_times.append(t_new)
         switch_kinds.append(new_mode)
         switch_Te.append(float(Te))
         if seg_eval is None and ys and ys[-1].shape[1]:
-            ys[-1][:, -1] = y               # show the post-switch state at the switch time
+            ys[-1][:, -1] = y  # show the post-switch state at the switch time
         t, mode = t_new, new_mode
         if t >= t_end:
             break
@@ -548,8 +604,9 @@ def simulate_baseline(inertias, stiffnesses, dampings, *, c_r, c_b, mu_cb, mu_sb
     if track_energy:
         Eq = Y[:, n:]
         E = np.array([m.energy(row[:n]) for row in Y])
-        res["energy"] = dict(work=Eq[:, 0], viscous=Eq[:, 1], friction=Eq[:, 2],
-                             mechanical=E, E0=E0)
+        res["energy"] = dict(
+            work=Eq[:, 0], viscous=Eq[:, 1], friction=Eq[:, 2], mechanical=E, E0=E0
+        )
     res["wall_time"] = time.perf_counter() - wall0
     res["cpu_time"] = time.process_time() - cpu0
     return res
@@ -560,17 +617,29 @@ def simulate_baseline(inertias, stiffnesses, dampings, *, c_r, c_b, mu_cb, mu_sb
 # --------------------------------------------------------------------------------------------
 def _compare(a, t_eval):
     """Time every solve_ivp method on one case against a DOP853 rtol=atol=1e-12 reference."""
-    kw = dict(reduced_scale(a.dof), wob=a.wob, torque=a.torque, t_end=a.t_end,
-              initial=a.initial, t_eval=t_eval)
+    kw = dict(
+        reduced_scale(a.dof),
+        wob=a.wob,
+        torque=a.torque,
+        t_end=a.t_end,
+        initial=a.initial,
+        t_eval=t_eval,
+    )
     ref = simulate_baseline(**kw, method="DOP853", rtol=1e-12, atol=1e-12)
     Yr = ref["y"]
     sw, sth = np.abs(Yr[:, 0::2]).max(), np.abs(Yr[:, 1::2]).max()
-    print(f"reference DOP853 rtol=atol=1e-12: {ref['wall_time']:.3f} s, "
-          f"{len(ref['switch_times'])} switches")
-    print("timings: best of --repeat runs without t_eval (solver steps only); errors from one "
-          "run on the --dt grid, relative to max |w| and max |theta|")
-    print(f"{'method':8s} {'wall [s]':>9s} {'cpu [s]':>9s} {'nfev':>8s} {'njev':>6s} "
-          f"{'switches':>8s} {'max rel err':>11s} {'max |dt_switch|':>15s}")
+    print(
+        f"reference DOP853 rtol=atol=1e-12: {ref['wall_time']:.3f} s, "
+        f"{len(ref['switch_times'])} switches"
+    )
+    print(
+        "timings: best of --repeat runs without t_eval (solver steps only); errors from one "
+        "run on the --dt grid, relative to max |w| and max |theta|"
+    )
+    print(
+        f"{'method':8s} {'wall [s]':>9s} {'cpu [s]':>9s} {'nfev':>8s} {'njev':>6s} "
+        f"{'switches':>8s} {'max rel err':>11s} {'max |dt_switch|':>15s}"
+    )
     kw_t = dict(kw, t_eval=None)
     for meth in ("DOP853", "RK45", "LSODA", "Radau", "BDF"):
         walls, cpus = [], []
@@ -580,13 +649,20 @@ def _compare(a, t_eval):
             cpus.append(r0["cpu_time"])
         r = simulate_baseline(**kw, method=meth, rtol=a.rtol, atol=a.atol)
         Y = r["y"]
-        err = max(np.abs(Y[:, 0::2] - Yr[:, 0::2]).max() / max(sw, 1e-300),
-                  np.abs(Y[:, 1::2] - Yr[:, 1::2]).max() / max(sth, 1e-300))
+        err = max(
+            np.abs(Y[:, 0::2] - Yr[:, 0::2]).max() / max(sw, 1e-300),
+            np.abs(Y[:, 1::2] - Yr[:, 1::2]).max() / max(sth, 1e-300),
+        )
         ns = len(r["switch_times"])
-        dts = (np.abs(r["switch_times"] - ref["switch_times"]).max()
-               if ns == len(ref["switch_times"]) and ns else float("nan"))
-        print(f"{meth:8s} {min(walls):9.4f} {min(cpus):9.4f} {r0['nfev']:8d} {r0['njev']:6d} {ns:8d} "
-              f"{err:11.1e} {dts:15.1e}")
+        dts = (
+            np.abs(r["switch_times"] - ref["switch_times"]).max()
+            if ns == len(ref["switch_times"]) and ns
+            else float("nan")
+        )
+        print(
+            f"{meth:8s} {min(walls):9.4f} {min(cpus):9.4f} {r0['nfev']:8d} {r0['njev']:6d} {ns:8d} "
+            f"{err:11.1e} {dts:15.1e}"
+        )
 
 
 def main(argv=None):
@@ -599,10 +675,17 @@ def main(argv=None):
     ap.add_argument("--method", default=DEFAULT_METHOD)
     ap.add_argument("--rtol", type=float, default=1e-8)
     ap.add_argument("--atol", type=float, default=1e-8)
-    ap.add_argument("--dt", type=float, default=0.01,
-                    help="output spacing for the bit-velocity statistics (0: solver steps)")
-    ap.add_argument("--compare", action="store_true",
-                    help="time all solve_ivp methods on this case against a 1e-12 reference")
+    ap.add_argument(
+        "--dt",
+        type=float,
+        default=0.01,
+        help="output spacing for the bit-velocity statistics (0: solver steps)",
+    )
+    ap.add_argument(
+        "--compare",
+        action="store_true",
+        help="time all solve_ivp methods on this case against a 1e-12 reference",
+    )
     ap.add_argument("--repeat", type=int, default=3, help="timing repeats for --compare")
     a = ap.parse_args(argv)
 
@@ -614,19 +697,33 @@ def main(argv=None):
             ap.error("--compare needs --dt > 0")
         _compare(a, t_eval)
         return 0
-    r = simulate_baseline(**reduced_scale(a.dof), wob=a.wob, torque=a.torque, t_end=a.t_end,
-                          initial=a.initial, method=a.method, rtol=a.rtol, atol=a.atol,
-                          t_eval=t_eval)
+    r = simulate_baseline(
+        **reduced_scale(a.dof),
+        wob=a.wob,
+        torque=a.torque,
+        t_end=a.t_end,
+        initial=a.initial,
+        method=a.method,
+        rtol=a.rtol,
+        atol=a.atol,
+        t_eval=t_eval,
+    )
     half = r["t"] >= 0.5 * a.t_end
     wb = r["y"][half, -1]
     n_stick = sum(1 for k in r["switch_kinds"] if k == "stick")
-    print(f"dof {a.dof}  wob {a.wob:g} N  torque {a.torque:g} N m  t_end {a.t_end:g} s  "
-          f"initial {a.initial}  method {a.method}  rtol {a.rtol:g}  atol {a.atol:g}")
+    print(
+        f"dof {a.dof}  wob {a.wob:g} N  torque {a.torque:g} N m  t_end {a.t_end:g} s  "
+        f"initial {a.initial}  method {a.method}  rtol {a.rtol:g}  atol {a.atol:g}"
+    )
     print(f"wall time      {r['wall_time']:.4f} s   (nfev {r['nfev']}, segments {r['n_segments']})")
-    print(f"switches       {len(r['switch_times'])}   (stick events {n_stick}; final mode "
-          f"{r['mode_final']})")
-    print(f"bit velocity over t >= {0.5 * a.t_end:g} s: min {wb.min():.6g}  max {wb.max():.6g}  "
-          f"mean {wb.mean():.6g} rad/s")
+    print(
+        f"switches       {len(r['switch_times'])}   (stick events {n_stick}; final mode "
+        f"{r['mode_final']})"
+    )
+    print(
+        f"bit velocity over t >= {0.5 * a.t_end:g} s: min {wb.min():.6g}  max {wb.max():.6g}  "
+        f"mean {wb.mean():.6g} rad/s"
+    )
     return 0
 
 

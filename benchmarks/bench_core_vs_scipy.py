@@ -25,7 +25,7 @@ import numpy as np
 import pydrill
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from baseline_scipy import DEFAULT_METHOD, simulate_baseline  # noqa: E402
+from baseline_scipy import DEFAULT_METHOD, simulate_baseline
 
 RTOL = ATOL = 1e-8
 
@@ -58,15 +58,28 @@ def case(p, wob, torque, t_end, initial, repeats):
     t_eval = np.linspace(0.0, t_end, 201)
     core_time, core = best_of(
         lambda: pydrill.simulate(
-            p, wob=wob, torque=torque, t_end=t_end, initial=initial, t_out=t_eval,
-            rtol=RTOL, atol=ATOL,
+            p,
+            wob=wob,
+            torque=torque,
+            t_end=t_end,
+            initial=initial,
+            t_out=t_eval,
+            rtol=RTOL,
+            atol=ATOL,
         ),
         repeats,
     )
     base_time, base = best_of(
         lambda: simulate_baseline(
-            **baseline_kwargs(p), wob=wob, torque=torque, t_end=t_end, initial=initial,
-            method=DEFAULT_METHOD, rtol=RTOL, atol=ATOL, t_eval=t_eval,
+            **baseline_kwargs(p),
+            wob=wob,
+            torque=torque,
+            t_end=t_end,
+            initial=initial,
+            method=DEFAULT_METHOD,
+            rtol=RTOL,
+            atol=ATOL,
+            t_eval=t_eval,
         ),
         1 if repeats == 1 else 2,
     )
@@ -82,10 +95,14 @@ def main(argv=None) -> int:
     repeats = 1 if args.quick else 5
 
     rows = []
-    print(f"baseline: scipy solve_ivp {DEFAULT_METHOD}; core: pydrill (method auto); "
-          f"rtol = atol = {RTOL:g}\n")
-    header = (f"| case | initial | core (ms) | method | baseline (ms) | speed-up | "
-              f"max diff / max state | switches core/base |")
+    print(
+        f"baseline: scipy solve_ivp {DEFAULT_METHOD}; core: pydrill (method auto); "
+        f"rtol = atol = {RTOL:g}\n"
+    )
+    header = (
+        "| case | initial | core (ms) | method | baseline (ms) | speed-up | "
+        "max diff / max state | switches core/base |"
+    )
     print(header)
     print("|---|---|---:|---|---:|---:|---:|---|")
 
@@ -93,19 +110,33 @@ def main(argv=None) -> int:
         ct, core, bt, base, diff = case(p, wob, torque, t_end, initial, repeats)
         ratio = bt / ct
         rows.append((name, p.dof, initial, ct, bt, ratio))
-        print(f"| {name} | {initial} | {1e3 * ct:.2f} | {core.stats.method} | {1e3 * bt:.1f} | "
-              f"**{ratio:.0f}×** | {diff:.1e} | {len(core.switches)}/{len(base['switch_times'])} |",
-              flush=True)
+        print(
+            f"| {name} | {initial} | {1e3 * ct:.2f} | {core.stats.method} | {1e3 * bt:.1f} | "
+            f"**{ratio:.0f}×** | {diff:.1e} | {len(core.switches)}/{len(base['switch_times'])} |",
+            flush=True,
+        )
         return ratio
 
-    a = report("(a) dof 4, 100 s", pydrill.preset("reduced-scale", dof=4), 100.0, 8.3, 100.0,
-               "rest")
+    a = report(
+        "(a) dof 4, 100 s", pydrill.preset("reduced-scale", dof=4), 100.0, 8.3, 100.0, "rest"
+    )
     b = []
     for pipes in (10, 50, 100, 200, 500):
         for initial in ("rest", "equilibrium"):
-            b.append((pipes, initial, report(f"(b) {pipes} pipes, 20 s",
-                                            pydrill.preset("reduced-scale", pipes=pipes),
-                                            100.0, 8.3, 20.0, initial)))
+            b.append(
+                (
+                    pipes,
+                    initial,
+                    report(
+                        f"(b) {pipes} pipes, 20 s",
+                        pydrill.preset("reduced-scale", pipes=pipes),
+                        100.0,
+                        8.3,
+                        20.0,
+                        initial,
+                    ),
+                )
+            )
 
     # Scaling of the core's wall time with dof between 50 and 500 pipes.
     print()
@@ -115,10 +146,14 @@ def main(argv=None) -> int:
         k_core = np.polyfit(np.log(dofs), np.log(times), 1)[0]
         base = np.array([r[4] for r in rows if r[2] == initial and r[1] >= 53])
         k_base = np.polyfit(np.log(dofs), np.log(base), 1)[0]
-        print(f"wall time ∝ dof^k for 50…500 pipes from {initial}: core k = {k_core:.2f}, "
-              f"baseline k = {k_base:.2f}")
-    print(f"\n(a) speed-up {a:.0f}× (goal ≥ 100×); "
-          f"(b) smallest speed-up {min(r for _, _, r in b if _ != 50):.0f}× (goal ≥ 10×)")
+        print(
+            f"wall time ∝ dof^k for 50…500 pipes from {initial}: core k = {k_core:.2f}, "
+            f"baseline k = {k_base:.2f}"
+        )
+    print(
+        f"\n(a) speed-up {a:.0f}× (goal ≥ 100×); "
+        f"(b) smallest speed-up {min(r for _, _, r in b if _ != 50):.0f}× (goal ≥ 10×)"
+    )
     return 0
 
 

@@ -296,7 +296,7 @@ def simulate(
     if t_out is not None:
         opts.t_out = [float(v) for v in np.asarray(t_out, dtype=float).ravel()]
     opts.n_out = _integer("n_out", n_out)
-    opts.method = _choice("method", method, ("auto", "bdf", "adams"))
+    opts.method = _choice("method", method, ("auto", "bdf", "adams", "erk"))
     opts.friction = _choice("friction", friction, ("exact", "karnopp"))
     if isinstance(initial, str):
         opts.initial = _choice("initial", initial, ("rest", "equilibrium"))

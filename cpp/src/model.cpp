@@ -117,7 +117,7 @@ void Chain::jacobian_band(const double* y, Mode mode, double* band) const {
   }
 }
 
-double Chain::viscous_power(const double* y, Mode mode) const {
+double Chain::viscous_power(const double* y, Mode) const {
   const int N = dof_;
   const double* c = params_.dampings.data();
   double p = params_.top_damping * y[0] * y[0];
@@ -125,12 +125,11 @@ double Chain::viscous_power(const double* y, Mode mode) const {
     const double dw = y[2 * i] - y[2 * i + 2];
     p += c[i] * dw * dw;
   }
-  const double wb = (mode == Mode::Stick) ? 0.0 : y[bit_index()];
+  const double wb = y[bit_index()];  // 0 in exact stick; frozen inside the Karnopp band
   return p + params_.bit_damping * wb * wb;
 }
 
 double Chain::friction_power(const double* y, Mode mode) const {
-  if (mode == Mode::Stick) return 0.0;
   return friction_torque(y, mode) * y[bit_index()];
 }
 
@@ -146,7 +145,7 @@ Mode Chain::initial_mode(const double* y, bool karnopp) const {
   if (karnopp) {
     if (wb >= params_.karnopp_band) return Mode::SlipPositive;
     if (wb <= -params_.karnopp_band) return Mode::SlipNegative;
-    return Mode::Band;
+    return std::fabs(reaction_torque(y)) <= friction_.static_torque() ? Mode::Stick : Mode::Band;
   }
   if (wb > 0) return Mode::SlipPositive;
   if (wb < 0) return Mode::SlipNegative;

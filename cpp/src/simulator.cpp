@@ -1,21 +1,14 @@
 #include "pydrill/simulator.hpp"
 
-#include <cvodes/cvodes.h>
-#include <cvodes/cvodes_ls.h>
-#include <nvector/nvector_serial.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
 
-#include "chain_solver.hpp"
+#include "integrator.hpp"
 #include "pydrill/equilibrium.hpp"
 #include "summary.hpp"
-#include "sundials_compat.hpp"
-#include "vectors.hpp"
 
 namespace pydrill {
 
@@ -24,6 +17,7 @@ const char* method_name(Method m) {
     case Method::Auto: return "auto";
     case Method::BDF: return "bdf";
     case Method::Adams: return "adams";
+    case Method::ERK: return "erk";
   }
   return "?";
 }
@@ -43,7 +37,9 @@ Method parse_method(const std::string& s) {
   if (s == "auto") return Method::Auto;
   if (s == "bdf") return Method::BDF;
   if (s == "adams") return Method::Adams;
-  throw std::invalid_argument("method = '" + s + "' is not allowed: choose 'auto', 'bdf' or 'adams'");
+  if (s == "erk") return Method::ERK;
+  throw std::invalid_argument("method = '" + s +
+                              "' is not allowed: choose 'auto', 'bdf', 'adams' or 'erk'");
 }
 
 FrictionLaw parse_friction(const std::string& s) {
@@ -123,223 +119,75 @@ double stiffness_ratio(const Params& p) {
 
 Method choose_method(const Params& p, std::string* reason) {
   // Stiff means fast modes that decay: BDF steps over them once they have died.
-  // Fast modes that only ring must be resolved by any method, and then Adams'
-  // cheap fixed-point steps win. Thresholds measured by
-  // benchmarks/bench_methods.py (Adams vs BDF on soft, real and refined strings).
+  // Otherwise every method must resolve the fast modes, and the cheapest steps
+  // win: ARKODE's explicit 7(8) pair, which restarts at full order after each
+  // friction switch, unless the fast modes are moderately damped, where its
+  // stability limit bites and Adams does better. Thresholds measured by
+  // benchmarks/bench_methods.py on soft, real, stiff and refined strings.
   const StiffnessEstimate e = estimate_stiffness(p);
   const double zeta = e.fastest_decay / (2.0 * e.fastest_frequency);
   const double ratio = e.fastest_decay / e.fundamental;
-  constexpr double zeta_min = 0.5, ratio_min = 100.0;
-  const bool stiff = zeta > zeta_min && ratio > ratio_min;
+  constexpr double zeta_stiff = 0.5, ratio_stiff = 100.0, zeta_damped = 0.2;
+  Method m = Method::ERK;
+  const char* why = "non-stiff, lightly damped fast modes: ARKODE explicit Runge-Kutta 7(8)";
+  if (zeta > zeta_stiff && ratio > ratio_stiff) {
+    m = Method::BDF;
+    why = "stiff (fast modes die quickly): BDF with the banded chain solver";
+  } else if (zeta > zeta_damped) {
+    m = Method::Adams;
+    why = "non-stiff, moderately damped fast modes: Adams";
+  }
   if (reason) {
     std::ostringstream o;
     o.precision(3);
-    o << "fastest decay " << e.fastest_decay << "/s = " << ratio << "x the fundamental "
-      << e.fundamental << " rad/s, damping ratio of the fastest modes " << zeta << ": "
-      << (stiff ? "stiff, BDF with the banded chain solver" : "non-stiff, Adams");
+    o << why << " (fastest decay " << e.fastest_decay << "/s = " << ratio
+      << "x the fundamental " << e.fundamental << " rad/s; damping ratio of the fastest modes "
+      << zeta << ")";
     *reason = o.str();
   }
-  return stiff ? Method::BDF : Method::Adams;
+  return m;
 }
 
 namespace {
 
-constexpr int kQuads = 4;  // φ_0, ∫u ω_0, ∫viscous, ∫friction
+using detail::Integrator;
+using detail::kQuads;
+using detail::kRoots;
 
-struct RunData {
-  const Chain* chain;
-  Mode mode;
-  bool karnopp;
-  bool band_held;  // Karnopp band with |T_e| <= T_s: the bit cannot move
-  double held_omega;  // ω_b while band_held (constant there)
-  double ts, dv;
-};
-
-int rhs_fn(sunrealtype, N_Vector y, N_Vector ydot, void* ud) {
-  const auto* d = static_cast<RunData*>(ud);
-  d->chain->rhs(N_VGetArrayPointer(y), d->mode, N_VGetArrayPointer(ydot));
-  return 0;
-}
-
-int quad_fn(sunrealtype, N_Vector y, N_Vector q, void* ud) {
-  const auto* d = static_cast<RunData*>(ud);
-  const double* Y = N_VGetArrayPointer(y);
-  double* Q = N_VGetArrayPointer(q);
-  Q[0] = Y[0];
-  Q[1] = d->chain->input_power(Y);
-  Q[2] = d->chain->viscous_power(Y, d->mode);
-  Q[3] = d->chain->friction_power(Y, d->mode);
-  return 0;
-}
-
-// Root functions per mode; each is non-zero right after its mode is entered.
-// Unused slots hold a constant so they never fire.
-constexpr int kRoots = 4;
-
-int root_fn(sunrealtype, N_Vector y, sunrealtype* g, void* ud) {
-  const auto* d = static_cast<RunData*>(ud);
-  const double* Y = N_VGetArrayPointer(y);
-  const double wb = Y[d->chain->bit_index()];
-  g[0] = g[1] = g[2] = g[3] = 1.0;
-  switch (d->mode) {
-    case Mode::SlipPositive: g[0] = d->karnopp ? wb - d->dv : wb; break;
-    case Mode::SlipNegative: g[0] = d->karnopp ? wb + d->dv : wb; break;
-    case Mode::Stick: {
-      const double te = d->chain->reaction_torque(Y);
-      g[0] = te - d->ts;
-      g[1] = te + d->ts;
-      break;
-    }
-    case Mode::Band: {
-      // Inside the band the friction clips T_e at ±T_s, a kink in the
-      // right-hand side. While |T_e| <= T_s the bit is held and only T_e can
-      // end that; once beyond, the bit creeps and may leave the band. Keeping
-      // the two apart stops high-order steps from straddling the kink (their
-      // interpolant would carry ω_b across the band edge too early).
-      const double te = d->chain->reaction_torque(Y);
-      if (d->band_held) {
-        g[0] = te - d->ts;
-        g[1] = te + d->ts;
-      } else {
-        g[0] = wb - d->dv;
-        g[1] = wb + d->dv;
-        g[2] = te - d->ts;
-        g[3] = te + d->ts;
-      }
-      break;
-    }
-  }
-  return 0;
-}
-
-void root_directions(Mode m, int dir[kRoots]) {
-  dir[0] = dir[1] = dir[2] = dir[3] = 0;
-  switch (m) {
-    case Mode::SlipPositive: dir[0] = -1; break;
-    case Mode::SlipNegative: dir[0] = +1; break;
-    case Mode::Stick:
-    case Mode::Band: dir[0] = +1; dir[1] = -1; break;
-  }
-}
-
-struct CvodeDeleter {
-  void operator()(void* mem) const { CVodeFree(&mem); }
-};
-struct VectorDeleter {
-  void operator()(N_Vector v) const { N_VDestroy(v); }
-};
-struct SolverDeleter {
-  void operator()(SUNLinearSolver s) const { SUNLinSolFree(s); }
-};
-struct NonlinDeleter {
-  void operator()(SUNNonlinearSolver s) const { SUNNonlinSolFree(s); }
-};
-using VectorPtr = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorDeleter>;
-
-std::string flag_text(int flag) {
-  char* name = CVodeGetReturnFlagName(flag);
-  std::string s = name ? name : std::to_string(flag);
-  free(name);
-  return s;
-}
-
+// The mode machine: integrates one smooth piece after another, decides at each
+// root which mode comes next, keeps the outputs, the switch log and the trace
+// the regime is judged on.
 class Run {
  public:
-  Run(const Chain& chain, const SimulationOptions& opt, std::vector<double> y0, Method method)
-      : chain_(chain), opt_(opt), method_(method), n_(chain.size()) {
+  Run(const Chain& chain, const SimulationOptions& opt, const std::vector<double>& y0, Method method)
+      : chain_(chain), opt_(opt), n_(chain.size()) {
     data_.chain = &chain_;
     data_.karnopp = opt.friction == FrictionLaw::Karnopp;
     data_.ts = chain.static_torque();
     data_.dv = chain.params().karnopp_band;
     data_.mode = chain.initial_mode(y0.data(), data_.karnopp);
-    data_.band_held = std::fabs(chain.reaction_torque(y0.data())) <= data_.ts;
-    data_.held_omega = y0[static_cast<std::size_t>(chain.bit_index())];
-
-    y_.reset(detail::make_vector(n_, ctx_));
-    tmp_.reset(detail::make_vector(n_, ctx_));
-    q_.reset(detail::make_vector(kQuads, ctx_));
-    qtmp_.reset(detail::make_vector(kQuads, ctx_));
-    std::copy(y0.begin(), y0.end(), N_VGetArrayPointer(y_.get()));
-    N_VConst(0.0, q_.get());
-
-    mem_.reset(CVodeCreate(method == Method::BDF ? CV_BDF : CV_ADAMS, ctx_));
-    if (!mem_) throw std::runtime_error("CVodeCreate failed");
-    void* m = mem_.get();
-    detail::capture_messages(m, ctx_, &message_);
-    check(CVodeInit(m, rhs_fn, 0.0, y_.get()), "CVodeInit");
-    check(CVodeSetUserData(m, &data_), "CVodeSetUserData");
-    check(CVodeSStolerances(m, opt.rtol, opt.atol), "CVodeSStolerances");
-    check(CVodeSetMaxNumSteps(m, 1'000'000), "CVodeSetMaxNumSteps");
-    check(CVodeSetMaxErrTestFails(m, 20), "CVodeSetMaxErrTestFails");
-    check(CVodeSetMaxConvFails(m, 50), "CVodeSetMaxConvFails");
-    if (opt.max_step > 0) check(CVodeSetMaxStep(m, opt.max_step), "CVodeSetMaxStep");
-    if (opt.max_order > 0) check(CVodeSetMaxOrd(m, opt.max_order), "CVodeSetMaxOrd");
-    check(CVodeSetStopTime(m, opt.t_end), "CVodeSetStopTime");
-    check(CVodeRootInit(m, kRoots, root_fn), "CVodeRootInit");
-    check(CVodeSetNoInactiveRootWarn(m), "CVodeSetNoInactiveRootWarn");
-    set_directions();
-    check(CVodeQuadInit(m, quad_fn, q_.get()), "CVodeQuadInit");
-    check(CVodeQuadSStolerances(m, opt.rtol, opt.atol), "CVodeQuadSStolerances");
-    check(CVodeSetQuadErrCon(m, SUNTRUE), "CVodeSetQuadErrCon");
-    if (method == Method::BDF) {
-      lsdata_.cvode_mem = m;
-      lsdata_.chain = &chain_;
-      lsdata_.mode = &data_.mode;
-      ls_.reset(detail::make_chain_solver(ctx_, &lsdata_));
-      check(CVodeSetLinearSolver(m, ls_.get(), nullptr), "CVodeSetLinearSolver");
-    } else {
-      nls_.reset(SUNNonlinSol_FixedPoint(y_.get(), 0, ctx_));
-      check(CVodeSetNonlinearSolver(m, nls_.get()), "CVodeSetNonlinearSolver");
-    }
+    integrator_ = method == Method::ERK ? detail::make_erk(data_, y0, opt)
+                                        : detail::make_cvodes(method, data_, y0, opt);
+    res_.stats.method = method_name(method);
   }
 
   Result run();
 
  private:
-  void check(int flag, const char* what) {
-    if (flag < 0) throw std::runtime_error(std::string(what) + " failed: " + flag_text(flag) + " " + message_);
-  }
-  void set_directions() {
-    int dir[kRoots];
-    root_directions(data_.mode, dir);
-    check(CVodeSetRootDirection(mem_.get(), dir), "CVodeSetRootDirection");
-  }
-  void accumulate_stats();
   void record_output(double t, const double* y, const double* q);
   void handle_root(double t);
   void restart(double t);
+  void fail(const SolverError& e);
 
   const Chain& chain_;
   const SimulationOptions& opt_;
-  Method method_;
   int n_;
-  detail::Context ctx_;
-  RunData data_{};
-  detail::ChainSolverData lsdata_;
-  VectorPtr y_, tmp_, q_, qtmp_;
-  std::unique_ptr<void, CvodeDeleter> mem_;
-  std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, SolverDeleter> ls_;
-  std::unique_ptr<std::remove_pointer_t<SUNNonlinearSolver>, NonlinDeleter> nls_;
-  std::string message_;
+  detail::RunData data_;
+  std::unique_ptr<Integrator> integrator_;
   Result res_;
   detail::Trace trace_;
   std::vector<detail::ModeChange> modes_;
 };
-
-void Run::accumulate_stats() {
-  void* m = mem_.get();
-  long v = 0;
-  SolverStats& s = res_.stats;
-  CVodeGetNumSteps(m, &v); s.steps += v;
-  CVodeGetNumRhsEvals(m, &v); s.rhs_evals += v;
-  CVodeGetNumErrTestFails(m, &v); s.err_test_fails += v;
-  CVodeGetNumNonlinSolvIters(m, &v); s.nonlin_iters += v;
-  CVodeGetNumNonlinSolvConvFails(m, &v); s.nonlin_conv_fails += v;
-  CVodeGetNumGEvals(m, &v); s.root_evals += v;
-  if (method_ == Method::BDF) {
-    CVodeGetNumLinSolvSetups(m, &v); s.lin_setups += v;
-  }
-}
 
 void Run::record_output(double t, const double* y, const double* q) {
   res_.t.push_back(t);
@@ -353,13 +201,13 @@ void Run::record_output(double t, const double* y, const double* q) {
 }
 
 void Run::handle_root(double t) {
-  double* y = N_VGetArrayPointer(y_.get());
+  double* y = integrator_->state();
   const int b = chain_.bit_index();
   const double ts = data_.ts;
   int found[kRoots] = {0, 0, 0, 0};
-  CVodeGetRootInfo(mem_.get(), found);
+  integrator_->roots_found(found);
   double g[kRoots];
-  root_fn(t, y_.get(), g, &data_);
+  detail::root_functions(data_, y, g);
   double residual = g[0];
   for (int i = 0; i < kRoots; ++i) {
     if (found[i]) {
@@ -377,8 +225,8 @@ void Run::handle_root(double t) {
       after = found[0] ? Mode::SlipPositive : Mode::SlipNegative;
       kind = SwitchKind::Slip;
     } else {
-      // ω_b crossed zero. CVODES stops just past the root: put the bit
-      // exactly at rest, then let the reaction torque decide.
+      // ω_b crossed zero. The integrator stops just past the root: put the
+      // bit exactly at rest, then let the reaction torque decide.
       y[b] = 0.0;
       const double te = chain_.reaction_torque(y);
       if (std::fabs(te) <= ts) {
@@ -394,24 +242,27 @@ void Run::handle_root(double t) {
       }
     }
   } else {
+    // Karnopp: |ω_b| < D_v is the band. Held there (mode Stick: friction = T_e,
+    // ω_b frozen) while |T_e| <= T_s, creeping (mode Band: friction = ±T_s)
+    // beyond. Each sub-mode has a smooth right-hand side, so no step straddles
+    // the kink of the clipped friction.
+    const double te = chain_.reaction_torque(y);
+    if (before == Mode::Stick) {
+      data_.mode = Mode::Band;  // T_e reached ±T_s: the bit starts to creep
+      restart(t);
+      return;
+    }
+    if (before == Mode::Band && !found[0] && !found[1]) {
+      data_.mode = Mode::Stick;  // T_e fell back inside ±T_s: held again
+      restart(t);
+      return;
+    }
     if (before == Mode::Band) {
-      if (data_.band_held || (!found[0] && !found[1])) {
-        // T_e crossed ±T_s inside the band: same mode, the other smooth piece.
-        // While held, ω_b is constant; the interpolant of a step that
-        // straddles the kink is not, so restore the exact value.
-        if (data_.band_held) y[b] = data_.held_omega;
-        data_.band_held = !data_.band_held;
-        data_.held_omega = y[b];
-        restart(t);
-        return;
-      }
       after = found[0] ? Mode::SlipPositive : Mode::SlipNegative;
       kind = SwitchKind::BandLeave;
     } else {
-      after = Mode::Band;
+      after = std::fabs(te) <= ts ? Mode::Stick : Mode::Band;
       kind = SwitchKind::BandEnter;
-      data_.band_held = std::fabs(chain_.reaction_torque(y)) <= ts;
-      data_.held_omega = y[b];
     }
   }
   data_.mode = after;
@@ -431,26 +282,17 @@ void Run::handle_root(double t) {
       throw SolverError(o.str(), t);
     }
   }
-
   restart(t);
 }
 
 void Run::restart(double t) {
-  // Restart the integrator from the switch: history from the old mode is invalid.
-  accumulate_stats();
-  sunrealtype tq;
-  CVodeGetQuad(mem_.get(), &tq, q_.get());
-  void* m = mem_.get();
-  check(CVodeReInit(m, t, y_.get()), "CVodeReInit");
-  check(CVodeQuadReInit(m, q_.get()), "CVodeQuadReInit");
-  check(CVodeSetStopTime(m, opt_.t_end), "CVodeSetStopTime");
-  set_directions();
-  lsdata_.valid = false;
+  // History from the old mode is invalid: the integrator starts afresh here.
+  integrator_->collect(res_.stats);
+  integrator_->restart(t);
   ++res_.stats.reinits;
 }
 
 Result Run::run() {
-  const auto wall0 = std::chrono::steady_clock::now();
   const double t_end = opt_.t_end;
   std::vector<double> tout = opt_.t_out;
   if (tout.empty()) {
@@ -481,72 +323,60 @@ Result Run::run() {
   };
 
   std::size_t k = 0;
-  const double* y = N_VGetArrayPointer(y_.get());
-  const double* q = N_VGetArrayPointer(q_.get());
+  const double* y = integrator_->state();
+  const double* q = integrator_->quadratures();
   while (k < tout.size() && tout[k] <= 0.0) record_output(0.0, y, q), ++k;
-  if (wstart <= 0.0) {
+  bool window_open = wstart <= 0.0;
+  if (window_open) {
     sample(0.0, y);
     w.bit0 = bit_angle(y, 0.0);
   }
-  bool window_open = wstart <= 0.0;
 
+  std::vector<double> yt(static_cast<std::size_t>(n_)), qt(kQuads);
   double t = 0.0;
-  while (t < t_end) {
-    const double tprev = t;
-    const int flag = CVode(mem_.get(), t_end, y_.get(), &t, CV_ONE_STEP);
-    if (flag < 0) {
-      accumulate_stats();
-      std::ostringstream o;
-      o << "CVODES failed at t = " << t << " s (" << flag_text(flag) << "): " << message_;
-      throw SolverError(o.str(), t);
-    }
-    // Dense output: interpolate requested times inside the step just taken.
-    double* yt = N_VGetArrayPointer(tmp_.get());
-    const double* qt = N_VGetArrayPointer(qtmp_.get());
-    auto interpolate = [&](double ti) {
-      CVodeGetDky(mem_.get(), ti, 0, tmp_.get());
-      CVodeGetQuadDky(mem_.get(), ti, 0, qtmp_.get());
-    };
-    if (!window_open && t >= wstart && tprev <= wstart) {
-      interpolate(wstart);
-      w.top0 = qt[0];
-      w.bit0 = bit_angle(yt, qt[0]);
-      sample(wstart, yt);
-      window_open = true;
-    }
-    while (k < tout.size() && tout[k] <= t) {
-      if (tout[k] == t) {
-        CVodeGetQuad(mem_.get(), &t, q_.get());
-        record_output(t, y, q);
-      } else {
-        interpolate(tout[k]);
-        record_output(tout[k], yt, qt);
-        sample(tout[k], yt);
+  try {
+    while (t < t_end) {
+      const double tprev = t;
+      const Integrator::Status status = integrator_->step(t_end, t);
+      y = integrator_->state();
+      q = integrator_->quadratures();
+      // Dense output: requested times inside the step just taken.
+      if (!window_open && t >= wstart && tprev <= wstart) {
+        integrator_->interpolate(wstart, yt.data(), qt.data());
+        w.top0 = qt[0];
+        w.bit0 = bit_angle(yt.data(), qt[0]);
+        sample(wstart, yt.data());
+        window_open = true;
       }
-      ++k;
+      while (k < tout.size() && tout[k] <= t) {
+        if (tout[k] == t) {
+          record_output(t, y, q);
+        } else {
+          integrator_->interpolate(tout[k], yt.data(), qt.data());
+          record_output(tout[k], yt.data(), qt.data());
+          sample(tout[k], yt.data());
+        }
+        ++k;
+      }
+      if (status == Integrator::Status::Root) handle_root(t);
+      sample(t, y);
+      if (res_.stats.steps + integrator_->steps_since_restart() > opt_.max_steps) {
+        std::ostringstream o;
+        o << "max_steps = " << opt_.max_steps << " internal steps reached at t = " << t
+          << " s; raise max_steps or shorten t_end";
+        throw SolverError(o.str(), t);
+      }
+      if (status == Integrator::Status::Stop) break;
     }
-    if (flag == CV_ROOT_RETURN) handle_root(t);
-    sample(t, y);
-    long steps = 0;
-    CVodeGetNumSteps(mem_.get(), &steps);
-    if (res_.stats.steps + steps > opt_.max_steps) {
-      accumulate_stats();
-      std::ostringstream o;
-      o << "max_steps = " << opt_.max_steps << " internal steps reached at t = " << t
-        << " s; raise max_steps or shorten t_end";
-      throw SolverError(o.str(), t);
-    }
-    if (flag == CV_TSTOP_RETURN) break;
+  } catch (const SolverError&) {
+    integrator_->collect(res_.stats);
+    throw;
   }
-  accumulate_stats();
-  CVodeGetQuad(mem_.get(), &t, q_.get());
+  integrator_->collect(res_.stats);
   w.top1 = q[0];
   w.bit1 = bit_angle(y, q[0]);
-  res_.stats.jac_evals = lsdata_.factorizations;
-  res_.stats.lin_solves = lsdata_.solves;
   res_.stats.switches = static_cast<long>(res_.switches.size());
   res_.summary = detail::summarize(chain_, trace_, modes_, w, data_.karnopp);
-  res_.stats.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return std::move(res_);
 }
 

@@ -35,30 +35,36 @@ class Context {
   SUNContext ctx_ = nullptr;
 };
 
-// Routes CVODES's error and warning messages into `sink` instead of stderr,
-// so they can travel with the exception that reports the failure.
+// Route the integrators' error and warning messages into `sink` instead of
+// stderr, so they can travel with the exception that reports the failure.
 #if SUNDIALS_VERSION_MAJOR >= 7
-inline void capture_messages(void* /*cvode_mem*/, SUNContext ctx, std::string* sink) {
+inline void capture_messages(SUNContext ctx, std::string* sink) {
   SUNContext_ClearErrHandlers(ctx);
   SUNContext_PushErrHandler(
       ctx,
       [](int, const char* func, const char*, const char* msg, SUNErrCode, void* data, SUNContext) {
         auto* s = static_cast<std::string*>(data);
-        *s = std::string(func ? func : "CVODES") + ": " + (msg ? msg : "");
+        *s = std::string(func ? func : "SUNDIALS") + ": " + (msg ? msg : "");
       },
       sink);
+}
+inline void capture_cvode_messages(void*, SUNContext ctx, std::string* sink) {
+  capture_messages(ctx, sink);
+}
+inline void capture_arkode_messages(void*, SUNContext ctx, std::string* sink) {
+  capture_messages(ctx, sink);
 }
 #else
-inline void capture_messages(void* cvode_mem, SUNContext /*ctx*/, std::string* sink) {
-  CVodeSetErrHandlerFn(
-      cvode_mem,
-      [](int, const char* module, const char* function, char* msg, void* data) {
-        auto* s = static_cast<std::string*>(data);
-        *s = std::string(module ? module : "CVODES") + "/" + (function ? function : "") + ": " +
-             (msg ? msg : "");
-      },
-      sink);
+inline void store_message(int, const char* module, const char* function, char* msg, void* data) {
+  auto* s = static_cast<std::string*>(data);
+  *s = std::string(module ? module : "SUNDIALS") + "/" + (function ? function : "") + ": " +
+       (msg ? msg : "");
 }
+inline void capture_cvode_messages(void* cvode_mem, SUNContext, std::string* sink) {
+  CVodeSetErrHandlerFn(cvode_mem, store_message, sink);
+}
+// Defined where ARKODE's header is included (integrator_erk.cpp).
+void capture_arkode_messages(void* arkode_mem, SUNContext, std::string* sink);
 #endif
 
 }  // namespace pydrill::detail

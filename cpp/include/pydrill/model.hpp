@@ -19,8 +19,9 @@ namespace pydrill {
 enum class Mode {
   SlipPositive,  // bit turns forward, friction = +f_b(ω_b)
   SlipNegative,  // bit turns backward, friction = −f_b(|ω_b|)
-  Stick,         // bit held still (exact friction): ω_b ≡ 0, friction = T_e
-  Band,          // Karnopp zero-velocity band |ω_b| < D_v: friction = clip(T_e, ±T_s)
+  Stick,         // bit held by the rock: friction = T_e, ω_b frozen (exactly 0 with the
+                 // exact law; inside the zero-velocity band with Karnopp's)
+  Band,          // Karnopp band |ω_b| < D_v with |T_e| > T_s: friction = ±T_s, the bit creeps
 };
 
 const char* mode_name(Mode m);

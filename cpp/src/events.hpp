@@ -1,0 +1,39 @@
+// What every integrator backend shares: the discrete state of the friction
+// (mode) and the root functions that end each smooth piece of the motion.
+#pragma once
+
+#include <sundials/sundials_nvector.h>
+
+#include "pydrill/model.hpp"
+
+namespace pydrill::detail {
+
+constexpr int kQuads = 4;  // φ_0, ∫u ω_0 dt, ∫viscous dissipation dt, ∫friction dissipation dt
+constexpr int kRoots = 4;  // slots; unused ones hold a constant so they never fire
+
+// Read by the right-hand side and the root functions, changed only at
+// switches: the right-hand side stays pure.
+struct RunData {
+  const Chain* chain = nullptr;
+  Mode mode = Mode::Stick;
+  bool karnopp = false;
+  double ts = 0.0, dv = 0.0;
+};
+
+// Quadrature integrands (power balance and the top angle).
+inline void quadrature_rhs(const RunData& d, const double* y, double* q) {
+  q[0] = y[0];
+  q[1] = d.chain->input_power(y);
+  q[2] = d.chain->viscous_power(y, d.mode);
+  q[3] = d.chain->friction_power(y, d.mode);
+}
+
+// Root functions of the current mode; each is non-zero right after its mode
+// is entered, so CVODES/ARKODE never start on a blind zero.
+void root_functions(const RunData& d, const double* y, double* g);
+void root_directions(const RunData& d, int dir[kRoots]);
+
+// SUNDIALS callback shape (user data = RunData).
+int root_callback(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data);
+
+}  // namespace pydrill::detail
