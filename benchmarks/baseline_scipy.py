@@ -691,7 +691,7 @@ def main(argv=None):
 
     t_eval = None
     if a.dt > 0:
-        t_eval = np.linspace(0.0, a.t_end, int(round(a.t_end / a.dt)) + 1)
+        t_eval = np.linspace(0.0, a.t_end, round(a.t_end / a.dt) + 1)
     if a.compare:
         if t_eval is None:
             ap.error("--compare needs --dt > 0")

@@ -71,8 +71,8 @@ def main() -> None:
     )
     for name, params, wob, torque, t_end in CASES:
         ta, ra = timed(params, wob, torque, t_end, "adams")
-        tb, rb = timed(params, wob, torque, t_end, "bdf")
-        te, re_ = timed(params, wob, torque, t_end, "erk")
+        tb, _rb = timed(params, wob, torque, t_end, "bdf")
+        te, _re = timed(params, wob, torque, t_end, "erk")
         _, rauto = timed(params, wob, torque, t_end, "auto")
         auto = rauto.stats.method
         times = {"adams": ta, "bdf": tb, "erk": te}
