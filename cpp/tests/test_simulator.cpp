@@ -71,26 +71,33 @@ TEST_CASE("exact and Karnopp friction agree on regime and period", "[simulator][
   CHECK(karnopp.summary.period == Approx(exact.summary.period).epsilon(0.01));
 }
 
-TEST_CASE("BDF with the chain solver and Adams give one answer", "[simulator][methods]") {
+TEST_CASE("BDF with the chain solver, Adams and ERK give one answer", "[simulator][methods]") {
   SimulationOptions o;
   o.t_end = 60.0;
   o.n_out = 61;
-  o.method = Method::BDF;
-  const Params p = preset("reduced-scale", 6);
-  const Result bdf = simulate(p, 100.0, 8.3, o);
   o.method = Method::Adams;
+  const Params p = preset("reduced-scale", 6);
   const Result adams = simulate(p, 100.0, 8.3, o);
-  CHECK(bdf.stats.method == "bdf");
-  CHECK(bdf.stats.jac_evals > 0);
-  REQUIRE(bdf.states.size() == adams.states.size());
-  // Both at rtol 1e-8; switch times carry the local error forward, so compare on the
-  // scale of the solution (measured: BDF 7e-6, Adams 4e-7 from an rtol 1e-12 reference).
-  double scale = 0.0, diff = 0.0;
-  for (std::size_t i = 0; i < bdf.states.size(); ++i) {
-    scale = std::max(scale, std::fabs(adams.states[i]));
-    diff = std::max(diff, std::fabs(bdf.states[i] - adams.states[i]));
+  for (Method m : {Method::BDF, Method::ERK}) {
+    o.method = m;
+    const Result r = simulate(p, 100.0, 8.3, o);
+    CHECK(r.stats.method == method_name(m));
+    if (m == Method::BDF) CHECK(r.stats.jac_evals > 0);
+    REQUIRE(r.states.size() == adams.states.size());
+    REQUIRE(r.switches.size() == adams.switches.size());
+    // All at rtol 1e-8; switch times carry the local error forward, so compare on the
+    // scale of the solution (measured: BDF 7e-6, Adams 4e-7 from an rtol 1e-12 reference).
+    double scale = 0.0, diff = 0.0;
+    for (std::size_t i = 0; i < r.states.size(); ++i) {
+      scale = std::max(scale, std::fabs(adams.states[i]));
+      diff = std::max(diff, std::fabs(r.states[i] - adams.states[i]));
+    }
+    CHECK(diff < 1e-4 * scale);
+    for (std::size_t i = 0; i < r.switches.size(); ++i) {
+      CHECK(r.switches[i].kind == adams.switches[i].kind);
+      CHECK(r.switches[i].t == Approx(adams.switches[i].t).margin(1e-4));
+    }
   }
-  CHECK(diff < 1e-4 * scale);
 }
 
 TEST_CASE("bad options are refused before anything runs", "[simulator]") {

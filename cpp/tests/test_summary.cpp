@@ -1,0 +1,82 @@
+// The regime judge on synthetic traces with known answers.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "pydrill/model.hpp"
+#include "summary.hpp"
+
+using namespace pydrill;
+
+namespace {
+struct Synthetic {
+  detail::Trace trace;
+  detail::WindowAngles angles{};
+};
+
+// ω_b(t) = Ω + A e^{−σt} sin(2πt/T) sampled finely over [t0, t1]; the angles are its
+// exact integral, so the judged mean is Ω up to the oscillation's own contribution.
+Synthetic sine(double omega, double amp, double sigma, double period, double t0, double t1) {
+  Synthetic s;
+  const int n = 20000;
+  const double w = 2 * M_PI / period;
+  auto integral = [&](double t) {
+    // ∫ A e^{−σt} sin(wt) dt = −A e^{−σt} (σ sin wt + w cos wt) / (σ² + w²)
+    return omega * t - amp * std::exp(-sigma * t) * (sigma * std::sin(w * t) + w * std::cos(w * t)) /
+                           (sigma * sigma + w * w);
+  };
+  for (int i = 0; i <= n; ++i) {
+    const double t = t0 + (t1 - t0) * i / n;
+    s.trace.t.push_back(t);
+    s.trace.bit.push_back(omega + amp * std::exp(-sigma * t) * std::sin(w * t));
+    s.trace.top.push_back(omega);
+  }
+  s.angles = {t0, t1, omega * t0, omega * t1, integral(t0), integral(t1)};
+  return s;
+}
+}  // namespace
+
+TEST_CASE("a sustained swing without sticking is an oscillation with its period", "[summary]") {
+  const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
+  const auto s = sine(30.0, 3.0, 0.0, 7.5, 500.0, 1000.0);
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  const Summary r = detail::summarize(chain, s.trace, modes, s.angles, false);
+  CHECK(r.regime == "oscillation");
+  CHECK(r.period == Approx(7.5).epsilon(1e-3));
+  CHECK(r.bit_mean == Approx(30.0).epsilon(1e-3));
+  CHECK(r.severity == Approx(0.1).epsilon(1e-3));
+  CHECK(r.stuck_fraction == 0.0);
+}
+
+TEST_CASE("a decaying swing is steady", "[summary]") {
+  const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
+  const auto s = sine(30.0, 3.0, 0.01, 7.5, 500.0, 1000.0);
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  CHECK(detail::summarize(chain, s.trace, modes, s.angles, false).regime == "steady");
+}
+
+TEST_CASE("stick phases in the window make stick-slip; a stick covering it makes stuck",
+          "[summary]") {
+  const auto s = sine(10.0, 1.0, 0.0, 10.0, 150.0, 300.0);
+  const std::vector<detail::ModeChange> cycle{{0.0, Mode::Stick},   {160.0, Mode::SlipPositive},
+                                              {170.0, Mode::Stick}, {180.0, Mode::SlipPositive},
+                                              {190.0, Mode::Stick}, {200.0, Mode::SlipPositive}};
+  const Chain chain(preset("reduced-scale", 4), 100.0, 8.3);
+  const Summary r = detail::summarize(chain, s.trace, cycle, s.angles, false);
+  CHECK(r.regime == "stick-slip");
+  CHECK(r.stick_events == 2);  // onsets at 170 and 190 lie in [150, 300]
+  CHECK(r.period == Approx(20.0));
+  CHECK(r.stuck_fraction == Approx((10.0 + 10.0 + 10.0) / 150.0));
+
+  // Held from before the window to its end, and u = 8.3 < T_s = 12.8 at W_ob = 160 N.
+  const Chain heavy(preset("reduced-scale", 4), 160.0, 8.3);
+  const std::vector<detail::ModeChange> held{{0.0, Mode::Stick}};
+  const Summary stuck = detail::summarize(heavy, s.trace, held, s.angles, false);
+  CHECK(stuck.regime == "stuck");
+  CHECK(stuck.note.empty());
+  // Same, but u > T_s: the bit must break free later; never having slipped, the run
+  // ended in the first wind-up and says so.
+  const Summary windup = detail::summarize(chain, s.trace, held, s.angles, false);
+  CHECK(windup.regime == "stuck");
+  CHECK_FALSE(windup.note.empty());
+}
