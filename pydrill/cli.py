@@ -20,7 +20,7 @@ SIMULATE_EPILOG = """\
 examples:
   pydrill simulate --wob 100 --torque 8.3                 # paper Fig. 4: stick-slip
   pydrill simulate --wob 160 --torque 8.3 --json          # stuck bit, machine-readable
-  pydrill simulate --pipes 100 --wob 100 --torque 8.3 --plot run.png
+  pydrill simulate --pipes 10 --wob 100 --torque 8.3 --t-end 600 --plot run.png
   pydrill simulate --wob 40 --torque 8.3 --initial equilibrium --friction karnopp
 
 regimes (judged on the last --window fraction of the run):
