@@ -1,4 +1,5 @@
 #include "chain_solver.hpp"
+#include "sundials_compat.hpp"
 
 #include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
@@ -64,7 +65,7 @@ int solver_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, sunrealty
   void* user_data;
   if (CVodeGetNonlinearSystemData(d->cvode_mem, &tcur, &ypred, &y, &fn, &gamma, &rl1, &zn1,
                                   &user_data) != CV_SUCCESS) {
-    return SUNLS_PACKAGE_FAIL_UNREC;
+    return kLinSolFailUnrecoverable;
   }
   const Chain& chain = *d->chain;
   const int n = chain.size();
@@ -78,7 +79,7 @@ int solver_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, sunrealty
     ++d->factorizations;
     if (!factor_band(d->lu, n, gamma)) {
       d->valid = false;
-      return SUNLS_PACKAGE_FAIL_REC;
+      return kLinSolFailRecoverable;
     }
     d->valid = true;
     d->gamma = gamma;
@@ -87,14 +88,14 @@ int solver_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, sunrealty
   }
   ++d->solves;
   solve_band(d->lu, n, N_VGetArrayPointer(b), N_VGetArrayPointer(x));
-  return SUNLS_SUCCESS;
+  return kLinSolSuccess;
 }
 
 int solver_free(SUNLinearSolver S) {
-  if (S == nullptr) return SUNLS_SUCCESS;
+  if (S == nullptr) return kLinSolSuccess;
   S->content = nullptr;  // the data belongs to the simulator
   SUNLinSolFreeEmpty(S);
-  return SUNLS_SUCCESS;
+  return kLinSolSuccess;
 }
 
 }  // namespace

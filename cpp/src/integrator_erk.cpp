@@ -10,6 +10,14 @@
 #include <sstream>
 
 #include "integrator.hpp"
+
+// SUNDIALS 7.1 moved ARKODE's step-module functions to a shared ARKode* API
+// and deprecated the ERKStep* names; pick whichever this SUNDIALS prefers.
+#if SUNDIALS_VERSION_MAJOR > 7 || (SUNDIALS_VERSION_MAJOR == 7 && SUNDIALS_VERSION_MINOR >= 1)
+#define PYDRILL_ARK(name) ARKode##name
+#else
+#define PYDRILL_ARK(name) ERKStep##name
+#endif
 #include "sundials_compat.hpp"
 #include "vectors.hpp"
 
@@ -33,11 +41,11 @@ int rhs_fn(sunrealtype, N_Vector y, N_Vector ydot, void* ud) {
 }
 
 struct ArkodeDeleter {
-  void operator()(void* mem) const { ERKStepFree(&mem); }
+  void operator()(void* mem) const { PYDRILL_ARK(Free)(&mem); }
 };
 
 std::string flag_text(int flag) {
-  char* name = ERKStepGetReturnFlagName(flag);
+  char* name = PYDRILL_ARK(GetReturnFlagName)(flag);
   std::string s = name ? name : std::to_string(flag);
   free(name);
   return s;
@@ -55,22 +63,22 @@ class Erk final : public Integrator {
     if (!mem_) throw std::runtime_error("ERKStepCreate failed");
     void* m = mem_.get();
     capture_arkode_messages(m, ctx_, &message_);
-    check(ERKStepSetUserData(m, &data_), "ERKStepSetUserData");
+    check(PYDRILL_ARK(SetUserData)(m, &data_), "ERKStepSetUserData");
     // Fehlberg 7(8), 13 stages: measured against Verner 6(5) on the paper's
     // stick-slip case, 4x fewer steps and 3000x smaller energy-balance error.
     check(ERKStepSetTableNum(m, ARKODE_FEHLBERG_13_7_8), "ERKStepSetTableNum");
-    check(ERKStepSStolerances(m, opt.rtol, opt.atol), "ERKStepSStolerances");
-    check(ERKStepSetMaxNumSteps(m, 1'000'000), "ERKStepSetMaxNumSteps");
-    check(ERKStepSetMaxErrTestFails(m, 20), "ERKStepSetMaxErrTestFails");
-    if (opt.max_step > 0) check(ERKStepSetMaxStep(m, opt.max_step), "ERKStepSetMaxStep");
-    check(ERKStepSetStopTime(m, opt.t_end), "ERKStepSetStopTime");
-    check(ERKStepRootInit(m, kRoots, root_callback), "ERKStepRootInit");
-    check(ERKStepSetNoInactiveRootWarn(m), "ERKStepSetNoInactiveRootWarn");
+    check(PYDRILL_ARK(SStolerances)(m, opt.rtol, opt.atol), "ERKStepSStolerances");
+    check(PYDRILL_ARK(SetMaxNumSteps)(m, 1'000'000), "ERKStepSetMaxNumSteps");
+    check(PYDRILL_ARK(SetMaxErrTestFails)(m, 20), "ERKStepSetMaxErrTestFails");
+    if (opt.max_step > 0) check(PYDRILL_ARK(SetMaxStep)(m, opt.max_step), "ERKStepSetMaxStep");
+    check(PYDRILL_ARK(SetStopTime)(m, opt.t_end), "ERKStepSetStopTime");
+    check(PYDRILL_ARK(RootInit)(m, kRoots, root_callback), "ERKStepRootInit");
+    check(PYDRILL_ARK(SetNoInactiveRootWarn)(m), "ERKStepSetNoInactiveRootWarn");
     set_directions();
   }
 
   Status step(double t_end, double& t) override {
-    const int flag = ERKStepEvolve(mem_.get(), t_end, y_.get(), &t, ARK_ONE_STEP);
+    const int flag = PYDRILL_ARK(Evolve)(mem_.get(), t_end, y_.get(), &t, ARK_ONE_STEP);
     if (flag < 0) {
       std::ostringstream o;
       o << "ARKODE failed at t = " << t << " s (" << flag_text(flag) << "): " << message_;
@@ -85,23 +93,23 @@ class Erk final : public Integrator {
   double* quadratures() override { return N_VGetArrayPointer(y_.get()) + n_; }
 
   void interpolate(double t, double* y, double* q) override {
-    ERKStepGetDky(mem_.get(), t, 0, tmp_.get());
+    PYDRILL_ARK(GetDky)(mem_.get(), t, 0, tmp_.get());
     const double* v = N_VGetArrayPointer(tmp_.get());
     std::copy_n(v, n_, y);
     std::copy_n(v + n_, kQuads, q);
   }
 
-  void roots_found(int found[kRoots]) override { ERKStepGetRootInfo(mem_.get(), found); }
+  void roots_found(int found[kRoots]) override { PYDRILL_ARK(GetRootInfo)(mem_.get(), found); }
 
   void restart(double t) override {
     void* m = mem_.get();
     // Start the new piece with the last accepted step: a one-step method
     // needs no ramp-up, and the error test shrinks it if the switch demands.
     sunrealtype h = 0.0;
-    ERKStepGetLastStep(m, &h);
+    PYDRILL_ARK(GetLastStep)(m, &h);
     check(ERKStepReInit(m, rhs_fn, t, y_.get()), "ERKStepReInit");
-    if (h > 0) check(ERKStepSetInitStep(m, h), "ERKStepSetInitStep");
-    check(ERKStepSetStopTime(m, opt_.t_end), "ERKStepSetStopTime");
+    if (h > 0) check(PYDRILL_ARK(SetInitStep)(m, h), "ERKStepSetInitStep");
+    check(PYDRILL_ARK(SetStopTime)(m, opt_.t_end), "ERKStepSetStopTime");
     set_directions();
     base_ = counters();
   }
@@ -125,10 +133,10 @@ class Erk final : public Integrator {
   Counters counters() {
     void* m = mem_.get();
     Counters c;
-    ERKStepGetNumSteps(m, &c.steps);
+    PYDRILL_ARK(GetNumSteps)(m, &c.steps);
     ERKStepGetNumRhsEvals(m, &c.rhs);
-    ERKStepGetNumErrTestFails(m, &c.etf);
-    ERKStepGetNumGEvals(m, &c.ge);
+    PYDRILL_ARK(GetNumErrTestFails)(m, &c.etf);
+    PYDRILL_ARK(GetNumGEvals)(m, &c.ge);
     return c;
   }
   void check(int flag, const char* what) {
@@ -137,7 +145,7 @@ class Erk final : public Integrator {
   void set_directions() {
     int dir[kRoots];
     root_directions(data_, dir);
-    check(ERKStepSetRootDirection(mem_.get(), dir), "ERKStepSetRootDirection");
+    check(PYDRILL_ARK(SetRootDirection)(mem_.get(), dir), "ERKStepSetRootDirection");
   }
 
   RunData& data_;

@@ -15,6 +15,16 @@
 
 namespace pydrill::detail {
 
+// Return codes of a SUNLinearSolver (7.x folded them into SUNErrCode).
+#if SUNDIALS_VERSION_MAJOR >= 7
+inline constexpr int kLinSolSuccess = SUN_SUCCESS;
+inline constexpr int kLinSolFailUnrecoverable = SUN_ERR_EXT_FAIL;
+#else
+inline constexpr int kLinSolSuccess = SUNLS_SUCCESS;
+inline constexpr int kLinSolFailUnrecoverable = SUNLS_PACKAGE_FAIL_UNREC;
+#endif
+inline constexpr int kLinSolFailRecoverable = SUNLS_PACKAGE_FAIL_REC;
+
 // Owns one SUNContext; each simulation has its own, so runs are thread-safe.
 class Context {
  public:
