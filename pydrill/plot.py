@@ -101,3 +101,109 @@ def save(fig: Figure, path: str | Path, dpi: int = 130) -> Path:
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path
+
+
+def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Figure:
+    """Stability boundaries in (Ω, W_ob) — the paper's Fig. 10 for any dof: regions coloured by
+    the number of unstable eigenvalues, the Hopf curves W_ob(Ω) = δ_k e^{γΩ/v_f}/(…) on top."""
+    import numpy as np
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.lines import Line2D
+
+    from .stability import boundary_wob, stability_map
+
+    omega = np.linspace(0.0, omega_max, n)
+    first = next((c for c in crossings if c.direction > 0), crossings[0])
+    w_lo = float(boundary_wob(params, first.delta, 0.0)) / 3.0
+    # Up to the boundary at Ω_max, but no more than four decades: beyond, no drill string goes.
+    w_hi = min(
+        max(float(boundary_wob(params, first.delta, omega_max)) * 3.0, 30.0 * w_lo), 1e4 * w_lo
+    )
+    wob = np.geomspace(w_lo, w_hi, n)
+    counts = stability_map(params, omega, wob, crossings)
+    top = max(int(counts.max()), 1)
+    levels = np.arange(-0.5, top + 1.5)
+    colors = ["#d5f5e3"] + [plt.cm.Oranges(0.25 + 0.65 * k / top) for k in range(1, top + 1)]
+    fig, ax = plt.subplots(figsize=(9.5, 6.2), layout="constrained")
+    mesh = ax.pcolormesh(
+        omega,
+        wob,
+        counts,
+        cmap=ListedColormap(colors),
+        norm=BoundaryNorm(levels, len(colors)),
+        shading="nearest",
+        rasterized=True,
+    )
+    shown = 0
+    for c in crossings:
+        w = boundary_wob(params, c.delta, omega)
+        if c.type == "fold":
+            ax.plot(omega, w, "--", color="#1f618d", lw=1.4)
+        elif shown < 8:
+            ax.plot(
+                omega,
+                w,
+                color="#7b241c" if c is first else "#922b21",
+                lw=2.2 if c is first else 0.8,
+                alpha=1.0 if c is first else 0.6,
+            )
+            shown += 1
+    ax.set_yscale("log")
+    ax.set_xlim(0, omega_max)
+    ax.set_ylim(w_lo, w_hi)
+    ax.set_xlabel("steady bit velocity $\\Omega$ (rad/s)")
+    ax.set_ylabel("weight on bit $W_{ob}$ (N)")
+    cbar = fig.colorbar(mesh, ax=ax, ticks=range(0, top + 1, max(1, top // 10)))
+    cbar.set_label("unstable eigenvalues of the steady state")
+    legend = [
+        Line2D(
+            [],
+            [],
+            color="#7b241c",
+            lw=2.2,
+            label=f"first Hopf: $\\delta_1$ = {first.delta:.4g} N·m·s/rad, "
+            f"{(first.frequency or 0):.3g} rad/s",
+        ),
+        Line2D([], [], color="#922b21", lw=0.8, label="further Hopf crossings"),
+        Line2D([], [], color="#1f618d", ls="--", label="fold ($\\delta = c_r + c_b$)"),
+    ]
+    ax.legend(handles=legend, loc="lower right", fontsize=9, framealpha=0.95)
+    n_hopf = sum(c.type == "hopf" for c in crossings)
+    ax.set_title(
+        f"{params.name}, dof {params.dof}: steady drilling is stable below the first Hopf curve "
+        f"({n_hopf} Hopf crossings in all)",
+        fontsize=10,
+    )
+    return fig
+
+
+def eigenvalue_figure(params, points) -> Figure:
+    """Eigenvalues of each steady state in the complex plane, the unstable half-plane shaded."""
+    fig, ax = plt.subplots(figsize=(8, 5.5), layout="constrained")
+    ax.axvspan(0, 1, color="#f5b7b1", alpha=0.5, lw=0, label="unstable half-plane")
+    markers = ["o", "s", "^"]
+    for k, pt in enumerate(points):
+        ev = pt.eigenvalues
+        ax.scatter(
+            [z.real for z in ev],
+            [z.imag for z in ev],
+            marker=markers[k % 3],
+            s=28,
+            label=f"Ω = {pt.omega:.4g} rad/s: {'stable' if pt.stable else 'UNSTABLE'}"
+            f" ({pt.unstable} unstable)",
+        )
+    re = [z.real for pt in points for z in pt.eigenvalues]
+    lo = min([*re, -0.1])
+    hi = max([*re, 0.0])
+    span = hi - lo
+    ax.set_xlim(lo - 0.05 * span, max(hi + 0.15 * span, 0.1 * span))
+    ax.axvline(0, color="black", lw=0.8)
+    ax.set_xlabel("Re λ (1/s)")
+    ax.set_ylabel("Im λ (rad/s)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=9, loc="upper left")
+    if points:
+        ax.set_title(
+            f"{params.name}, dof {params.dof}, $W_{{ob}}$ = {points[0].wob:g} N", fontsize=10
+        )
+    return fig

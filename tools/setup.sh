@@ -22,7 +22,7 @@ say() { printf '\033[1m[setup]\033[0m %s\n' "$*" >&2; }
 
 # --- 1. Debian packages ---------------------------------------------------------------
 python=${PYTHON:-python3}
-packages=(libsundials-dev catch2 g++ make)
+packages=(libsundials-dev libeigen3-dev catch2 g++ make)
 if ! "$python" -c 'import venv, ensurepip' >/dev/null 2>&1; then packages+=(python3-venv); fi
 if ! "$python" -c 'import sysconfig, os, sys; sys.exit(not os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h")))' >/dev/null 2>&1; then
   packages+=(python3-dev)

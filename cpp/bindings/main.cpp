@@ -25,4 +25,5 @@ PYBIND11_MODULE(_core, m) {
   });
   pydrill::bindings::bind_params(m);
   pydrill::bindings::bind_simulate(m);
+  pydrill::bindings::bind_stability(m);
 }

@@ -1,0 +1,81 @@
+#include <pybind11/complex.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "pydrill/stability.hpp"
+
+namespace py = pybind11;
+
+namespace pydrill::bindings {
+namespace {
+
+py::dict crossing_dict(const Crossing& c) {
+  py::dict d;
+  d["type"] = c.type;
+  d["delta"] = c.delta;
+  d["frequency"] = c.type == "hopf" ? py::object(py::float_(c.frequency)) : py::object(py::none());
+  d["direction"] = c.direction;
+  d["multiplicity"] = c.multiplicity;
+  return d;
+}
+
+py::dict point_dict(const StabilityPoint& s) {
+  py::dict d;
+  d["omega"] = s.omega;
+  d["wob"] = s.wob;
+  d["torque"] = s.torque;
+  d["delta"] = s.delta;
+  d["unstable"] = s.unstable;
+  d["stable"] = s.stable;
+  d["delta_margin"] = s.delta_margin;
+  d["spectral_abscissa"] = s.spectral_abscissa;
+  d["eigenvalues"] = s.eigenvalues;
+  return d;
+}
+
+}  // namespace
+
+void bind_stability(py::module_& m) {
+  m.def("stribeck_slope", &stribeck_slope, py::arg("params"), py::arg("wob"), py::arg("omega"));
+  m.def("boundary_wob", &boundary_wob, py::arg("params"), py::arg("delta"), py::arg("omega"));
+  m.def("bit_impedance", &bit_impedance, py::arg("params"), py::arg("lam"));
+  m.def("jacobian", &jacobian, py::arg("params"), py::arg("delta"));
+  m.def(
+      "eigenvalues",
+      [](const Params& p, double delta) {
+        py::gil_scoped_release release;
+        return eigenvalues(p, delta);
+      },
+      py::arg("params"), py::arg("delta"));
+  m.def("characteristic_polynomial", &characteristic_polynomial, py::arg("params"), py::arg("delta"));
+  m.def("hurwitz_determinants", &hurwitz_determinants, py::arg("ascending"));
+  m.def("hopf_deltas_dof2", &hopf_deltas_dof2, py::arg("params"));
+  m.def(
+      "critical_deltas",
+      [](const Params& p) {
+        std::vector<Crossing> c;
+        {
+          py::gil_scoped_release release;
+          c = critical_deltas(p);
+        }
+        py::list out;
+        for (const auto& x : c) out.append(crossing_dict(x));
+        return out;
+      },
+      py::arg("params"));
+  m.def(
+      "stability_at_velocity",
+      [](const Params& p, double wob, double omega) { return point_dict(stability_at_velocity(p, wob, omega)); },
+      py::arg("params"), py::arg("wob"), py::arg("omega"));
+  m.def(
+      "stability_at_torque",
+      [](const Params& p, double wob, double torque) {
+        py::list out;
+        for (const auto& s : stability_at_torque(p, wob, torque)) out.append(point_dict(s));
+        return out;
+      },
+      py::arg("params"), py::arg("wob"), py::arg("torque"));
+}
+
+}  // namespace pydrill::bindings

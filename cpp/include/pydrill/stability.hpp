@@ -1,0 +1,80 @@
+// Stability of steady drilling (DESIGN.md §3).
+//
+// Linearised about any steady state Ω > 0, the reduced Jacobian (twist
+// coordinates, n' = 2·dof − 1) is J = A'_0 + (δ/J_b) e eᵀ: it depends on the
+// operating point only through the Stribeck slope
+//     δ(Ω, W_ob) = W_ob R_b (γ_b/v_f)(μ_sb − μ_cb) exp(−γ_b Ω / v_f) > 0.
+// Its eigenvalues are the roots of Z_b(λ) = δ, with Z_b the mechanical
+// impedance seen from the bit (a continued fraction along the chain). So the
+// whole stability picture of a string is a handful of critical values δ_k,
+// computed once, and every boundary W_ob(Ω) is closed-form.
+#pragma once
+
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "pydrill/params.hpp"
+
+namespace pydrill {
+
+using complex = std::complex<double>;
+
+// δ(Ω, W_ob), N·m·s/rad.
+double stribeck_slope(const Params& params, double wob, double omega);
+// The weight on bit at which δ(Ω, W_ob) = delta.
+double boundary_wob(const Params& params, double delta, double omega);
+
+// Z_b(λ) = J_b λ + c_b + Z_string(λ), evaluated in O(dof).
+complex bit_impedance(const Params& params, complex lambda);
+
+// Dense reduced Jacobian at slope δ, row-major n' × n' (twist coordinates).
+std::vector<double> jacobian(const Params& params, double delta);
+// Its eigenvalues (brute force, O(n'³)); sorted by decreasing real part.
+std::vector<complex> eigenvalues(const Params& params, double delta);
+
+// Characteristic polynomial det(λI − J) at slope δ, monic, coefficients in
+// ascending powers a_0 … a_{n'} (a_{n'} = 1), from exact polynomial
+// recurrences of the continued fraction. Meant for small strings (the
+// coefficients span many decades as dof grows); refused above dof 12.
+std::vector<double> characteristic_polynomial(const Params& params, double delta);
+// Hurwitz determinants Δ_1 … Δ_{n−1} of a polynomial given in ascending
+// powers (leading coefficient last, positive).
+std::vector<double> hurwitz_determinants(const std::vector<double>& ascending);
+// The paper's n' = 3 closed form (dof 2, Eq. 50–51 with Δ_2 = a_2 a_1 − a_0):
+// the δ at which Δ_2 = 0, in increasing order (0, 1 or 2 values > 0).
+std::vector<double> hopf_deltas_dof2(const Params& params);
+
+// A value of δ at which eigenvalues reach the imaginary axis.
+struct Crossing {
+  std::string type;     // "hopf" (pair ±iω) or "fold" (λ = 0, at δ = c_r + c_b)
+  double delta = 0;     // N·m·s/rad
+  double frequency = 0; // rad/s; 0 for a fold
+  int direction = 0;    // +1: the eigenvalues move into the right half-plane as δ grows
+  int multiplicity = 0; // eigenvalues that cross: 2 (Hopf) or 1 (fold)
+};
+
+// Every crossing with δ > 0, in increasing δ. Found from the zeros of
+// Im Z_b(iω) on a frequency grid fine enough to separate the string's modes,
+// refined to machine precision; O(dof²) in all.
+std::vector<Crossing> critical_deltas(const Params& params);
+
+// Number of eigenvalues with positive real part at slope δ, from the crossings.
+int unstable_count(const std::vector<Crossing>& crossings, double delta);
+
+struct StabilityPoint {
+  double omega = 0, wob = 0, torque = 0, delta = 0;
+  int unstable = 0;                  // eigenvalues in the right half-plane
+  bool stable = false;
+  double delta_margin = 0;           // δ distance to the nearest crossing (> 0 inside the
+                                     // stable region: how much δ may grow before it is lost)
+  double spectral_abscissa = 0;      // max Re λ (brute force)
+  std::vector<complex> eigenvalues;  // sorted by decreasing real part
+};
+
+// Stability of the steady state at velocity Ω (the torque it needs follows).
+StabilityPoint stability_at_velocity(const Params& params, double wob, double omega);
+// Stability of every steady state for (W_ob, u): 0, 1 or 2 of them.
+std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque);
+
+}  // namespace pydrill

@@ -1,0 +1,55 @@
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pydrill/stability.hpp"
+
+using namespace pydrill;
+
+TEST_CASE("critical deltas put an eigenvalue pair on the imaginary axis", "[stability]") {
+  for (int dof : {2, 4, 9, 30}) {
+    const Params p = preset("reduced-scale", dof);
+    const auto crossings = critical_deltas(p);
+    REQUIRE(!crossings.empty());
+    CHECK(std::is_sorted(crossings.begin(), crossings.end(),
+                         [](const Crossing& a, const Crossing& b) { return a.delta < b.delta; }));
+    for (const auto& c : crossings) {
+      const auto ev = eigenvalues(p, c.delta);
+      const complex target(0.0, c.frequency);
+      double best = 1e300;
+      for (const auto& z : ev) best = std::min(best, std::abs(z - target));
+      CHECK(best < 1e-8 * std::max(1.0, c.frequency));
+      // Unstable count changes by the crossing's size.
+      auto count = [&](double d) {
+        int n = 0;
+        for (const auto& z : eigenvalues(p, d)) n += z.real() > 0;
+        return n;
+      };
+      CHECK(count(c.delta * (1 + 1e-7)) - count(c.delta * (1 - 1e-7)) == c.direction * c.multiplicity);
+    }
+  }
+}
+
+TEST_CASE("the n' = 3 closed form equals the general method", "[stability]") {
+  const Params p = preset("reduced-scale", 2);
+  const auto closed = hopf_deltas_dof2(p);
+  REQUIRE(closed.size() == 1);
+  bool found = false;
+  for (const auto& c : critical_deltas(p)) {
+    if (c.type == "hopf" && std::fabs(c.delta - closed[0]) <= 1e-9 * closed[0]) found = true;
+  }
+  CHECK(found);
+  // Δ_2 of the characteristic polynomial vanishes there.
+  const auto a = characteristic_polynomial(p, closed[0]);
+  const auto h = hurwitz_determinants(a);
+  CHECK(std::fabs(h[1]) < 1e-12 * (std::fabs(a[2] * a[1]) + std::fabs(a[0])));
+}
+
+TEST_CASE("boundary W_ob(Omega) inverts the Stribeck slope", "[stability]") {
+  const Params p = preset("real-string", 2);
+  for (double omega : {0.5, 2.0, 8.0}) {
+    const double w = boundary_wob(p, 327.0, omega);
+    CHECK(stribeck_slope(p, w, omega) == Approx(327.0).epsilon(1e-14));
+  }
+}

@@ -1,0 +1,156 @@
+"""Stability of steady drilling for any string length (DESIGN.md §3).
+
+The Jacobian of the steady state depends on (Ω, W_ob) only through the Stribeck slope
+δ = W_ob R_b (γ_b/v_f)(μ_sb − μ_cb) exp(−γ_b Ω/v_f). The critical values δ_k at which eigenvalues
+reach the imaginary axis are computed once per string (:func:`critical_deltas`); every stability
+boundary is then ``W_ob = δ_k exp(γ_b Ω/v_f) / (R_b (γ_b/v_f)(μ_sb − μ_cb))``, and the verdict
+at any point is a lookup.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _core
+from .model import Params
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """A value of δ at which eigenvalues of the steady state reach the imaginary axis."""
+
+    type: str  #: "hopf" (a pair ±iω: oscillations are born) or "fold" (λ = 0)
+    delta: float  #: N·m·s/rad
+    frequency: float | None  #: rad/s of the Hopf pair; None for a fold
+    direction: int  #: +1 if the eigenvalues enter the right half-plane as δ grows
+    multiplicity: int  #: 2 for Hopf, 1 for fold
+
+    def wob(self, params: Params, omega: ArrayLike) -> NDArray[np.float64]:
+        """The boundary W_ob(Ω) on which this crossing happens (N)."""
+        return boundary_wob(params, self.delta, omega)
+
+
+@dataclass(frozen=True)
+class StabilityPoint:
+    """The steady state at velocity Ω and its linear stability."""
+
+    omega: float  #: rad/s
+    wob: float  #: N
+    torque: float  #: N·m needed to hold Ω
+    delta: float  #: Stribeck slope at (Ω, W_ob), N·m·s/rad
+    unstable: int  #: eigenvalues in the right half-plane
+    stable: bool
+    delta_margin: float  #: distance in δ to the nearest crossing (negative when unstable)
+    spectral_abscissa: float  #: largest real part of the eigenvalues, 1/s
+    eigenvalues: tuple[complex, ...]  #: sorted by decreasing real part
+
+    def to_dict(self, n_eigenvalues: int | None = 6) -> dict:
+        ev = self.eigenvalues if n_eigenvalues is None else self.eigenvalues[:n_eigenvalues]
+        return {
+            "omega": self.omega,
+            "wob": self.wob,
+            "torque": self.torque,
+            "delta": self.delta,
+            "stable": self.stable,
+            "unstable_eigenvalues": self.unstable,
+            "delta_margin": self.delta_margin,
+            "spectral_abscissa": self.spectral_abscissa,
+            "eigenvalues": [[z.real, z.imag] for z in ev],
+        }
+
+
+def stribeck_slope(params: Params, wob: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
+    """δ(Ω, W_ob) = −dT_fb/dω at Ω (N·m·s/rad); broadcasts over arrays."""
+    p = params
+    factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
+    return (
+        np.asarray(wob)
+        * factor
+        * np.exp(-p.stribeck_decay * np.asarray(omega) / p.stribeck_velocity)
+    )
+
+
+def boundary_wob(params: Params, delta: float, omega: ArrayLike) -> NDArray[np.float64]:
+    """W_ob at which δ(Ω, W_ob) = delta (N); broadcasts over Ω."""
+    p = params
+    factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
+    return delta * np.exp(p.stribeck_decay * np.asarray(omega) / p.stribeck_velocity) / factor
+
+
+def critical_deltas(params: Params) -> list[Crossing]:
+    """Every δ > 0 at which the steady state changes stability, in increasing order.
+
+    >>> from pydrill import preset
+    >>> [c.type for c in critical_deltas(preset("reduced-scale", dof=2))]
+    ['hopf', 'fold', 'hopf']
+    """
+    return [Crossing(**c) for c in _core.critical_deltas(params.to_core())]
+
+
+def unstable_count(crossings: list[Crossing], delta: ArrayLike) -> NDArray[np.int64]:
+    """Eigenvalues in the right half-plane at slope(s) δ, from the crossings alone."""
+    deltas = np.array([c.delta for c in crossings])
+    steps = np.array([c.direction * c.multiplicity for c in crossings], dtype=np.int64)
+    cumulative = np.concatenate([[0], np.cumsum(steps)])
+    return cumulative[np.searchsorted(deltas, np.asarray(delta), side="left")]
+
+
+def eigenvalues(params: Params, delta: float) -> NDArray[np.complex128]:
+    """Eigenvalues of the reduced Jacobian at slope δ (brute force, O(dof³))."""
+    return np.array(_core.eigenvalues(params.to_core(), float(delta)))
+
+
+def jacobian(params: Params, delta: float) -> NDArray[np.float64]:
+    """The reduced Jacobian (twist coordinates, n' = 2·dof − 1) at slope δ."""
+    n = 2 * params.dof - 1
+    return np.array(_core.jacobian(params.to_core(), float(delta))).reshape(n, n)
+
+
+def characteristic_polynomial(params: Params, delta: float) -> NDArray[np.float64]:
+    """det(λI − J), monic, coefficients in ascending powers (dof ≤ 12)."""
+    return np.array(_core.characteristic_polynomial(params.to_core(), float(delta)))
+
+
+def hurwitz_determinants(ascending: ArrayLike) -> NDArray[np.float64]:
+    """Hurwitz determinants Δ_1 … Δ_{n−1} of a polynomial in ascending powers."""
+    return np.array(_core.hurwitz_determinants([float(a) for a in np.asarray(ascending)]))
+
+
+def hopf_deltas_dof2(params: Params) -> list[float]:
+    """The paper's closed form (Eq. 51, n' = 3): δ where Δ_2 = a_2 a_1 − a_0 = 0 inside H_+."""
+    return list(_core.hopf_deltas_dof2(params.to_core()))
+
+
+def stability(
+    params: Params, wob: float, *, omega: float | None = None, torque: float | None = None
+) -> list[StabilityPoint]:
+    """Stability of the steady state at velocity ``omega``, or of every steady state that the
+    surface ``torque`` can hold (0, 1 or 2 of them) at weight on bit ``wob``."""
+    if (omega is None) == (torque is None):
+        raise ValueError("give exactly one of omega (rad/s) or torque (N·m)")
+    core = params.to_core()
+    if omega is not None:
+        points = [_core.stability_at_velocity(core, float(wob), float(omega))]
+    else:
+        points = _core.stability_at_torque(core, float(wob), float(torque))
+    return [
+        StabilityPoint(
+            **{k: v for k, v in pt.items() if k != "eigenvalues"},
+            eigenvalues=tuple(complex(z) for z in pt["eigenvalues"]),
+        )
+        for pt in points
+    ]
+
+
+def stability_map(
+    params: Params, omega: ArrayLike, wob: ArrayLike, crossings: list[Crossing] | None = None
+) -> NDArray[np.int64]:
+    """Unstable-eigenvalue counts on the grid ``omega`` × ``wob`` (shape (len(wob), len(omega)))
+    — one lookup per point, whatever the string's length."""
+    if crossings is None:
+        crossings = critical_deltas(params)
+    delta = stribeck_slope(params, np.asarray(wob)[:, None], np.asarray(omega)[None, :])
+    return unstable_count(crossings, delta)

@@ -1,0 +1,169 @@
+"""Stability of steady drilling against brute-force eigenvalues and the paper's closed form."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import pydrill
+from pydrill import stability as st
+
+
+def test_general_method_equals_the_papers_closed_form():
+    """n' = 3 (dof 2): Eq. (50)–(51) with Δ_2 = a_2 a_1 − a_0 (DESIGN.md's typo fix)."""
+    for name in ("reduced-scale", "real-string"):
+        p = pydrill.preset(name, dof=2)
+        closed = st.hopf_deltas_dof2(p)
+        general = [c.delta for c in st.critical_deltas(p) if c.type == "hopf"]
+        assert closed, name
+        for d in closed:
+            assert min(abs(g - d) for g in general) <= 1e-9 * d
+
+
+def test_characteristic_polynomial_and_hurwitz_agree_with_eigenvalues():
+    for dof in (2, 3, 4, 5):
+        p = pydrill.preset("reduced-scale", dof=dof)
+        for delta in (0.0, 0.005, 0.05, 0.5):
+            coeffs = st.characteristic_polynomial(p, delta)
+            roots = np.roots(coeffs[::-1])
+            ev = st.eigenvalues(p, delta)
+            assert np.allclose(np.sort_complex(roots), np.sort_complex(ev), atol=1e-7)
+    # Hurwitz: Δ_2 = a_2 a_1 − a_0 for a monic cubic; vanishes at the Hopf point.
+    p = pydrill.preset("reduced-scale", dof=2)
+    (d_hopf,) = st.hopf_deltas_dof2(p)
+    a0, a1, a2, _ = st.characteristic_polynomial(p, d_hopf)
+    (h1, h2) = st.hurwitz_determinants([a0, a1, a2, 1.0])
+    assert h1 == pytest.approx(a2)
+    assert abs(h2) < 1e-12 * (abs(a2 * a1) + abs(a0))
+
+
+@pytest.mark.parametrize("dof", [*range(2, 13), 20, 35, 50])
+def test_crossings_are_where_brute_force_eigenvalues_touch_the_axis(dof):
+    p = pydrill.preset("reduced-scale", dof=dof)
+    crossings = st.critical_deltas(p)
+    assert crossings
+    for c in crossings:
+        ev = st.eigenvalues(p, c.delta)
+        target = 1j * (c.frequency or 0.0)
+        nearest = ev[np.argmin(np.abs(ev - target))]
+        assert abs(nearest.real) < 1e-8
+        assert abs(nearest - target) < 1e-8 * max(1.0, abs(target))
+    # The count of unstable eigenvalues changes exactly across each crossing, by its size.
+    for c in crossings:
+        below = np.sum(st.eigenvalues(p, c.delta * (1 - 1e-7)).real > 0)
+        above = np.sum(st.eigenvalues(p, c.delta * (1 + 1e-7)).real > 0)
+        assert above - below == c.direction * c.multiplicity
+    # And the count predicted from the crossings alone is right everywhere in between.
+    deltas = np.array([c.delta for c in crossings])
+    probes = np.concatenate([[deltas[0] / 2], np.sqrt(deltas[1:] * deltas[:-1]), [2 * deltas[-1]]])
+    predicted = st.unstable_count(crossings, probes)
+    brute = [np.sum(st.eigenvalues(p, d).real > 0) for d in probes]
+    np.testing.assert_array_equal(predicted, brute)
+
+
+def test_fold_sits_at_cr_plus_cb():
+    for name in ("reduced-scale", "real-string"):
+        p = pydrill.preset(name, dof=2)
+        (fold,) = [c for c in st.critical_deltas(p) if c.type == "fold"]
+        assert fold.delta == pytest.approx(p.top_damping + p.bit_damping)
+
+
+@pytest.mark.parametrize("name", ["reduced-scale", "real-string"])
+def test_fig10_stable_below_the_first_hopf_curve(name):
+    """Paper Fig. 10: in (Ω, W_ob) the steady state is stable below the Hopf curve."""
+    p = pydrill.preset(name, dof=2)
+    first = st.critical_deltas(p)[0]
+    assert first.type == "hopf" and first.direction == 1
+    rng = np.random.default_rng(1)
+    for omega in rng.uniform(0.2, 8.0, 12):
+        w_star = float(first.wob(p, omega))
+        below = st.stability(p, 0.9 * w_star, omega=omega)[0]
+        above = st.stability(p, 1.1 * w_star, omega=omega)[0]
+        assert below.stable and below.spectral_abscissa < 0
+        assert not above.stable and above.spectral_abscissa > 0
+
+
+def test_map_matches_brute_force_on_random_points():
+    p = pydrill.preset("reduced-scale", dof=6)
+    rng = np.random.default_rng(7)
+    omega = rng.uniform(0.1, 10.0, 25)
+    wob = rng.uniform(1.0, 300.0, 25)
+    counts = st.stability_map(p, omega, wob)
+    for i in range(0, 25, 3):
+        for j in range(0, 25, 4):
+            delta = st.stribeck_slope(p, wob[i], omega[j])
+            assert counts[i, j] == np.sum(st.eigenvalues(p, delta).real > 0)
+
+
+def test_simulation_agrees_with_the_verdict():
+    """Just inside the first Hopf boundary a perturbed steady state decays; just outside it
+    grows. For this string the Hopf point is subcritical: outside, the motion jumps to
+    stick-slip rather than to a small oscillation."""
+    p = pydrill.preset("reduced-scale", dof=2)
+    first = st.critical_deltas(p)[0]
+    omega = 2.0
+    w_star = float(first.wob(p, omega))
+    inside = pydrill.simulate(
+        p,
+        wob=0.97 * w_star,
+        torque=pydrill.equilibrium_torque(p, 0.97 * w_star, omega),
+        initial="equilibrium",
+        t_end=1500.0,
+    )
+    outside = pydrill.simulate(
+        p,
+        wob=1.03 * w_star,
+        torque=pydrill.equilibrium_torque(p, 1.03 * w_star, omega),
+        initial="equilibrium",
+        t_end=1500.0,
+    )
+    assert inside.regime == "steady"
+    assert abs(inside.bit_velocity[-1] - omega) < 1e-4 * omega
+    assert outside.regime == "stick-slip"
+
+
+def test_stability_at_torque_covers_every_steady_state():
+    p = pydrill.preset("reduced-scale", dof=4)
+    wob = 200.0
+    ts = p.static_torque(wob)
+    points = st.stability(p, wob, torque=ts - 0.5)  # two steady states below T_s
+    assert len(points) == 2
+    assert points[0].omega < points[1].omega
+    for pt in points:
+        assert pydrill.equilibrium_torque(p, wob, pt.omega) == pytest.approx(ts - 0.5)
+    # The slow branch has the larger slope δ, hence at least as many unstable eigenvalues.
+    assert points[0].unstable >= points[1].unstable
+    with pytest.raises(ValueError, match="exactly one"):
+        st.stability(p, wob)
+
+
+def test_hopf_and_stability_commands(tmp_path):
+    png = tmp_path / "hopf.png"
+    run = [sys.executable, "-m", "pydrill"]
+    out = subprocess.run(
+        [*run, "hopf", "--dof", "4", "--json", "--plot", str(png)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    data = json.loads(out.stdout)
+    deltas = [c["delta"] for c in data["crossings"]]
+    assert deltas == sorted(deltas)
+    assert {c["type"] for c in data["crossings"]} == {"hopf", "fold"}
+    for c in data["crossings"]:
+        assert (c["frequency"] is None) == (c["type"] == "fold")
+    assert png.stat().st_size > 20_000
+    out = subprocess.run(
+        [*run, "stability", "--dof", "4", "--wob", "40", "--torque", "8.3", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    (eq,) = json.loads(out.stdout)["equilibria"]
+    assert eq["stable"] and eq["omega"] == pytest.approx(33.15789473684141)
+    bad = subprocess.run(
+        [*run, "stability", "--dof", "4", "--wob", "40"], capture_output=True, text=True
+    )
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr
