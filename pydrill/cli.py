@@ -80,6 +80,7 @@ def _list(name: str):
 
 def build_parser() -> argparse.ArgumentParser:
     from . import PRESETS, __version__
+    from .cli_analysis import register_analysis
 
     parser = _Parser(
         prog="pydrill",
@@ -169,157 +170,8 @@ def build_parser() -> argparse.ArgumentParser:
     out.add_argument("--plot", metavar="FILE.png", help="draw velocities and bit torque")
     sim.set_defaults(handler=_cmd_simulate)
 
-    hopf = sub.add_parser(
-        "hopf",
-        help="critical Stribeck slopes: where steady drilling loses stability",
-        description="Every value of the Stribeck slope delta at which eigenvalues of the steady "
-        "state reach the imaginary axis (Hopf: an oscillation is born; fold: lambda = 0), for any "
-        "string length. Each gives the closed-form boundary "
-        "W_ob(Omega) = delta * exp(gamma_b Omega / v_f) / (R_b gamma_b/v_f (mu_s - mu_c)).",
-        epilog="examples:\n  pydrill hopf --dof 4\n  pydrill hopf --pipes 100 --json\n"
-        "  pydrill hopf --preset real-string --plot hopf.png\n\n"
-        "units: delta N*m*s/rad, frequency rad/s.",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    _string_options(hopf, PRESETS)
-    hopf.add_argument(
-        "--omega-max",
-        type=_positive("--omega-max"),
-        default=20.0,
-        help="largest steady velocity on the plot (rad/s, default 20)",
-    )
-    hopf.add_argument("--json", action="store_true", help="print one JSON object for scripts")
-    hopf.add_argument("--plot", metavar="FILE.png", help="draw the boundaries W_ob(Omega)")
-    hopf.set_defaults(handler=_cmd_hopf)
-
-    stab = sub.add_parser(
-        "stability",
-        help="steady state, eigenvalues and verdict at one operating point",
-        description="The steady state at (W_ob, Omega), or every steady state the torque u can "
-        "hold at W_ob, its eigenvalues, whether it is stable, and how far it is from losing that.",
-        epilog="examples:\n  pydrill stability --dof 4 --wob 40 --torque 8.3\n"
-        "  pydrill stability --dof 4 --wob 100 --omega 2 --json\n\n"
-        "units: wob N, torque N*m, omega rad/s, eigenvalues 1/s.",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    _string_options(stab, PRESETS)
-    stab.add_argument("--wob", type=_positive("--wob"), required=True, help="weight on bit (N)")
-    point = stab.add_mutually_exclusive_group(required=True)
-    point.add_argument("--omega", type=_positive("--omega"), help="steady bit velocity (rad/s)")
-    point.add_argument("--torque", type=_finite("--torque"), help="surface torque u (N m)")
-    stab.add_argument("--json", action="store_true", help="print one JSON object for scripts")
-    stab.add_argument("--plot", metavar="FILE.png", help="draw the eigenvalues")
-    stab.set_defaults(handler=_cmd_stability)
+    register_analysis(sub, PRESETS)
     return parser
-
-
-def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]) -> None:
-    group = parser.add_argument_group("string")
-    group.add_argument(
-        "--preset",
-        choices=presets,
-        default="reduced-scale",
-        help="parameter set (default: reduced-scale)",
-    )
-    size = group.add_mutually_exclusive_group()
-    size.add_argument("--dof", type=int, help="number of inertias, >= 2 (default 4)")
-    size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
-
-
-def _cmd_hopf(args: argparse.Namespace) -> int:
-    from . import preset
-    from .plot import hopf_figure, save
-    from .stability import critical_deltas
-
-    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
-    crossings = critical_deltas(params)
-    if args.plot:
-        save(hopf_figure(params, crossings, omega_max=args.omega_max), args.plot)
-    if args.json:
-        data = {
-            "preset": params.name,
-            "dof": params.dof,
-            "crossings": [
-                {
-                    "type": c.type,
-                    "delta": c.delta,
-                    "frequency": c.frequency,
-                    "direction": c.direction,
-                }
-                for c in crossings
-            ],
-            "units": {"delta": "N·m·s/rad", "frequency": "rad/s"},
-        }
-        if args.plot:
-            data["plot"] = args.plot
-        print(json.dumps(data, indent=2, allow_nan=False))
-        return 0
-    hopf = [c for c in crossings if c.type == "hopf"]
-    print(
-        f"{params.name}, dof {params.dof}: {len(hopf)} Hopf crossings, "
-        f"{len(crossings) - len(hopf)} fold"
-    )
-    print(f"{'type':6s} {'delta (N m s/rad)':>18s} {'frequency (rad/s)':>18s}  direction")
-    for c in crossings[:40]:
-        freq = f"{c.frequency:18.6g}" if c.frequency is not None else f"{'-':>18s}"
-        print(
-            f"{c.type:6s} {c.delta:18.10g} {freq}  "
-            f"{'destabilising' if c.direction > 0 else 'stabilising'}"
-        )
-    if len(crossings) > 40:
-        print(f"... {len(crossings) - 40} more (use --json for all)")
-    if args.plot:
-        print(f"figure: {args.plot}")
-    return 0
-
-
-def _cmd_stability(args: argparse.Namespace) -> int:
-    from . import preset
-    from .plot import eigenvalue_figure, save
-    from .stability import stability
-
-    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
-    points = stability(params, args.wob, omega=args.omega, torque=args.torque)
-    if args.plot:
-        save(eigenvalue_figure(params, points), args.plot)
-    if args.json:
-        data = {
-            "preset": params.name,
-            "dof": params.dof,
-            "wob": args.wob,
-            "equilibria": [pt.to_dict() for pt in points],
-            "units": {
-                "omega": "rad/s",
-                "wob": "N",
-                "torque": "N·m",
-                "delta": "N·m·s/rad",
-                "eigenvalues": "1/s",
-                "spectral_abscissa": "1/s",
-            },
-        }
-        if args.torque is not None:
-            data["torque"] = args.torque
-        print(json.dumps(data, indent=2, allow_nan=False))
-        return 0
-    if not points:
-        print(
-            f"no steady rotation: u = {args.torque:g} N m cannot balance the bit friction at "
-            f"W_ob = {args.wob:g} N (the bit sticks, or sticks and slips)"
-        )
-        return 0
-    for pt in points:
-        verdict = "STABLE" if pt.stable else f"UNSTABLE ({pt.unstable} eigenvalues in Re > 0)"
-        print(f"steady state    Omega = {pt.omega:.6g} rad/s, u = {pt.torque:.6g} N m")
-        print(f"Stribeck slope  delta = {pt.delta:.6g} N m s/rad")
-        print(
-            f"verdict         {verdict}; delta margin {pt.delta_margin:.4g}, "
-            f"spectral abscissa {pt.spectral_abscissa:.4g} 1/s"
-        )
-        lead = ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" for z in pt.eigenvalues[:4])
-        print(f"eigenvalues     {lead}, ...")
-    if args.plot:
-        print(f"figure: {args.plot}")
-    return 0
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:

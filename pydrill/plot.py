@@ -207,3 +207,52 @@ def eigenvalue_figure(params, points) -> Figure:
             f"{params.name}, dof {params.dof}, $W_{{ob}}$ = {points[0].wob:g} N", fontsize=10
         )
     return fig
+
+
+def bifurcation_figure(params, branch) -> Figure:
+    """The paper's Fig. 11: steady velocity against the varied parameter, stable solid,
+    unstable dashed, Hopf (HB) and fold (LP) points marked with their criticality."""
+    import numpy as np
+
+    fig, ax = plt.subplots(figsize=(9, 5.8), layout="constrained")
+    x = branch.wob if branch.vary == "wob" else branch.torque
+    stable = branch.unstable == 0
+    for mask, style, label in (
+        (stable, "-", "stable steady state"),
+        (~stable, "--", "unstable steady state"),
+    ):
+        y = np.where(mask, branch.omega, np.nan)
+        ax.plot(x, y, style, color="#1f618d" if style == "-" else "#922b21", lw=2, label=label)
+    for pt in branch.points:
+        px = pt.wob if branch.vary == "wob" else pt.torque
+        if pt.type == "HB":
+            color = "#27ae60" if pt.criticality == "supercritical" else "#c0392b"
+            ax.plot(px, pt.omega, "s", color=color, ms=8, zorder=5)
+            ax.annotate(
+                f"HB ({pt.criticality[:3]}), {pt.frequency:.3g} rad/s",
+                (px, pt.omega),
+                textcoords="offset points",
+                xytext=(8, 6),
+                fontsize=8,
+                color=color,
+            )
+        else:
+            ax.plot(px, pt.omega, "D", color="black", ms=7, zorder=5)
+            ax.annotate(
+                "LP", (px, pt.omega), textcoords="offset points", xytext=(8, -12), fontsize=8
+            )
+    if branch.vary == "wob":
+        ax.set_xlabel("weight on bit $W_{ob}$ (N)")
+        fixed = f"$u$ = {branch.fixed:g} N·m"
+    else:
+        ax.set_xlabel("surface torque $u$ (N·m)")
+        fixed = f"$W_{{ob}}$ = {branch.fixed:g} N"
+    ax.set_ylabel("steady bit velocity $\\Omega$ (rad/s)")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.plot([], [], "s", color="#c0392b", label="Hopf point, subcritical")
+    ax.plot([], [], "s", color="#27ae60", label="Hopf point, supercritical")
+    ax.plot([], [], "D", color="black", label="limit point (fold)")
+    ax.legend(fontsize=9, loc="best")
+    ax.set_title(f"{params.name}, dof {params.dof}, {fixed}", fontsize=10)
+    return fig

@@ -51,6 +51,8 @@ void bind_stability(py::module_& m) {
   m.def("characteristic_polynomial", &characteristic_polynomial, py::arg("params"), py::arg("delta"));
   m.def("hurwitz_determinants", &hurwitz_determinants, py::arg("ascending"));
   m.def("hopf_deltas_dof2", &hopf_deltas_dof2, py::arg("params"));
+  m.def("first_lyapunov_coefficient", &first_lyapunov_coefficient, py::arg("params"), py::arg("delta"),
+        py::arg("frequency"));
   m.def(
       "critical_deltas",
       [](const Params& p) {

@@ -369,6 +369,48 @@ std::vector<Crossing> critical_deltas(const Params& p) {
   return out;
 }
 
+double first_lyapunov_coefficient(const Params& p, double delta, double w) {
+  if (!(w > 0)) throw std::invalid_argument("a Hopf point needs a frequency > 0");
+  const int n = 2 * p.dof() - 1, b = n - 1;
+  const std::vector<double> Jv = jacobian(p, delta);
+  using CM = Eigen::MatrixXcd;
+  using CV = Eigen::VectorXcd;
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jr(
+      Jv.data(), n, n);
+  const CM A = Jr.cast<complex>();
+  const complex iw(0.0, w);
+  const CM I = CM::Identity(n, n);
+  // Null vectors of A − iω and Aᵀ + iω by inverse iteration (the shift is an
+  // exact eigenvalue up to rounding; a tiny offset keeps the LU regular).
+  auto null_vector = [&](const CM& M) {
+    const Eigen::PartialPivLU<CM> lu(M - complex(1e-10 * std::max(1.0, w), 0.0) * I);
+    CV v = CV::Ones(n);
+    for (int it = 0; it < 3; ++it) {
+      v = lu.solve(v);
+      v /= v.norm();
+    }
+    return v;
+  };
+  CV q = null_vector(A - iw * I);
+  CV pv = null_vector(A.transpose() + iw * I);
+  pv /= std::conj(pv.dot(q));  // ⟨p, q⟩ = p̄ᵀq = 1 (Eigen's dot conjugates its first argument)
+  const double g = p.stribeck_decay / p.stribeck_velocity;
+  const double beta = -delta * g / p.inertias.back();            // B(x, y) = β x_b y_b e_b
+  const double kappa = delta * g * g / p.inertias.back();        // C(x, y, z) = κ x_b y_b z_b e_b
+  auto B = [&](const CV& x, const CV& y) {
+    CV r = CV::Zero(n);
+    r(b) = beta * x(b) * y(b);
+    return r;
+  };
+  const CV qb = q.conjugate();
+  CV cqqq = CV::Zero(n);
+  cqqq(b) = kappa * q(b) * q(b) * qb(b);
+  const CV a1 = A.partialPivLu().solve(B(q, qb));                 // A⁻¹ B(q, q̄)
+  const CV a2 = (2.0 * iw * I - A).partialPivLu().solve(B(q, q));  // (2iω − A)⁻¹ B(q, q)
+  const complex s = pv.dot(cqqq) - 2.0 * pv.dot(B(q, a1)) + pv.dot(B(qb, a2));
+  return std::real(s) / (2.0 * w);
+}
+
 int unstable_count(const std::vector<Crossing>& crossings, double delta) {
   int count = 0;
   for (const auto& c : crossings) {

@@ -59,6 +59,13 @@ struct Crossing {
 // refined to machine precision; O(dof²) in all.
 std::vector<Crossing> critical_deltas(const Params& params);
 
+// First Lyapunov coefficient of the Hopf point at slope δ with frequency ω
+// (Kuznetsov's formula; the only nonlinearity is the bit friction, whose
+// Taylor terms about Ω are T'' = δγ/v_f and T''' = −δ(γ/v_f)²). Negative:
+// supercritical (a small stable oscillation is born); positive: subcritical
+// (the motion jumps away, with hysteresis). Dense linear algebra: O(dof³).
+double first_lyapunov_coefficient(const Params& params, double delta, double frequency);
+
 // Number of eigenvalues with positive real part at slope δ, from the crossings.
 int unstable_count(const std::vector<Crossing>& crossings, double delta);
 

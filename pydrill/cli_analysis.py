@@ -1,0 +1,244 @@
+"""The analysis commands of ``pydrill``: hopf, stability, bifurcation."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections.abc import Sequence
+
+from .cli import _finite, _positive
+
+
+def register_analysis(sub, PRESETS: Sequence[str]) -> None:
+    hopf = sub.add_parser(
+        "hopf",
+        help="critical Stribeck slopes: where steady drilling loses stability",
+        description="Every value of the Stribeck slope delta at which eigenvalues of the steady "
+        "state reach the imaginary axis (Hopf: an oscillation is born; fold: lambda = 0), for any "
+        "string length. Each gives the closed-form boundary "
+        "W_ob(Omega) = delta * exp(gamma_b Omega / v_f) / (R_b gamma_b/v_f (mu_s - mu_c)).",
+        epilog="examples:\n  pydrill hopf --dof 4\n  pydrill hopf --pipes 100 --json\n"
+        "  pydrill hopf --preset real-string --plot hopf.png\n\n"
+        "units: delta N*m*s/rad, frequency rad/s.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    _string_options(hopf, PRESETS)
+    hopf.add_argument(
+        "--omega-max",
+        type=_positive("--omega-max"),
+        default=20.0,
+        help="largest steady velocity on the plot (rad/s, default 20)",
+    )
+    hopf.add_argument("--json", action="store_true", help="print one JSON object for scripts")
+    hopf.add_argument("--plot", metavar="FILE.png", help="draw the boundaries W_ob(Omega)")
+    hopf.set_defaults(handler=_cmd_hopf)
+
+    stab = sub.add_parser(
+        "stability",
+        help="steady state, eigenvalues and verdict at one operating point",
+        description="The steady state at (W_ob, Omega), or every steady state the torque u can "
+        "hold at W_ob, its eigenvalues, whether it is stable, and how far it is from losing that.",
+        epilog="examples:\n  pydrill stability --dof 4 --wob 40 --torque 8.3\n"
+        "  pydrill stability --dof 4 --wob 100 --omega 2 --json\n\n"
+        "units: wob N, torque N*m, omega rad/s, eigenvalues 1/s.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    _string_options(stab, PRESETS)
+    stab.add_argument("--wob", type=_positive("--wob"), required=True, help="weight on bit (N)")
+    point = stab.add_mutually_exclusive_group(required=True)
+    point.add_argument("--omega", type=_positive("--omega"), help="steady bit velocity (rad/s)")
+    point.add_argument("--torque", type=_finite("--torque"), help="surface torque u (N m)")
+    stab.add_argument("--json", action="store_true", help="print one JSON object for scripts")
+    stab.add_argument("--plot", metavar="FILE.png", help="draw the eigenvalues")
+    stab.set_defaults(handler=_cmd_stability)
+
+    bif = sub.add_parser(
+        "bifurcation",
+        help="branch of steady states with its Hopf (HB) and fold (LP) points",
+        description="The steady bit velocity Omega as W_ob varies at fixed torque, or as the "
+        "torque varies at fixed W_ob, with its stability, the Hopf points (with frequency, first "
+        "Lyapunov coefficient and criticality) and the limit points where the branch folds "
+        "(the equilibrium part of the paper's Fig. 11).",
+        epilog="examples:\n  pydrill bifurcation --dof 2 --vary wob --torque 8.1\n"
+        "  pydrill bifurcation --dof 4 --vary torque --wob 100 --json\n\n"
+        "criticality: supercritical (l1 < 0): a small stable oscillation is born; subcritical "
+        "(l1 > 0): the motion jumps to a large oscillation or stick-slip, with hysteresis.\n"
+        "units: wob N, torque N*m, omega and frequency rad/s.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    _string_options(bif, PRESETS)
+    bif.add_argument(
+        "--vary", choices=("wob", "torque"), required=True, help="the parameter along the branch"
+    )
+    bif.add_argument(
+        "--torque", type=_positive("--torque"), help="fixed surface torque (N m), with --vary wob"
+    )
+    bif.add_argument(
+        "--wob", type=_positive("--wob"), help="fixed weight on bit (N), with --vary torque"
+    )
+    bif.add_argument(
+        "--omega-max", type=_positive("--omega-max"), help="largest Omega on the branch (rad/s)"
+    )
+    bif.add_argument("--json", action="store_true", help="print one JSON object for scripts")
+    bif.add_argument("--plot", metavar="FILE.png", help="draw the bifurcation diagram")
+    bif.set_defaults(handler=_cmd_bifurcation)
+
+
+def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]) -> None:
+    group = parser.add_argument_group("string")
+    group.add_argument(
+        "--preset",
+        choices=presets,
+        default="reduced-scale",
+        help="parameter set (default: reduced-scale)",
+    )
+    size = group.add_mutually_exclusive_group()
+    size.add_argument("--dof", type=int, help="number of inertias, >= 2 (default 4)")
+    size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
+
+
+def _cmd_hopf(args: argparse.Namespace) -> int:
+    from . import preset
+    from .plot import hopf_figure, save
+    from .stability import critical_deltas
+
+    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
+    crossings = critical_deltas(params)
+    if args.plot:
+        save(hopf_figure(params, crossings, omega_max=args.omega_max), args.plot)
+    if args.json:
+        data = {
+            "preset": params.name,
+            "dof": params.dof,
+            "crossings": [
+                {
+                    "type": c.type,
+                    "delta": c.delta,
+                    "frequency": c.frequency,
+                    "direction": c.direction,
+                }
+                for c in crossings
+            ],
+            "units": {"delta": "N·m·s/rad", "frequency": "rad/s"},
+        }
+        if args.plot:
+            data["plot"] = args.plot
+        print(json.dumps(data, indent=2, allow_nan=False))
+        return 0
+    hopf = [c for c in crossings if c.type == "hopf"]
+    print(
+        f"{params.name}, dof {params.dof}: {len(hopf)} Hopf crossings, "
+        f"{len(crossings) - len(hopf)} fold"
+    )
+    print(f"{'type':6s} {'delta (N m s/rad)':>18s} {'frequency (rad/s)':>18s}  direction")
+    for c in crossings[:40]:
+        freq = f"{c.frequency:18.6g}" if c.frequency is not None else f"{'-':>18s}"
+        print(
+            f"{c.type:6s} {c.delta:18.10g} {freq}  "
+            f"{'destabilising' if c.direction > 0 else 'stabilising'}"
+        )
+    if len(crossings) > 40:
+        print(f"... {len(crossings) - 40} more (use --json for all)")
+    if args.plot:
+        print(f"figure: {args.plot}")
+    return 0
+
+
+def _cmd_stability(args: argparse.Namespace) -> int:
+    from . import preset
+    from .plot import eigenvalue_figure, save
+    from .stability import stability
+
+    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
+    points = stability(params, args.wob, omega=args.omega, torque=args.torque)
+    if args.plot:
+        save(eigenvalue_figure(params, points), args.plot)
+    if args.json:
+        data = {
+            "preset": params.name,
+            "dof": params.dof,
+            "wob": args.wob,
+            "equilibria": [pt.to_dict() for pt in points],
+            "units": {
+                "omega": "rad/s",
+                "wob": "N",
+                "torque": "N·m",
+                "delta": "N·m·s/rad",
+                "eigenvalues": "1/s",
+                "spectral_abscissa": "1/s",
+            },
+        }
+        if args.torque is not None:
+            data["torque"] = args.torque
+        print(json.dumps(data, indent=2, allow_nan=False))
+        return 0
+    if not points:
+        print(
+            f"no steady rotation: u = {args.torque:g} N m cannot balance the bit friction at "
+            f"W_ob = {args.wob:g} N (the bit sticks, or sticks and slips)"
+        )
+        return 0
+    for pt in points:
+        verdict = "STABLE" if pt.stable else f"UNSTABLE ({pt.unstable} eigenvalues in Re > 0)"
+        print(f"steady state    Omega = {pt.omega:.6g} rad/s, u = {pt.torque:.6g} N m")
+        print(f"Stribeck slope  delta = {pt.delta:.6g} N m s/rad")
+        print(
+            f"verdict         {verdict}; delta margin {pt.delta_margin:.4g}, "
+            f"spectral abscissa {pt.spectral_abscissa:.4g} 1/s"
+        )
+        lead = ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" for z in pt.eigenvalues[:4])
+        print(f"eigenvalues     {lead}, ...")
+    if args.plot:
+        print(f"figure: {args.plot}")
+    return 0
+
+
+def _cmd_bifurcation(args: argparse.Namespace) -> int:
+    from . import preset
+    from .bifurcation import branch
+    from .plot import bifurcation_figure, save
+
+    if args.vary == "wob" and args.torque is None:
+        raise ValueError("--vary wob needs --torque (the surface torque held fixed, N m)")
+    if args.vary == "torque" and args.wob is None:
+        raise ValueError("--vary torque needs --wob (the weight on bit held fixed, N)")
+    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
+    b = branch(params, vary=args.vary, torque=args.torque, wob=args.wob, omega_max=args.omega_max)
+    if args.plot:
+        save(bifurcation_figure(params, b), args.plot)
+    if args.json:
+        data = {
+            "preset": params.name,
+            "dof": params.dof,
+            **b.to_dict(),
+            "units": {
+                "wob": "N",
+                "torque": "N·m",
+                "omega": "rad/s",
+                "frequency": "rad/s",
+                "delta": "N·m·s/rad",
+                "lyapunov": "1/s per (rad/s)²",
+            },
+        }
+        if args.plot:
+            data["plot"] = args.plot
+        print(json.dumps(data, allow_nan=False))
+        return 0
+    fixed = f"u = {b.fixed:g} N m" if b.vary == "wob" else f"W_ob = {b.fixed:g} N"
+    print(f"{params.name}, dof {params.dof}: steady states as {b.vary} varies at {fixed}")
+    print(
+        f"{'point':5s} {'wob (N)':>12s} {'torque (N m)':>13s} {'omega (rad/s)':>14s} "
+        f"{'freq (rad/s)':>13s} {'lyapunov':>11s}  criticality"
+    )
+    for pt in b.points:
+        freq = f"{pt.frequency:13.6g}" if pt.frequency else f"{'-':>13s}"
+        l1 = f"{pt.lyapunov:11.4g}" if pt.lyapunov is not None else f"{'-':>11s}"
+        print(
+            f"{pt.type:5s} {pt.wob:12.8g} {pt.torque:13.8g} {pt.omega:14.8g} {freq} {l1}  "
+            f"{pt.criticality or ''}"
+        )
+    if not b.points:
+        print("no Hopf or fold point on this branch")
+    if args.plot:
+        print(f"figure: {args.plot}")
+    return 0

@@ -1,0 +1,143 @@
+"""Hopf criticality and bifurcation diagrams, checked against simulation and eigenvalues."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import pydrill
+from pydrill import _core
+from pydrill import stability as st
+from pydrill.bifurcation import branch
+
+
+def test_lyapunov_coefficient_matches_the_amplitude_growth_of_a_simulation():
+    """At the Hopf point the normal form gives d|z|/dt = Re(c1)|z|³ with Re(c1) = ω·l1; the
+    simulator, started on the critical eigenvector, must grow (l1 > 0) at that rate."""
+    p = pydrill.preset("real-string")
+    hopf = st.critical_deltas(p)[0]
+    l1 = _core.first_lyapunov_coefficient(p.to_core(), hopf.delta, hopf.frequency)
+    omega = 1.0
+    wob = float(hopf.wob(p, omega))
+    torque = pydrill.equilibrium_torque(p, wob, omega)
+    A = st.jacobian(p, hopf.delta)
+    ev, V = np.linalg.eig(A)
+    q = V[:, np.argmin(np.abs(ev - 1j * hopf.frequency))]
+    q /= np.linalg.norm(q)
+    evt, W = np.linalg.eig(A.T)
+    adj = W[:, np.argmin(np.abs(evt + 1j * hopf.frequency))]
+    adj /= np.conj(np.vdot(adj, q))
+    y_eq = np.array(_core.equilibrium_state(p.to_core(), wob, omega))
+    y0 = y_eq + 2 * (0.02 * omega / abs(q[-1])) * q.real
+    r = pydrill.simulate(
+        p, wob=wob, torque=torque, initial=y0, t_end=400.0, n_out=4001, rtol=1e-11, atol=1e-12
+    )
+    amp = np.abs((r.states - y_eq) @ np.conj(adj))
+    growth = -np.polyfit(r.t, 1.0 / amp**2, 1)[0] / 2  # Re(c1)
+    assert l1 > 0
+    assert growth == pytest.approx(hopf.frequency * l1, rel=0.05)
+
+
+def test_branch_special_points_are_exact():
+    p = pydrill.preset("reduced-scale", dof=2)
+    b = branch(p, vary="wob", torque=8.1)
+    crossings = st.critical_deltas(p)
+    assert {pt.type for pt in b.points} == {"HB", "LP"}
+    for pt in b.points:
+        # On the branch: the torque holds Ω at this W_ob.
+        assert pydrill.equilibrium_torque(p, pt.wob, pt.omega) == pytest.approx(8.1, rel=1e-12)
+        # At a critical slope, to 1e-10 relative.
+        assert min(abs(pt.delta - c.delta) / c.delta for c in crossings) < 1e-10
+        delta = float(st.stribeck_slope(p, pt.wob, pt.omega))
+        assert delta == pytest.approx(pt.delta, rel=1e-10)
+        ev = st.eigenvalues(p, delta)
+        target = 1j * (pt.frequency or 0.0)
+        assert np.min(np.abs(ev - target)) < 1e-7
+    (lp,) = [pt for pt in b.points if pt.type == "LP"]
+    # The branch folds there: W_ob(Ω) = (u − (c_r + c_b)Ω) / (R_b μ_b(Ω)) is extremal.
+    c = p.top_damping + p.bit_damping
+
+    def wob_of(om):
+        mu = p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(-p.stribeck_decay * om)
+        return (8.1 - c * om) / (p.bit_radius * mu)
+
+    h = 1e-5
+    assert wob_of(lp.omega) >= max(wob_of(lp.omega - h), wob_of(lp.omega + h))
+    # Stability along the branch changes at the special points only.
+    changes = np.nonzero(np.diff(b.unstable))[0]
+    for i in changes:
+        assert any(b.omega[i] <= pt.omega <= b.omega[i + 1] for pt in b.points)
+
+
+def test_subcritical_hopf_shows_hysteresis():
+    """Paper Fig. 5 string (dof 2, u = 8.1 N·m): the Hopf point on the upper branch is
+    subcritical, so below it the stable steady state coexists with a stuck bit: starting
+    near the steady state it drills on; starting from rest it never gets going."""
+    p = pydrill.preset("reduced-scale", dof=2)
+    b = branch(p, vary="wob", torque=8.1)
+    hb = max((pt for pt in b.points if pt.type == "HB"), key=lambda pt: pt.omega)
+    assert hb.criticality == "subcritical"
+    wob = 120.0
+    assert wob < hb.wob
+    (pt,) = [s for s in st.stability(p, wob, torque=8.1) if s.stable]
+    near = pydrill.simulate(p, wob=wob, torque=8.1, initial="equilibrium", t_end=600.0)
+    rest = pydrill.simulate(p, wob=wob, torque=8.1, initial="rest", t_end=600.0)
+    assert near.regime == "steady"
+    assert near.bit_velocity[-1] == pytest.approx(pt.omega, rel=1e-4)
+    assert rest.regime in ("stuck", "stick-slip")
+
+
+def test_vary_torque_branch_and_bad_input():
+    p = pydrill.preset("reduced-scale", dof=4)
+    b = branch(p, vary="torque", wob=100.0)
+    assert np.all(np.isclose(b.wob, 100.0))
+    (lp,) = [pt for pt in b.points if pt.type == "LP"]
+    assert lp.delta == pytest.approx(p.top_damping + p.bit_damping, rel=1e-12)
+    with pytest.raises(ValueError, match="torque"):
+        branch(p, vary="wob")
+    with pytest.raises(ValueError, match="vary"):
+        branch(p, vary="depth", wob=1.0)
+
+
+def test_bifurcation_command_json(tmp_path):
+    png = tmp_path / "fig11.png"
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pydrill",
+            "bifurcation",
+            "--dof",
+            "2",
+            "--vary",
+            "wob",
+            "--torque",
+            "8.1",
+            "--json",
+            "--plot",
+            str(png),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    data = json.loads(out.stdout)
+    assert data["points"]
+    for pt in data["points"]:
+        assert pt["type"] in ("HB", "LP")
+        for key in ("wob", "torque", "omega", "frequency", "lyapunov", "criticality"):
+            assert key in pt
+        if pt["type"] == "HB":
+            assert pt["criticality"] in ("supercritical", "subcritical")
+        else:
+            assert pt["frequency"] is None and pt["criticality"] is None
+    assert len(data["branch"]["omega"]) == len(data["branch"]["wob"])
+    assert png.stat().st_size > 20_000
+    bad = subprocess.run(
+        [sys.executable, "-m", "pydrill", "bifurcation", "--vary", "wob"],
+        capture_output=True,
+        text=True,
+    )
+    assert bad.returncode == 2 and "--torque" in bad.stderr and "Traceback" not in bad.stderr
