@@ -83,6 +83,46 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     bif.add_argument("--plot", metavar="FILE.png", help="draw the bifurcation diagram")
     bif.set_defaults(handler=_cmd_bifurcation)
 
+    omap = sub.add_parser(
+        "map",
+        help="(W_ob, u) map: stable steady drilling, stuck bit, neither (Figs. 6b and 12)",
+        description="Classify weight on bit and surface torque: whether a stable steady state "
+        "exists (Hopf analysis) and whether the bit can stay stuck (u <= T_s, the sliding "
+        "analysis). The paper's safe drilling parameters have a stable steady state and "
+        "u > T_s. With --check K, simulations from rest on a K x K grid show where stick-slip "
+        "actually happens (it coexists with the stable steady state near the sliding boundary).",
+        epilog="examples:\n  pydrill map --dof 4 --plot map.png\n"
+        "  pydrill map --dof 2 --check 10 --json\n\nunits: wob N, torque N*m.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    _string_options(omap, PRESETS)
+    omap.add_argument(
+        "--wob-max",
+        type=_positive("--wob-max"),
+        help="largest W_ob (N; default 250 for reduced-scale, 2e5 for real-string)",
+    )
+    omap.add_argument(
+        "--torque-max",
+        type=_positive("--torque-max"),
+        help="largest u (N m; default 0.1 * wob-max)",
+    )
+    omap.add_argument(
+        "--check",
+        type=int,
+        default=0,
+        metavar="K",
+        help="simulate from rest on a K x K grid and overlay the regimes",
+    )
+    omap.add_argument(
+        "--t-end",
+        type=_positive("--t-end"),
+        default=300.0,
+        help="simulated time of each check (s, default 300)",
+    )
+    omap.add_argument("--json", action="store_true", help="print one JSON object for scripts")
+    omap.add_argument("--plot", metavar="FILE.png", help="draw the map")
+    omap.set_defaults(handler=_cmd_map)
+
 
 def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]) -> None:
     group = parser.add_argument_group("string")
@@ -239,6 +279,59 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         )
     if not b.points:
         print("no Hopf or fold point on this branch")
+    if args.plot:
+        print(f"figure: {args.plot}")
+    return 0
+
+
+def _cmd_map(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from . import preset, simulate
+    from .operating import CATEGORIES, operating_map
+    from .plot import operating_figure, save
+    from .stability import critical_deltas
+
+    if args.check < 0 or args.check > 40:
+        raise ValueError(f"--check = {args.check} is not allowed: need 0 <= K <= 40")
+    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
+    wob_max = args.wob_max or (250.0 if params.name == "reduced-scale" else 2e5)
+    torque_max = args.torque_max or 0.1 * wob_max
+    wob = np.linspace(wob_max / 200, wob_max, 200)
+    torque = np.linspace(torque_max / 200, torque_max, 200)
+    crossings = critical_deltas(params)
+    omap = operating_map(params, wob, torque, crossings)
+    checks = []
+    if args.check:
+        for w in np.linspace(wob_max / args.check, wob_max, args.check):
+            for u in np.linspace(torque_max / args.check, torque_max, args.check):
+                r = simulate(params, wob=w, torque=u, t_end=args.t_end, n_out=301)
+                checks.append((float(w), float(u), r.regime))
+    if args.plot:
+        save(operating_figure(params, omap, crossings, checks), args.plot)
+    if args.json:
+        data = {
+            "preset": params.name,
+            "dof": params.dof,
+            "categories": list(CATEGORIES),
+            "fractions": omap.fractions(),
+            "wob": omap.wob.tolist(),
+            "torque": omap.torque.tolist(),
+            "category": omap.category.tolist(),
+            "safe_torque_min": [None if not np.isfinite(v) else v for v in omap.safe_torque_min],
+            "checks": [{"wob": w, "torque": u, "regime": r} for w, u, r in checks],
+            "units": {"wob": "N", "torque": "N·m"},
+        }
+        print(json.dumps(data, allow_nan=False))
+        return 0
+    print(f"{params.name}, dof {params.dof}: W_ob 0..{wob_max:g} N, u 0..{torque_max:g} N m")
+    for name, frac in omap.fractions().items():
+        print(f"  {100 * frac:5.1f} %  {name}")
+    if checks:
+        counts = {}
+        for _, _, r in checks:
+            counts[r] = counts.get(r, 0) + 1
+        print("simulated from rest: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
     if args.plot:
         print(f"figure: {args.plot}")
     return 0
