@@ -29,9 +29,11 @@ def best_of(fn, repeats=3):
 
 
 def main() -> None:
-    print(f"{'pipes':>6s} {'dof':>5s} {'crossings':>10s} {'all δ_k (ms)':>13s} "
-          f"{'map 1000² (s)':>14s} {'eig / point (ms)':>17s} {'brute map (est. s)':>19s} "
-          f"{'ratio':>9s}")
+    print(
+        f"{'pipes':>6s} {'dof':>5s} {'crossings':>10s} {'all δ_k (ms)':>13s} "
+        f"{'map 1000² (s)':>14s} {'eig / point (ms)':>17s} {'brute map (est. s)':>19s} "
+        f"{'ratio':>9s}"
+    )
     omega = np.linspace(0.05, 20.0, 1000)
     wob = np.linspace(1.0, 300.0, 1000)
     for pipes in (10, 50, 100, 200, 500):
@@ -45,9 +47,11 @@ def main() -> None:
             st.eigenvalues(p, d)
         t_eig = (time.perf_counter() - t0) / len(deltas)
         brute = t_eig * omega.size * wob.size
-        print(f"{pipes:6d} {p.dof:5d} {len(crossings):10d} {1e3 * t_cross:13.2f} "
-              f"{t_map + t_cross:14.3f} {1e3 * t_eig:17.3f} {brute:19.0f} "
-              f"{brute / (t_map + t_cross):8.0f}×")
+        print(
+            f"{pipes:6d} {p.dof:5d} {len(crossings):10d} {1e3 * t_cross:13.2f} "
+            f"{t_map + t_cross:14.3f} {1e3 * t_eig:17.3f} {brute:19.0f} "
+            f"{brute / (t_map + t_cross):8.0f}×"
+        )
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ core (``pydrill._core``), which this package re-exports with documentation and p
 
 from . import _core
 from ._core import SolverError
+from .atlas import Atlas
 from .model import PRESETS, Params, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
 
@@ -25,6 +26,7 @@ def equilibrium_torque(params: Params, wob: float, omega: float) -> float:
 __all__ = [
     "PRESETS",
     "REGIMES",
+    "Atlas",
     "Params",
     "SimulationResult",
     "SolverError",

@@ -81,6 +81,7 @@ def _list(name: str):
 def build_parser() -> argparse.ArgumentParser:
     from . import PRESETS, __version__
     from .cli_analysis import register_analysis
+    from .cli_sweep import register_sweep
 
     parser = _Parser(
         prog="pydrill",
@@ -171,6 +172,7 @@ def build_parser() -> argparse.ArgumentParser:
     sim.set_defaults(handler=_cmd_simulate)
 
     register_analysis(sub, PRESETS)
+    register_sweep(sub, _positive)
     return parser
 
 
@@ -242,6 +244,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     from . import SolverError
+    from .sweep import AtlasError
 
     try:
         return int(args.handler(args))
@@ -249,6 +252,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.close()
         return 0
     except ValueError as exc:
+        sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
+        return EXIT_USAGE
+    except AtlasError as exc:
         sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
         return EXIT_USAGE
     except SolverError as exc:

@@ -1,0 +1,183 @@
+"""Reading atlases: ``pydrill.Atlas``.
+
+>>> atlas = Atlas("atlas.h5")                                # doctest: +SKIP
+>>> atlas.value(wob=100, torque=8.3, method="nearest")      # doctest: +SKIP
+{'coords': {'wob': 100.0, 'torque': 8.0}, 'status': 'done', 'regime': {'rest': 'stick-slip'}, ...}
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from . import atlas_format as fmt
+from .spec import SpecError, parse_spec
+from .sweep import AtlasError
+
+
+class Atlas:
+    """An atlas file, opened read-only. Use as a context manager or call :meth:`close`."""
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        if not self.path.exists():
+            raise AtlasError(f"{self.path}: no such atlas")
+        try:
+            self._f = h5py.File(self.path, "r")
+        except OSError as exc:
+            raise AtlasError(
+                f"{self.path} is not a readable HDF5 atlas (truncated or corrupt?): {exc}"
+            ) from None
+        try:
+            if self._f.attrs.get("format") != fmt.FORMAT:
+                raise AtlasError(f"{self.path} is an HDF5 file but not a pydrill atlas")
+            self.spec = parse_spec(self._f.attrs["spec"])
+            self.axes = {name: self._f[name][...] for name in json.loads(self._f.attrs["axes"])}
+            self.initials = [
+                s.decode() if isinstance(s, bytes) else s for s in self._f["initial"][...]
+            ]
+            self.version = str(self._f.attrs.get("pydrill_version", "?"))
+            for name in ("status", "regime", "bit_mean"):
+                self._f[name].shape  # noqa: B018 - touch: a damaged file fails here, not later
+        except (KeyError, SpecError, OSError) as exc:
+            self._f.close()
+            raise AtlasError(f"{self.path} is damaged or incomplete: {exc}") from None
+
+    def close(self) -> None:
+        self._f.close()
+
+    def __enter__(self) -> Atlas:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(v) for v in self.axes.values())
+
+    def index(self, method: str = "exact", **coords: float) -> tuple[int, ...]:
+        """Grid index of the given coordinates (every axis must be given)."""
+        missing = set(self.axes) - set(coords)
+        extra = set(coords) - set(self.axes)
+        if extra:
+            raise KeyError(
+                f"{sorted(extra)[0]} is not an axis of this atlas; axes: " + ", ".join(self.axes)
+            )
+        if missing:
+            raise KeyError(f"give a value for every axis; missing: {', '.join(sorted(missing))}")
+        if method not in ("exact", "nearest"):
+            raise ValueError(f"method = {method!r}: choose 'exact' or 'nearest'")
+        idx = []
+        for name, values in self.axes.items():
+            v = float(coords[name])
+            i = int(np.argmin(np.abs(values - v)))
+            if method == "exact" and not math.isclose(values[i], v, rel_tol=1e-9, abs_tol=1e-12):
+                raise KeyError(
+                    f"{name} = {v:g} is not on the grid (nearest {values[i]:g}); "
+                    "use method='nearest'"
+                )
+            idx.append(i)
+        return tuple(idx)
+
+    def value(self, method: str = "exact", **coords: float) -> dict[str, Any]:
+        """Everything recorded at one point."""
+        idx = self.index(method, **coords)
+        f = self._f
+        status = {v: k for k, v in fmt.STATUS.items()}[int(f["status"][idx])]
+        out: dict[str, Any] = {
+            "coords": {
+                name: float(v[i]) for (name, v), i in zip(self.axes.items(), idx, strict=True)
+            },
+            "status": status,
+        }
+        if status == "failed":
+            msg = f["message"][idx]
+            out["message"] = msg.decode() if isinstance(msg, bytes) else str(msg)
+        regimes = f["regime"][idx]
+        out["regime"] = {
+            init: fmt.REGIME_NAMES[int(r)] for init, r in zip(self.initials, regimes, strict=True)
+        }
+        metrics = {}
+        for name in fmt.RUN_FIELDS:
+            vals = f[name][idx]
+            metrics[name] = {init: _clean(v) for init, v in zip(self.initials, vals, strict=True)}
+        out["metrics"] = metrics
+        eq = {name: [_clean(v) for v in f[name][idx]] for name in fmt.EQ_FIELDS}
+        re, im = f["eigenvalues_real"][idx], f["eigenvalues_imag"][idx]
+        eq["eigenvalues"] = [
+            [[float(a), float(b)] for a, b in zip(r, i, strict=True) if math.isfinite(a)]
+            for r, i in zip(re, im, strict=True)
+        ]
+        n = sum(1 for w in eq["omega_eq"] if w is not None)
+        out["stability"] = {k: v[:n] for k, v in eq.items()}
+        co = int(f["coexistence"][idx])
+        out["coexistence"] = None if co < 0 else bool(co)
+        return out
+
+    def regimes(self, initial: str | None = None) -> np.ndarray:
+        """Regime names on the whole grid for one initial condition."""
+        j = self._initial_index(initial)
+        codes = self._f["regime"][..., j]
+        names = np.array([fmt.REGIME_NAMES[c] for c in sorted(fmt.REGIME_NAMES)], dtype=object)
+        return names[np.searchsorted(sorted(fmt.REGIME_NAMES), codes)]
+
+    def _initial_index(self, initial: str | None) -> int:
+        if initial is None:
+            return 0
+        if initial not in self.initials:
+            raise KeyError(f"initial = {initial!r} is not in this atlas: {self.initials}")
+        return self.initials.index(initial)
+
+    def safe_region(self) -> np.ndarray:
+        """Points where every start drills steadily and the fastest steady state is stable."""
+        codes = self._f["regime"][...]
+        steady = np.all(codes == fmt.REGIMES["steady"], axis=-1)
+        stable = self._f["unstable"][..., 0] == 0
+        return steady & stable
+
+    def summary(self) -> dict[str, Any]:
+        status = self._f["status"][...]
+        codes = self._f["regime"][...]
+        regimes = {}
+        for j, init in enumerate(self.initials):
+            regimes[init] = {
+                name: int(np.sum(codes[..., j] == code))
+                for name, code in fmt.REGIMES.items()
+                if np.any(codes[..., j] == code)
+            }
+        return {
+            "path": str(self.path),
+            "pydrill_version": self.version,
+            "spec_digest": self.spec.digest,
+            "points": int(np.prod(self.shape)),
+            "axes": {
+                name: {"size": len(v), "min": float(v.min()), "max": float(v.max())}
+                for name, v in self.axes.items()
+            },
+            "initial": self.initials,
+            "status": {name: int(np.sum(status == code)) for name, code in fmt.STATUS.items()},
+            "regimes": regimes,
+            "safe_points": int(np.sum(self.safe_region())),
+            "coexistence_points": int(np.sum(self._f["coexistence"][...] == 1)),
+        }
+
+    def to_xarray(self):
+        """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates."""
+        import xarray as xr
+
+        return xr.open_dataset(self.path, engine="h5netcdf")
+
+
+def _clean(v: Any) -> Any:
+    v = v.item() if hasattr(v, "item") else v
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    if isinstance(v, int) and v == -1:
+        return None
+    return v

@@ -1,0 +1,249 @@
+"""The HDF5 layout of an atlas, and the in-memory table a sweep fills.
+
+One file per sweep. The sweep's axes are HDF5 dimension scales (plus ``initial``,
+``equilibrium`` and ``eigenvalue``), so the file opens in xarray (``engine="h5netcdf"``) with the
+right coordinates. ``regime`` is an HDF5 enumeration; everything is chunked and compressed. The
+spec text, its digest, the model parameters and the pydrill version are root attributes;
+``status`` says, point by point, what has been computed.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from .spec import SweepSpec
+
+FORMAT = "pydrill-atlas"
+FORMAT_VERSION = 1
+REGIMES = {
+    "steady": 0,
+    "stick-slip": 1,
+    "stuck": 2,
+    "oscillation": 3,
+    "failed": -1,
+    "missing": -2,
+    "no-steady-state": -3,  # an 'equilibrium' start where no steady state exists
+}
+REGIME_NAMES = {v: k for k, v in REGIMES.items()}
+STATUS = {"missing": 0, "done": 1, "failed": 2}
+N_EQ = 2  # a (W_ob, u) has at most two steady states
+
+# name -> (dtype, fill, dims beyond the axes, units, description)
+RUN_FIELDS = {
+    "bit_min": ("f8", math.nan, "rad/s", "least bit velocity in the judged window"),
+    "bit_max": ("f8", math.nan, "rad/s", "largest bit velocity in the judged window"),
+    "bit_mean": ("f8", math.nan, "rad/s", "mean bit velocity in the judged window"),
+    "top_mean": ("f8", math.nan, "rad/s", "mean top-drive velocity in the judged window"),
+    "severity": ("f8", math.nan, "1", "(max - min) / (2 mean) of the bit velocity"),
+    "stuck_fraction": ("f8", math.nan, "1", "fraction of the judged window spent stuck"),
+    "period": ("f8", math.nan, "s", "stick-slip or oscillation period"),
+    "stick_events": ("i4", -1, "1", "stick events in the judged window"),
+    "wall_time": ("f8", math.nan, "s", "time in the C++ core"),
+}
+EQ_FIELDS = {
+    "omega_eq": ("f8", math.nan, "rad/s", "steady bit velocities, fastest first"),
+    "delta": ("f8", math.nan, "N m s/rad", "Stribeck slope at each steady state"),
+    "spectral_abscissa": ("f8", math.nan, "1/s", "largest real part of the eigenvalues"),
+    "hopf_margin": (
+        "f8",
+        math.nan,
+        "N m s/rad",
+        "delta distance to the nearest crossing (negative: unstable)",
+    ),
+    "unstable": ("i2", -1, "1", "eigenvalues in the right half-plane"),
+}
+
+
+def _chunks(shape: tuple[int, ...]) -> tuple[int, ...] | None:
+    if not shape or math.prod(shape) < 64:
+        return None
+    return tuple(min(s, 64) for s in shape)
+
+
+@dataclass
+class AtlasTable:
+    """All of an atlas's point data in memory; a sweep updates it, then writes it whole."""
+
+    spec: SweepSpec
+    status: np.ndarray = field(init=False)
+    message: np.ndarray = field(init=False)
+    regime: np.ndarray = field(init=False)
+    runs: dict[str, np.ndarray] = field(init=False)
+    eqs: dict[str, np.ndarray] = field(init=False)
+    eig: np.ndarray = field(init=False)
+    coexistence: np.ndarray = field(init=False)
+
+    def __post_init__(self) -> None:
+        shape = self.spec.shape
+        n_init = len(self.spec.initials)
+        k = self.spec.record["eigenvalues"]
+        self.status = np.zeros(shape, dtype="u1")
+        self.message = np.full(shape, "", dtype=object)
+        self.regime = np.full((*shape, n_init), REGIMES["missing"], dtype="i1")
+        self.runs = {n: np.full((*shape, n_init), f[1], dtype=f[0]) for n, f in RUN_FIELDS.items()}
+        self.eqs = {n: np.full((*shape, N_EQ), f[1], dtype=f[0]) for n, f in EQ_FIELDS.items()}
+        self.eig = np.full((*shape, N_EQ, k), complex(math.nan, math.nan), dtype="c16")
+        self.coexistence = np.full(shape, -1, dtype="i1")
+
+    def apply(self, rec: dict[str, Any]) -> None:
+        idx = np.unravel_index(rec["i"], self.spec.shape)
+        self.status[idx] = STATUS[rec["status"]]
+        self.message[idx] = rec.get("message", "")
+        for j, init in enumerate(self.spec.initials):
+            run = rec.get("runs", {}).get(init)
+            if run is None:
+                continue
+            self.regime[(*idx, j)] = REGIMES[run["regime"]]
+            for name, (_, fill, _, _) in RUN_FIELDS.items():
+                v = run.get(name)
+                self.runs[name][(*idx, j)] = fill if v is None else v
+        stab = rec.get("stability")
+        if stab:
+            for name, (_, fill, _, _) in EQ_FIELDS.items():
+                vals = stab.get(name, [])
+                for e in range(N_EQ):
+                    v = vals[e] if e < len(vals) else None
+                    self.eqs[name][(*idx, e)] = fill if v is None else v
+            for e, row in enumerate(stab.get("eigenvalues", [])[:N_EQ]):
+                for m, (re, im) in enumerate(row[: self.eig.shape[-1]]):
+                    self.eig[(*idx, e, m)] = complex(re, im)
+        if rec.get("coexistence") is not None:
+            self.coexistence[idx] = int(rec["coexistence"])
+
+    def missing(self) -> np.ndarray:
+        """Flat indices of the points still to compute."""
+        return np.flatnonzero(self.status.ravel() == STATUS["missing"])
+
+
+def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
+    """A new atlas with every point missing (overwrites ``path``: callers check first)."""
+    table = AtlasTable(spec)
+    with h5py.File(path, "w", libver="latest") as f:
+        f.attrs["format"] = FORMAT
+        f.attrs["format_version"] = FORMAT_VERSION
+        f.attrs["pydrill_version"] = version
+        f.attrs["spec"] = spec.text
+        f.attrs["spec_digest"] = spec.digest
+        f.attrs["params"] = params_json
+        f.attrs["axes"] = json.dumps(list(spec.axes))
+        f.attrs["fixed"] = json.dumps(spec.fixed)
+        units = {"wob": "N", "torque": "N m", "dof": "1", "pipes": "1"}
+        scales = []
+        for name, values in spec.axes.items():
+            d = f.create_dataset(name, data=values)
+            d.make_scale(name)
+            d.attrs["units"] = units.get(name, "SI")
+            scales.append(d)
+        init = f.create_dataset("initial", data=np.array(spec.initials, dtype=h5py.string_dtype()))
+        init.make_scale("initial")
+        eq = f.create_dataset("equilibrium", data=np.arange(N_EQ, dtype="i1"))
+        eq.make_scale("equilibrium")
+        eq.attrs["long_name"] = "steady state, fastest first"
+        k = spec.record["eigenvalues"]
+        ev = f.create_dataset("eigenvalue", data=np.arange(k, dtype="i2"))
+        ev.make_scale("eigenvalue")
+
+        def make(name, data, extra, **attrs):
+            fill = data.flat[0] if data.size else 0
+            ds = f.create_dataset(
+                name,
+                data=data,
+                chunks=_chunks(data.shape),
+                compression="gzip" if _chunks(data.shape) else None,
+                fillvalue=fill if data.dtype.kind != "O" else None,
+            )
+            for axis, scale in enumerate(scales):
+                ds.dims[axis].attach_scale(scale)
+            for j, s in enumerate(extra):
+                ds.dims[len(scales) + j].attach_scale(s)
+            for key, value in attrs.items():
+                ds.attrs[key] = value
+            return ds
+
+        enum = h5py.enum_dtype(REGIMES, basetype="i1")
+        reg = f.create_dataset(
+            "regime",
+            shape=table.regime.shape,
+            dtype=enum,
+            chunks=_chunks(table.regime.shape),
+            compression="gzip" if _chunks(table.regime.shape) else None,
+            fillvalue=REGIMES["missing"],
+        )
+        for axis, scale in enumerate(scales):
+            reg.dims[axis].attach_scale(scale)
+        reg.dims[len(scales)].attach_scale(init)
+        reg.attrs["flag_values"] = np.array(list(REGIMES.values()), dtype="i1")
+        reg.attrs["flag_meanings"] = " ".join(REGIMES)
+        make(
+            "status",
+            table.status,
+            [],
+            flag_values=np.array(list(STATUS.values()), "u1"),
+            flag_meanings=" ".join(STATUS),
+        )
+        f.create_dataset("message", data=table.message.astype(h5py.string_dtype()))
+        for name, (_, _, unit, desc) in RUN_FIELDS.items():
+            make(name, table.runs[name], [init], units=unit, long_name=desc)
+        for name, (_, _, unit, desc) in EQ_FIELDS.items():
+            make(name, table.eqs[name], [eq], units=unit, long_name=desc)
+        make(
+            "eigenvalues_real",
+            table.eig.real,
+            [eq, ev],
+            units="1/s",
+            long_name="leading eigenvalues, real part",
+        )
+        make(
+            "eigenvalues_imag",
+            table.eig.imag,
+            [eq, ev],
+            units="rad/s",
+            long_name="leading eigenvalues, imaginary part",
+        )
+        make(
+            "coexistence",
+            table.coexistence,
+            [],
+            long_name="1 if rest and equilibrium starts end in different regimes, -1 unknown",
+        )
+
+
+def write(path: Path, table: AtlasTable) -> None:
+    """Write the whole table into an existing atlas."""
+    with h5py.File(path, "r+") as f:
+        f["status"][...] = table.status
+        f["message"][...] = table.message.astype(h5py.string_dtype())
+        f["regime"][...] = table.regime
+        for name in RUN_FIELDS:
+            f[name][...] = table.runs[name]
+        for name in EQ_FIELDS:
+            f[name][...] = table.eqs[name]
+        f["eigenvalues_real"][...] = table.eig.real
+        f["eigenvalues_imag"][...] = table.eig.imag
+        f["coexistence"][...] = table.coexistence
+
+
+def read_table(path: Path, spec: SweepSpec) -> AtlasTable:
+    """Load an atlas's point data (raises OSError/KeyError on a damaged file)."""
+    table = AtlasTable(spec)
+    with h5py.File(path, "r") as f:
+        table.status = f["status"][...]
+        table.message = np.array(
+            [m.decode() if isinstance(m, bytes) else m for m in f["message"][...].ravel()],
+            dtype=object,
+        ).reshape(spec.shape)
+        table.regime = f["regime"][...].astype("i1")
+        for name in RUN_FIELDS:
+            table.runs[name] = f[name][...]
+        for name in EQ_FIELDS:
+            table.eqs[name] = f[name][...]
+        table.eig = f["eigenvalues_real"][...] + 1j * f["eigenvalues_imag"][...]
+        table.coexistence = f["coexistence"][...]
+    return table

@@ -1,0 +1,314 @@
+"""Sweeps into atlases: specs, streaming, resume after kill -9, a real Dask cluster."""
+
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import pydrill
+from pydrill.atlas import Atlas
+from pydrill.spec import SpecError, load_spec, parse_spec
+from pydrill.sweep import AtlasError, run_sweep
+
+ROOT = Path(__file__).resolve().parents[1]
+CMD = [sys.executable, "-m", "pydrill"]
+
+SMALL = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [40.0, 100.0, 160.0]
+torque = [6.0, 8.3]
+[simulation]
+t_end = 200.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+def test_shipped_specs_parse():
+    minimal = load_spec(ROOT / "sweeps" / "minimal.toml")
+    assert minimal.shape == (19, 3) and minimal.initials == ["rest"]
+    assert load_spec(ROOT / "sweeps" / "paper-wob-torque.toml").size == 37 * 29
+
+
+@pytest.mark.parametrize(
+    ("text", "key"),
+    [
+        ("[axes]\nwob = [1.0]\n", "axes.torque"),
+        ("[model]\nspring = 1\n[axes]\nwob = [1.0]\ntorque = [1.0]\n", "model.spring"),
+        ("[axes]\nwob = { start = 1.0, stop = 2.0 }\ntorque = [1.0]\n", "axes.wob"),
+        ("[axes]\nwob = [0.0, 1.0]\ntorque = [1.0]\n", "axes.wob"),
+        ("[axes]\nwob = [1.0]\ntorque = [1.0]\nheight = [2.0]\n", "axes.height"),
+        (
+            "[axes]\nwob = [1.0]\ntorque = [1.0]\n[simulation]\ninitial = ['spin']\n",
+            "simulation.initial",
+        ),
+        ("[axes]\nwob = [1.0]\ntorque = [1.0]\n[simulation]\nt_end = -3\n", "simulation.t_end"),
+        ("[axes]\nwob = [1.0]\ntorque = [1.0]\nbit_damping = [-1.0, 0.1]\n", "model"),
+        ("[axes]\nwob = [1.0]\ntorque = [1.0]\n[extras]\n", "extras"),
+        ("[axes\n", "not valid TOML"),
+    ],
+)
+def test_bad_spec_is_refused_naming_the_key_and_nothing_is_written(tmp_path, text, key):
+    with pytest.raises(SpecError) as err:
+        parse_spec(text)
+    assert key in str(err.value)
+    spec_file = tmp_path / "bad.toml"
+    spec_file.write_text(text)
+    out = tmp_path / "bad.h5"
+    proc = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--out", str(out)], capture_output=True, text=True
+    )
+    assert proc.returncode == 2 and key in proc.stderr and "Traceback" not in proc.stderr
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+def test_atlas_holds_what_was_computed(tmp_path):
+    out = tmp_path / "small.h5"
+    spec = parse_spec(SMALL)
+    report = run_sweep(spec, out, serial=True)
+    assert report.computed == 6 and report.failed == 0
+    assert not Path(str(out) + ".journal").exists()
+    p = pydrill.preset("reduced-scale", dof=4)
+    with h5py.File(out, "r") as f:  # plain h5py: dimension scales and enum
+        assert f["regime"].dims[0][0].name == "/wob" and f["regime"].dims[2][0].name == "/initial"
+        assert h5py.check_enum_dtype(f["regime"].dtype)["stick-slip"] == 1
+        assert f["bit_mean"].compression == "gzip" or f["bit_mean"].chunks is None
+    with Atlas(out) as atlas:
+        for wob in (40.0, 100.0, 160.0):
+            for torque in (6.0, 8.3):
+                v = atlas.value(wob=wob, torque=torque)
+                direct = pydrill.simulate(p, wob=wob, torque=torque, t_end=200.0)
+                assert v["regime"]["rest"] == direct.regime
+                assert v["metrics"]["bit_mean"]["rest"] == pytest.approx(direct.summary.bit_mean)
+                eqs = pydrill.stability.stability(p, wob, torque=torque)
+                assert len(v["stability"]["omega_eq"]) == len(eqs)
+        ds = atlas.to_xarray()
+        assert list(ds.regime.dims) == ["wob", "torque", "initial"]
+        np.testing.assert_allclose(ds.wob.values, [40.0, 100.0, 160.0])
+        assert int(ds.regime.sel(wob=100.0, torque=8.3, initial="rest")) == 1  # stick-slip
+        assert ds.omega_eq.sel(wob=40.0, torque=8.3).values[0] == pytest.approx(33.15789473684)
+        # Paper: at W_ob = 100 N, u = 8.3 N·m the steady state coexists with stick-slip.
+        assert atlas.value(wob=100.0, torque=8.3)["coexistence"] is True
+        ds.close()
+
+
+def test_failing_point_is_recorded_and_the_rest_done(tmp_path):
+    text = SMALL.replace(
+        'initial = ["rest", "equilibrium"]', 'initial = ["rest"]\nmax_steps = 2500'
+    )
+    report = run_sweep(parse_spec(text), tmp_path / "f.h5", serial=True)
+    assert 0 < report.failed < report.points
+    with Atlas(tmp_path / "f.h5") as atlas:
+        bad = atlas.value(wob=100.0, torque=8.3)  # stick-slip needs more steps
+        assert bad["status"] == "failed" and "max_steps" in bad["message"]
+        good = atlas.value(wob=160.0, torque=8.3)
+        assert good["status"] == "done" and good["regime"]["rest"] == "stuck"
+
+
+def test_other_spec_is_never_overwritten(tmp_path):
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    before = out.read_bytes()
+    with pytest.raises(AtlasError, match="different sweep"):
+        run_sweep(parse_spec(SMALL.replace("t_end = 200.0", "t_end = 100.0")), out, serial=True)
+    with pytest.raises(AtlasError, match="--resume"):
+        run_sweep(parse_spec(SMALL), out, serial=True)
+    assert out.read_bytes() == before
+    # Resuming a finished sweep computes nothing.
+    assert run_sweep(parse_spec(SMALL), out, serial=True, resume=True).computed == 0
+
+
+def test_damaged_atlas_gives_a_clear_error(tmp_path):
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    data = out.read_bytes()
+    out.write_bytes(data[: len(data) // 3])
+    with pytest.raises(AtlasError, match="not a readable HDF5 atlas"):
+        Atlas(out)
+    proc = subprocess.run([*CMD, "atlas", "info", str(out)], capture_output=True, text=True)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    junk = tmp_path / "junk.h5"
+    with h5py.File(junk, "w") as f:
+        f["x"] = 1
+    with pytest.raises(AtlasError, match="not a pydrill atlas"):
+        Atlas(junk)
+
+
+def test_query_command_json(tmp_path):
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    proc = subprocess.run(
+        [*CMD, "atlas", "query", str(out), "--wob", "100", "--torque", "8.3", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    data = json.loads(proc.stdout)
+    assert data["regime"] == "stick-slip"
+    assert data["period"] > 0 and data["units"]["period"] == "s"
+    miss = subprocess.run(
+        [*CMD, "atlas", "query", str(out), "--wob", "99", "--torque", "8.3"],
+        capture_output=True,
+        text=True,
+    )
+    assert miss.returncode == 2 and "not on the grid" in miss.stderr
+
+
+def _atlas_arrays(path):
+    with h5py.File(path, "r") as f:
+        return {name: f[name][...] for name in f if name not in ("wall_time",)}
+
+
+def _same_atlas(a, b):
+    x, y = _atlas_arrays(a), _atlas_arrays(b)
+    assert x.keys() == y.keys()
+    for name in x:
+        if x[name].dtype.kind == "f":
+            np.testing.assert_array_equal(
+                np.nan_to_num(x[name], nan=-7.0), np.nan_to_num(y[name], nan=-7.0), err_msg=name
+            )
+        else:
+            np.testing.assert_array_equal(x[name], y[name], err_msg=name)
+
+
+MEDIUM = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = { start = 20.0, stop = 200.0, num = 16 }
+torque = { start = 4.0, stop = 14.0, num = 12 }
+[simulation]
+t_end = 300.0
+initial = ["rest"]
+"""
+
+
+@pytest.mark.slow
+def test_kill_minus_9_then_resume_gives_the_same_atlas(tmp_path):
+    spec_file = tmp_path / "m.toml"
+    spec_file.write_text(MEDIUM)
+    reference = tmp_path / "ref.h5"
+    run_sweep(parse_spec(MEDIUM), reference, serial=True)
+    out = tmp_path / "killed.h5"
+    journal = Path(str(out) + ".journal")
+    proc = subprocess.Popen(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), "--workers", "2"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    deadline = time.time() + 120
+    while time.time() < deadline:  # wait until some, not all, points are journaled
+        if journal.exists() and journal.read_text().count("\n") > 40:
+            break
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    assert journal.exists()
+    done_before = journal.read_text().count("\n") - 1
+    assert 0 < done_before < 16 * 12
+    report = run_sweep(parse_spec(MEDIUM), out, resume=True, serial=True)
+    assert report.resumed >= done_before
+    assert report.resumed + report.computed == 16 * 12
+    _same_atlas(out, reference)
+
+
+def _free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.mark.slow
+def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
+    dask_bin = Path(sys.executable).parent / "dask"
+    if not dask_bin.exists():
+        dask_bin = shutil.which("dask")
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    procs = [
+        subprocess.Popen(
+            [
+                str(dask_bin),
+                "scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                str(port),
+                "--dashboard-address",
+                ":0",
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            env=env,
+            start_new_session=True,
+        )
+    ]
+    try:
+        time.sleep(2.0)
+        for _ in range(2):
+            procs.append(
+                subprocess.Popen(
+                    [
+                        str(dask_bin),
+                        "worker",
+                        address,
+                        "--nthreads",
+                        "1",
+                        "--no-nanny",
+                        "--host",
+                        "127.0.0.1",
+                    ],
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                    env=env,
+                    start_new_session=True,
+                )
+            )
+        from distributed import Client
+
+        with Client(address, timeout="30s") as client:
+            client.wait_for_workers(2, timeout=60)
+        spec_file = tmp_path / "m.toml"
+        spec_file.write_text(MEDIUM)
+        out = tmp_path / "cluster.h5"
+        journal = Path(str(out) + ".journal")
+        sweep = subprocess.Popen(
+            [*CMD, "sweep", str(spec_file), "--out", str(out), "--scheduler", address, "--json"],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            if journal.exists() and journal.read_text().count("\n") > 20:
+                break
+            time.sleep(0.05)
+        os.killpg(procs[1].pid, signal.SIGKILL)  # a worker dies mid-sweep
+        stdout, stderr = sweep.communicate(timeout=300)
+        assert sweep.returncode == 0, stderr
+        report = json.loads(stdout)
+        assert report["computed"] == 16 * 12 and report["failed"] == 0
+        reference = tmp_path / "ref.h5"
+        run_sweep(parse_spec(MEDIUM), reference, serial=True)
+        _same_atlas(out, reference)
+    finally:
+        for p in procs:
+            try:
+                os.killpg(p.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            p.wait()
