@@ -39,7 +39,7 @@ def main() -> None:
     for pipes in (10, 50, 100, 200, 500):
         p = pydrill.preset("reduced-scale", pipes=pipes)
         t_cross, crossings = best_of(lambda p=p: st.critical_deltas(p))
-        t_map, counts = best_of(lambda p=p, c=crossings: st.stability_map(p, omega, wob, c))
+        t_map, _counts = best_of(lambda p=p, c=crossings: st.stability_map(p, omega, wob, c))
         # Brute force: dense eigenvalues at a few points, extrapolated to the whole map.
         deltas = st.stribeck_slope(p, wob[::250], omega[::250])
         t0 = time.perf_counter()

@@ -1,8 +1,10 @@
 """Reading atlases: ``pydrill.Atlas``.
 
->>> atlas = Atlas("atlas.h5")                                # doctest: +SKIP
->>> atlas.value(wob=100, torque=8.3, method="nearest")      # doctest: +SKIP
-{'coords': {'wob': 100.0, 'torque': 8.0}, 'status': 'done', 'regime': {'rest': 'stick-slip'}, ...}
+Example (an atlas written by ``pydrill sweep``)::
+
+    with pydrill.Atlas("paper.h5") as atlas:
+        atlas.value(wob=100, torque=8.3, method="nearest")["regime"]   # {'rest': 'stick-slip', ...}
+        atlas.to_xarray().bit_mean.sel(initial="rest").plot()
 """
 
 from __future__ import annotations
