@@ -169,6 +169,18 @@ class Atlas:
             "coexistence_points": int(np.sum(self._f["coexistence"][...] == 1)),
         }
 
+    def sel(self, method: str | None = None, **coords: float):
+        """A slice of the atlas as an ``xarray.Dataset``: fix some axes (or ``initial``),
+        keep the others, e.g. ``atlas.sel(torque=8.3).regime`` is the regime against W_ob."""
+        unknown = set(coords) - set(self.axes) - {"initial"}
+        if unknown:
+            raise KeyError(
+                f"{sorted(unknown)[0]} is not an axis of this atlas; axes: "
+                + ", ".join([*self.axes, "initial"])
+            )
+        ds = self.to_xarray().load()
+        return ds.sel(method=method, **coords)
+
     def to_xarray(self):
         """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates."""
         import xarray as xr

