@@ -10,7 +10,6 @@ import pytest
 
 import pydrill
 
-pytest.importorskip("scipy")
 
 
 @pytest.fixture(scope="module")
