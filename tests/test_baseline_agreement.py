@@ -11,7 +11,6 @@ import pytest
 import pydrill
 
 
-
 @pytest.fixture(scope="module")
 def baseline():
     path = Path(__file__).resolve().parents[1] / "benchmarks" / "baseline_scipy.py"
