@@ -139,7 +139,8 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]) -> 
 
 def _cmd_hopf(args: argparse.Namespace) -> int:
     from . import preset
-    from .plot import hopf_figure, save
+    from .plot import save
+    from .plot_analysis import hopf_figure
     from .stability import critical_deltas
 
     params = preset(args.preset, dof=args.dof, pipes=args.pipes)
@@ -186,7 +187,8 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
 
 def _cmd_stability(args: argparse.Namespace) -> int:
     from . import preset
-    from .plot import eigenvalue_figure, save
+    from .plot import save
+    from .plot_analysis import eigenvalue_figure
     from .stability import stability
 
     params = preset(args.preset, dof=args.dof, pipes=args.pipes)
@@ -236,7 +238,8 @@ def _cmd_stability(args: argparse.Namespace) -> int:
 def _cmd_bifurcation(args: argparse.Namespace) -> int:
     from . import preset
     from .bifurcation import branch
-    from .plot import bifurcation_figure, save
+    from .plot import save
+    from .plot_analysis import bifurcation_figure
 
     if args.vary == "wob" and args.torque is None:
         raise ValueError("--vary wob needs --torque (the surface torque held fixed, N m)")
@@ -289,7 +292,8 @@ def _cmd_map(args: argparse.Namespace) -> int:
 
     from . import preset, simulate
     from .operating import CATEGORIES, operating_map
-    from .plot import operating_figure, save
+    from .plot import save
+    from .plot_analysis import operating_figure
     from .stability import critical_deltas
 
     if args.check < 0 or args.check > 40:

@@ -88,7 +88,8 @@ def _atlas_usage(parser) -> int:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .plot import atlas_figure, save
+    from .plot import save
+    from .plot_atlas import atlas_figure
     from .spec import load_spec
     from .sweep import run_sweep
 
@@ -233,7 +234,8 @@ def _cmd_query(args: argparse.Namespace) -> int:
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .atlas import Atlas
-    from .plot import atlas_figure, save
+    from .plot import save
+    from .plot_atlas import atlas_figure
 
     with Atlas(args.atlas) as atlas:
         save(atlas_figure(atlas, initial=args.initial), args.out)

@@ -299,8 +299,9 @@ def _run_dask(spec, todo, workers, scheduler, absorb) -> None:
     # One process per core: the Python around each simulation holds the GIL. Workers are
     # forked rather than spawned: they start in a third of the time (measured 0.85 s against
     # 1.4 s for two), which is a tenth of a short sweep.
-    with dask.config.set({"distributed.worker.daemon": False,
-                          "distributed.worker.multiprocessing-method": "fork"}):
+    with dask.config.set(
+        {"distributed.worker.daemon": False, "distributed.worker.multiprocessing-method": "fork"}
+    ):
         if scheduler:
             client = Client(scheduler, timeout="30s")
             cluster = None
