@@ -4,11 +4,12 @@ The physics and its corrections to the paper are in DESIGN.md; the fast work run
 core (``pydrill._core``), which this package re-exports with documentation and plain data.
 """
 
-from . import _core
+from . import _core, stability, units
 from ._core import SolverError
 from .atlas import Atlas
 from .model import PRESETS, Params, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
+from .tally import Tally, load_tally
 
 __version__: str = _core.__version__
 
@@ -33,8 +34,12 @@ __all__ = [
     "SolverStats",
     "Summary",
     "Switch",
+    "Tally",
     "equilibrium_torque",
     "equilibrium_velocities",
+    "load_tally",
     "preset",
     "simulate",
+    "stability",
+    "units",
 ]

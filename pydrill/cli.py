@@ -245,6 +245,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     from . import SolverError
     from .sweep import AtlasError
+    from .tally import TallyError
 
     try:
         return int(args.handler(args))
@@ -252,6 +253,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.close()
         return 0
     except ValueError as exc:
+        sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
+        return EXIT_USAGE
+    except TallyError as exc:
         sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
         return EXIT_USAGE
     except AtlasError as exc:

@@ -83,6 +83,26 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     bif.add_argument("--plot", metavar="FILE.png", help="draw the bifurcation diagram")
     bif.set_defaults(handler=_cmd_bifurcation)
 
+    string = sub.add_parser(
+        "string",
+        help="the lumped torsional model of a string from its pipe tally (TOML)",
+        description="Build the lumped chain from a tally: one element per joint (or per --lump "
+        "joints of drill pipe), stiffness G*I_p/L and inertia rho*I_p*L each; --dof N groups the "
+        "elements into N-1 springs in series (--dof 2: the paper's two-inertia model).",
+        epilog="examples:\n  pydrill string examples/tallies/paper-eq53.toml --dof 2 --json\n"
+        "  pydrill string examples/tallies/paper-eq53.toml --depth 3000m\n\n"
+        "units in the tally: m, ft, in; Pa, GPa, psi; kg/m3. Output is SI.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    string.add_argument("tally", metavar="TALLY.toml")
+    string.add_argument("--dof", type=int, help="reduce to this many inertias (>= 2)")
+    string.add_argument("--lump", type=int, default=1, help="drill-pipe joints per element")
+    string.add_argument(
+        "--depth", help="lengthen the drill pipe to reach this depth (e.g. 3000m, 9800ft)"
+    )
+    string.add_argument("--json", action="store_true", help="print one JSON object")
+    string.set_defaults(handler=_cmd_string)
+
     omap = sub.add_parser(
         "map",
         help="(W_ob, u) map: stable steady drilling, stuck bit, neither (Figs. 6b and 12)",
@@ -338,4 +358,55 @@ def _cmd_map(args: argparse.Namespace) -> int:
         print("simulated from rest: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
     if args.plot:
         print(f"figure: {args.plot}")
+    return 0
+
+
+def _cmd_string(args: argparse.Namespace) -> int:
+    from . import units
+    from .tally import load_tally
+
+    tally = load_tally(args.tally)
+    if args.depth is not None:
+        tally = tally.at_depth(units.parse(args.depth, "length"))
+    if args.lump < 1:
+        raise ValueError(f"--lump = {args.lump} is not allowed: >= 1")
+    p = tally.to_params(dof=args.dof, lump=args.lump)
+    data = {
+        "name": tally.name,
+        "dof": p.dof,
+        "length": tally.length,
+        "bha_length": tally.bha_length,
+        "inertias": list(p.inertias),
+        "stiffnesses": list(p.stiffnesses),
+        "dampings": list(p.dampings),
+        "top_damping": p.top_damping,
+        "bit_damping": p.bit_damping,
+        "bit_radius": p.bit_radius,
+        "units": {
+            "length": "m",
+            "inertias": "kg·m2",
+            "stiffnesses": "N·m/rad",
+            "dampings": "N·m·s/rad",
+            "top_damping": "N·m·s/rad",
+            "bit_damping": "N·m·s/rad",
+            "bit_radius": "m",
+        },
+    }
+    if args.json:
+        print(json.dumps(data))
+        return 0
+    print(f"{tally.name}: {tally.length:.1f} m ({tally.bha_length:.1f} m BHA), dof {p.dof}")
+    print(f"  top drive   J = {p.inertias[0]:.6g} kg m^2, c_r = {p.top_damping:g} N m s/rad")
+    if p.dof <= 12:
+        for i, (k, c, j) in enumerate(zip(p.stiffnesses, p.dampings, p.inertias[1:], strict=True)):
+            print(
+                f"  element {i + 1:3d} k = {k:.6g} N m/rad, c = {c:.6g} N m s/rad, "
+                f"J = {j:.6g} kg m^2"
+            )
+    else:
+        print(
+            f"  {p.dof - 1} elements; total inertia {sum(p.inertias[1:]):.6g} kg m^2, "
+            f"series stiffness {1 / sum(1 / k for k in p.stiffnesses):.6g} N m/rad"
+        )
+    print(f"  bit         R_b = {p.bit_radius:.6g} m, c_b = {p.bit_damping:g} N m s/rad")
     return 0

@@ -1,0 +1,118 @@
+"""Driller units in, SI inside: a small, tested conversion table.
+
+``parse(value, kind)`` accepts a number (already SI) or a string with a unit, e.g. ``"5 in"``,
+``"3000 ft"``, ``"120 rpm"``, ``"100 kN"``, ``"25 klbf"``, ``"12 kN·m"``, ``"9 kft·lbf"``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+LBF = 4.4482216152605  # N
+FT = 0.3048  # m
+INCH = 0.0254  # m
+
+# kind -> {unit: factor to SI}
+UNITS: dict[str, dict[str, float]] = {
+    "length": {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "km": 1e3, "in": INCH, "ft": FT},
+    "force": {"N": 1.0, "kN": 1e3, "lbf": LBF, "klbf": 1e3 * LBF, "tonf": 9806.65},
+    "torque": {"N·m": 1.0, "kN·m": 1e3, "ft·lbf": FT * LBF, "kft·lbf": 1e3 * FT * LBF},
+    "velocity": {"rad/s": 1.0, "rpm": 2 * math.pi / 60},
+    "modulus": {
+        "Pa": 1.0,
+        "GPa": 1e9,
+        "MPa": 1e6,
+        "psi": LBF / INCH**2,
+        "Mpsi": 1e6 * LBF / INCH**2,
+    },
+    "density": {"kg/m3": 1.0, "kg/m^3": 1.0, "g/cm3": 1e3},
+    "inertia": {"kg·m2": 1.0, "kg·m^2": 1.0},
+    "damping": {"N·m·s/rad": 1.0},
+}
+SI = {
+    "length": "m",
+    "force": "N",
+    "torque": "N·m",
+    "velocity": "rad/s",
+    "modulus": "Pa",
+    "density": "kg/m3",
+    "inertia": "kg·m2",
+    "damping": "N·m·s/rad",
+}
+
+_ALIASES = {
+    "nm": "N·m",
+    "n.m": "N·m",
+    "n*m": "N·m",
+    "n m": "N·m",
+    "knm": "kN·m",
+    "kn.m": "kN·m",
+    "kn*m": "kN·m",
+    "kn m": "kN·m",
+    "ftlbf": "ft·lbf",
+    "ft.lbf": "ft·lbf",
+    "ft*lbf": "ft·lbf",
+    "ft lbf": "ft·lbf",
+    "kftlbf": "kft·lbf",
+    "kft.lbf": "kft·lbf",
+    "kft*lbf": "kft·lbf",
+    "kft lbf": "kft·lbf",
+    '"': "in",
+    "inch": "in",
+    "inches": "in",
+    "feet": "ft",
+    "foot": "ft",
+    "'": "ft",
+    "rad/sec": "rad/s",
+}
+_NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
+
+
+def parse(value: float | int | str, kind: str) -> float:
+    """``value`` in SI units; strings carry their unit. Raises ValueError naming the problem."""
+    if kind not in UNITS:
+        raise ValueError(f"unknown quantity kind {kind!r}")
+    if isinstance(value, bool):
+        raise ValueError(f"{value!r} is not a {kind}")
+    if isinstance(value, int | float):
+        if not math.isfinite(value):
+            raise ValueError(f"{value!r} is not a finite {kind}")
+        return float(value)
+    match = _NUMBER.match(str(value))
+    if not match:
+        raise ValueError(
+            f"{value!r} is not a {kind}: write a number and a unit, e.g. '{_example(kind)}'"
+        )
+    number, unit = float(match.group(1)), match.group(2)
+    if unit == "":
+        return number
+    table = UNITS[kind]
+    canon = unit.replace("-", "·").replace("*", "·").replace(".", "·")
+    for candidate in (unit, canon, _ALIASES.get(unit.lower(), ""), _ALIASES.get(canon.lower(), "")):
+        if candidate in table:
+            return number * table[candidate]
+    lower = {k.lower(): v for k, v in table.items()}
+    if canon.lower() in lower:
+        return number * lower[canon.lower()]
+    raise ValueError(
+        f"{value!r}: unit {unit!r} is not a {kind} unit; use one of " + ", ".join(table)
+    )
+
+
+def convert(si_value: float, kind: str, unit: str) -> float:
+    """An SI value expressed in ``unit``."""
+    return si_value / UNITS[kind][unit]
+
+
+def _example(kind: str) -> str:
+    return {
+        "length": "5 in",
+        "force": "100 kN",
+        "torque": "12 kN·m",
+        "velocity": "120 rpm",
+        "modulus": "79.3 GPa",
+        "density": "7850 kg/m3",
+        "inertia": "2122 kg·m2",
+        "damping": "50 N·m·s/rad",
+    }[kind]
