@@ -103,6 +103,38 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     string.add_argument("--json", action="store_true", help="print one JSON object")
     string.set_defaults(handler=_cmd_string)
 
+    win = sub.add_parser(
+        "window",
+        help="safe (W_ob, surface rpm) window of a string from its tally, at one or more depths",
+        description="For the string of a tally at a depth: where the steady state is stable and "
+        "the bit cannot stay stuck, in weight on bit and surface rpm; optionally checked by "
+        "simulations (started near the steady state) at sample points.",
+        epilog="examples:\n  pydrill window examples/tallies/paper-eq53.toml --depth 3000m "
+        "--plot w.png\n  pydrill window examples/tallies/paper-eq53.toml --depth 500m,1000m,"
+        "3000m,5000m --plot depths.png --json\n\nunits: depth m or ft; wob kN; rpm.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    win.add_argument("tally", metavar="TALLY.toml")
+    win.add_argument("--depth", required=True, help="depth(s), comma-separated (3000m, 9800ft)")
+    win.add_argument("--wob-max", default="300 kN", help="largest weight on bit (default 300 kN)")
+    win.add_argument(
+        "--rpm-max",
+        type=_positive("--rpm-max"),
+        default=200.0,
+        help="largest surface speed (rpm, default 200)",
+    )
+    win.add_argument(
+        "--check",
+        type=int,
+        default=0,
+        metavar="K",
+        help="simulate a K x K sample at the first depth (reduced to --check-dof)",
+    )
+    win.add_argument("--check-dof", type=int, default=12, help="dof of the checking model")
+    win.add_argument("--json", action="store_true")
+    win.add_argument("--plot", metavar="FILE.png")
+    win.set_defaults(handler=_cmd_window)
+
     omap = sub.add_parser(
         "map",
         help="(W_ob, u) map: stable steady drilling, stuck bit, neither (Figs. 6b and 12)",
@@ -409,4 +441,71 @@ def _cmd_string(args: argparse.Namespace) -> int:
             f"series stiffness {1 / sum(1 / k for k in p.stiffnesses):.6g} N m/rad"
         )
     print(f"  bit         R_b = {p.bit_radius:.6g} m, c_b = {p.bit_damping:g} N m s/rad")
+    return 0
+
+
+def _cmd_window(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from . import simulate, units
+    from .plot import save
+    from .plot_analysis import window_figure
+    from .tally import load_tally
+    from .window import RPM, operating_window
+
+    tally = load_tally(args.tally)
+    depths = [units.parse(d.strip(), "length") for d in args.depth.split(",") if d.strip()]
+    wob_max = units.parse(args.wob_max, "force")
+    wob = np.linspace(wob_max / 150, wob_max, 150)
+    rpm = np.linspace(args.rpm_max / 150, args.rpm_max, 150)
+    windows = {}
+    for d in depths:
+        windows[d] = operating_window(tally.at_depth(d).to_params(), wob, rpm)
+    checks = []
+    if args.check:
+        if not 1 <= args.check <= 20:
+            raise ValueError(f"--check = {args.check}: allowed 1 ... 20")
+        p = tally.at_depth(depths[0]).to_params(dof=args.check_dof)
+        for w in np.linspace(wob_max / args.check, wob_max, args.check):
+            for r in np.linspace(args.rpm_max / args.check, args.rpm_max, args.check):
+                from . import equilibrium_torque
+
+                u = equilibrium_torque(p, w, r * RPM)
+                res = simulate(p, wob=w, torque=u, initial="equilibrium", t_end=120.0, n_out=2)
+                checks.append((float(w), float(r), res.regime))
+    if args.plot:
+        save(window_figure(windows, checks), args.plot)
+    if args.json:
+        data = {
+            "tally": tally.name,
+            "depths": depths,
+            "wob": wob.tolist(),
+            "rpm": rpm.tolist(),
+            "windows": [
+                {
+                    "depth": d,
+                    "dof": tally.at_depth(d).to_params().dof,
+                    "safe_fraction": float(w.safe.mean()),
+                    "min_rpm": [None if np.isnan(v) else float(v) for v in w.min_rpm()],
+                }
+                for d, w in windows.items()
+            ],
+            "checks": [{"wob": w, "rpm": r, "regime": g} for w, r, g in checks],
+            "units": {"depths": "m", "wob": "N", "rpm": "rpm", "min_rpm": "rpm"},
+        }
+        print(json.dumps(data))
+        return 0
+    for d, w in windows.items():
+        mins = w.min_rpm()
+        print(
+            f"{d:7.0f} m: safe {100 * w.safe.mean():5.1f} % of the chart; least safe rpm "
+            f"{np.nanmin(mins):.0f} (light W_ob) ... {np.nanmax(mins):.0f} (heavy W_ob)"
+        )
+    if checks:
+        counts = {}
+        for *_, g in checks:
+            counts[g] = counts.get(g, 0) + 1
+        print("simulated: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    if args.plot:
+        print(f"figure: {args.plot}")
     return 0

@@ -237,3 +237,80 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
         fontsize=10,
     )
     return fig
+
+
+def window_figure(windows: dict[float, object], checks=None, kn: bool = True) -> Figure:
+    """Safe (W_ob, surface rpm) windows: shaded for the first depth, the least safe rpm against
+    W_ob for every depth, and simulated regimes at sample points."""
+
+    depths = sorted(windows)
+    first = windows[depths[0]]
+    scale = 1e-3 if kn else 1.0
+    fig, ax = plt.subplots(figsize=(9.5, 6), layout="constrained")
+    if len(depths) == 1:
+        ax.contourf(
+            first.wob * scale,
+            first.rpm,
+            first.safe.astype(float),
+            levels=[0.5, 1.5],
+            colors=["#abebc6"],
+        )
+        ax.contour(
+            first.wob * scale,
+            first.rpm,
+            first.stable.astype(float),
+            levels=[0.5],
+            colors=["#922b21"],
+            linewidths=1.5,
+        )
+        ax.contour(
+            first.wob * scale,
+            first.rpm,
+            first.unstick.astype(float),
+            levels=[0.5],
+            colors=["black"],
+            linewidths=1.5,
+        )
+        ax.plot([], [], color="#922b21", label="stability boundary (first Hopf)")
+        ax.plot([], [], color="black", label="stuck boundary (u = T_s)")
+        ax.fill_between([], [], color="#abebc6", label="safe: stable and cannot stay stuck")
+    cmap = plt.cm.viridis
+    for k, d in enumerate(depths):
+        w = windows[d]
+        ax.plot(
+            w.wob * scale,
+            w.min_rpm(),
+            color=cmap(k / max(len(depths) - 1, 1)),
+            lw=2,
+            label=f"least safe rpm at {d:g} m",
+        )
+    if checks:
+        marks = {
+            "steady": ("o", "#1e8449"),
+            "stick-slip": ("x", "#b9770e"),
+            "stuck": ("s", "#566573"),
+            "oscillation": ("^", "#7d3c98"),
+        }
+        for regime, (marker, color) in marks.items():
+            pts = [(wb * scale, r) for wb, r, reg in checks if reg == regime]
+            if pts:
+                ax.scatter(
+                    *zip(*pts, strict=True),
+                    marker=marker,
+                    color=color,
+                    s=30,
+                    zorder=5,
+                    label=f"simulated from equilibrium: {regime}",
+                )
+    ax.set_xlabel("weight on bit (kN)" if kn else "weight on bit (N)")
+    ax.set_ylabel("surface speed (rpm)")
+    ax.set_ylim(first.rpm.min(), first.rpm.max())
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    ax.set_title(
+        "operating window: safe above the curves"
+        if len(depths) > 1
+        else f"operating window at {depths[0]:g} m",
+        fontsize=10,
+    )
+    return fig
