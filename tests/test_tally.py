@@ -79,9 +79,13 @@ def test_reduction_keeps_total_inertia_and_compliance():
     assert sum(lumped.inertias) == pytest.approx(sum(full.inertias))
 
 
+OTHER = PAPER.parent / "5.5in-dp-8in-collars.toml"
+
+
+@pytest.mark.parametrize("path", [PAPER, OTHER], ids=["5in-6.5in", "5.5in-8in"])
 @pytest.mark.parametrize("depth", [1000.0, 3000.0, 5000.0])
-def test_deeper_strings(depth):
-    tally = load_tally(PAPER).at_depth(depth)
+def test_deeper_strings(path, depth):
+    tally = load_tally(path).at_depth(depth)
     assert depth <= tally.length < depth + 9.0
     p = tally.to_params(dof=2)
     # Longer pipe: softer in proportion to its length (the BHA is short and stiff).
