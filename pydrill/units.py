@@ -29,6 +29,7 @@ UNITS: dict[str, dict[str, float]] = {
     "density": {"kg/m3": 1.0, "kg/m^3": 1.0, "g/cm3": 1e3},
     "inertia": {"kg·m2": 1.0, "kg·m^2": 1.0},
     "damping": {"N·m·s/rad": 1.0},
+    "rate": {"m/s": 1.0, "m/h": 1 / 3600, "m/hr": 1 / 3600, "ft/h": FT / 3600, "ft/hr": FT / 3600},
 }
 SI = {
     "length": "m",
