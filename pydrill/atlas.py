@@ -38,7 +38,9 @@ class Atlas:
         try:
             if self._f.attrs.get("format") != fmt.FORMAT:
                 raise AtlasError(f"{self.path} is an HDF5 file but not a pydrill atlas")
-            self.spec = parse_spec(self._f.attrs["spec"])
+            self.spec = parse_spec(
+                self._f.attrs["spec"], tally_text=self._f.attrs.get("tally") or None
+            )
             self.axes = {name: self._f[name][...] for name in json.loads(self._f.attrs["axes"])}
             self.initials = [
                 s.decode() if isinstance(s, bytes) else s for s in self._f["initial"][...]

@@ -130,11 +130,12 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
         f.attrs["format_version"] = FORMAT_VERSION
         f.attrs["pydrill_version"] = version
         f.attrs["spec"] = spec.text
+        f.attrs["tally"] = spec.tally_text or ""
         f.attrs["spec_digest"] = spec.digest
         f.attrs["params"] = params_json
         f.attrs["axes"] = json.dumps(list(spec.axes))
         f.attrs["fixed"] = json.dumps(spec.fixed)
-        units = {"wob": "N", "torque": "N m", "dof": "1", "pipes": "1"}
+        units = {"wob": "N", "torque": "N m", "dof": "1", "pipes": "1", "depth": "m"}
         scales = []
         for name, values in spec.axes.items():
             d = f.create_dataset(name, data=values)

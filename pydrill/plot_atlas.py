@@ -51,7 +51,7 @@ def atlas_figure(atlas, initial: str | None = None) -> Figure:
         norm=BoundaryNorm(np.arange(-0.5, len(shown) + 0.5), len(shown)),
         shading="nearest",
     )
-    units = {"wob": "N", "torque": "N·m", "dof": "", "pipes": ""}
+    units = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
     label = {
         "wob": "weight on bit $W_{ob}$",
         "torque": "surface torque $u$",

@@ -31,6 +31,7 @@ from .model import _LISTS, _SCALARS, PRESETS, Params, preset
 
 OPERATING_AXES = ("wob", "torque")
 SIZE_AXES = ("dof", "pipes")
+DEPTH_AXES = ("depth",)  # m, strings built from a tally
 SCALAR_AXES = tuple(_SCALARS)
 SIMULATION_KEYS = {
     "t_end": 300.0,
@@ -59,6 +60,8 @@ class SweepSpec:
     simulation: dict[str, Any]
     record: dict[str, Any]
     fixed: dict[str, float] = field(default_factory=dict)  #: wob/torque held fixed, if any
+    tally_text: str | None = None  #: the tally the string is built from, if any
+    lump: int = 1  #: drill-pipe joints per element (tally strings)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -93,7 +96,17 @@ class SweepSpec:
         return {k: float(v[i]) for (k, v), i in zip(self.axes.items(), idx, strict=True)}
 
     def params_at(self, coords: dict[str, float]) -> Params:
-        """The string at one grid point (size and parameter axes applied)."""
+        """The string at one grid point (size, depth and parameter axes applied)."""
+        if self.tally_text is not None:
+            from .tally import parse_tally
+
+            tally = parse_tally(self.tally_text)
+            if "depth" in coords:
+                tally = tally.at_depth(coords["depth"])
+            params = tally.to_params(dof=self.dof, lump=self.lump)
+            over = {k: v for k, v in self.overrides.items() if k not in ("tally", "lump")}
+            over.update({k: v for k, v in coords.items() if k in SCALAR_AXES})
+            return params.replace(**over) if over else params
         dof = self.dof
         if "dof" in coords:
             dof = int(coords["dof"])
@@ -153,8 +166,12 @@ def _axis(name: str, value: Any) -> np.ndarray:
     return values
 
 
-def parse_spec(text: str) -> SweepSpec:
-    """Parse and validate a spec; raises :class:`SpecError` naming the key at fault."""
+def parse_spec(text: str, tally_text: str | None = None, base: Path | None = None) -> SweepSpec:
+    """Parse and validate a spec; raises :class:`SpecError` naming the key at fault.
+
+    A spec may build its string from a tally (``[model] tally = "path.toml"``, resolved against
+    ``base``); the tally's text travels with the spec (``tally_text``) so that workers on other
+    machines and later readers of the atlas need no file."""
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -165,6 +182,25 @@ def parse_spec(text: str) -> SweepSpec:
             sorted(unknown)[0], "unknown section; allowed: [model], [axes], [simulation], [record]"
         )
     model = dict(doc.get("model", {}))
+    tally_path = model.pop("tally", None)
+    lump = model.pop("lump", 1)
+    if isinstance(lump, bool) or not isinstance(lump, int) or lump < 1:
+        raise _fail("model.lump", f"{lump!r} is not allowed: an integer >= 1")
+    if tally_path is not None and tally_text is None:
+        path = Path(tally_path)
+        if not path.is_absolute() and base is not None and (base / path).exists():
+            path = base / path
+        try:
+            tally_text = path.read_text()
+        except OSError as exc:
+            raise _fail("model.tally", f"cannot read {tally_path}: {exc.strerror}") from None
+    if tally_text is not None:
+        from .tally import TallyError, parse_tally
+
+        try:
+            parse_tally(tally_text)
+        except TallyError as exc:
+            raise _fail("model.tally", str(exc)) from None
     name = model.pop("preset", "reduced-scale")
     if name not in PRESETS:
         raise _fail("model.preset", f"{name!r} is unknown; choose one of {', '.join(PRESETS)}")
@@ -192,12 +228,16 @@ def parse_spec(text: str) -> SweepSpec:
     axes_doc = doc.get("axes")
     if not axes_doc:
         raise _fail("axes", "missing: the sweep needs at least one axis, e.g. wob = [...]")
-    allowed_axes = OPERATING_AXES + SIZE_AXES + SCALAR_AXES
+    allowed_axes = OPERATING_AXES + SIZE_AXES + SCALAR_AXES + (DEPTH_AXES if tally_text else ())
     axes: dict[str, np.ndarray] = {}
     for key, value in axes_doc.items():
         if key not in allowed_axes:
             raise _fail(f"axes.{key}", "cannot be swept; allowed: " + ", ".join(allowed_axes))
         axes[key] = _axis(key, value)
+    if "depth" in axes and np.any(axes["depth"] <= 0):
+        raise _fail("axes.depth", "depths must be > 0 (m)")
+    if tally_text is not None and ("dof" in axes or "pipes" in axes):
+        raise _fail("axes.dof", "a tally string grows with depth: sweep depth, not dof/pipes")
     if "dof" in axes and "pipes" in axes:
         raise _fail("axes.pipes", "sweep dof or pipes, not both")
     if ("dof" in axes or "pipes" in axes) and (dof is not None or any(k in model for k in _LISTS)):
@@ -264,7 +304,16 @@ def parse_spec(text: str) -> SweepSpec:
     ):
         raise _fail("record.eigenvalues", "an integer 0 ... 64")
     spec = SweepSpec(
-        text, name, dof, model, axes, sim, rec, {k: float(v) for k, v in fixed.items()}
+        text,
+        name,
+        dof,
+        model,
+        axes,
+        sim,
+        rec,
+        {k: float(v) for k, v in fixed.items()},
+        tally_text,
+        lump,
     )
     # Every string of the grid must be buildable: try the corners of the size/parameter axes.
     try:
@@ -290,4 +339,4 @@ def load_spec(path: str | Path) -> SweepSpec:
         text = path.read_text()
     except OSError as exc:
         raise SpecError(f"cannot read the spec {path}: {exc.strerror}") from None
-    return parse_spec(text)
+    return parse_spec(text, base=path.parent)

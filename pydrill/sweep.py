@@ -112,9 +112,11 @@ def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
     return rec
 
 
-def evaluate_batch(spec_text: str, indices: list[int]) -> list[dict[str, Any]]:
+def evaluate_batch(
+    spec_text: str, indices: list[int], tally_text: str | None = None
+) -> list[dict[str, Any]]:
     """Worker entry point: plain data in and out (no pickled objects of ours)."""
-    spec = parse_spec(spec_text)
+    spec = parse_spec(spec_text, tally_text=tally_text)
     return [evaluate_point(spec, i) for i in indices]
 
 
@@ -233,11 +235,11 @@ def run_sweep(
     serial: bool = False,
 ) -> SweepReport:
     """Compute every missing point of ``spec`` into the atlas ``out``."""
-    from . import __version__, preset
+    from . import __version__
 
     out = Path(out)
     t0 = time.perf_counter()
-    base = preset(spec.preset, dof=spec.dof if spec.dof is not None else None)
+    base = spec.params_at(spec.coords(0))
     params_json = json.dumps(
         {
             "preset": spec.preset,
@@ -279,7 +281,7 @@ def run_sweep(
     if len(todo):
         if serial:
             for batch in batches(todo, 1):
-                absorb(evaluate_batch(spec.text, batch))
+                absorb(evaluate_batch(spec.text, batch, spec.tally_text))
         else:
             _run_dask(spec, todo, workers, scheduler, absorb)
     tw = time.perf_counter()
@@ -318,7 +320,7 @@ def _run_dask(spec, todo, workers, scheduler, absorb) -> None:
             client = Client(cluster)
         try:
             futures = [
-                client.submit(evaluate_batch, spec.text, b, pure=False, retries=3)
+                client.submit(evaluate_batch, spec.text, b, spec.tally_text, pure=False, retries=3)
                 for b in batches(todo, n)
             ]
             for fut in as_completed(futures):

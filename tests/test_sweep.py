@@ -315,3 +315,29 @@ def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
             except ProcessLookupError:
                 pass
             p.wait()
+
+
+def test_depth_sweep_of_a_tally_string(tmp_path):
+    spec = load_spec(ROOT / "sweeps" / "paper-string-depth.toml")
+    assert spec.tally_text and "depth" in spec.axes
+    shallow = spec.params_at({"depth": 500.0, "wob": 5e4})
+    deep = spec.params_at({"depth": 5000.0, "wob": 5e4})
+    assert shallow.dof == deep.dof == 12  # reduced, as the spec asks
+    # Deeper string: softer (springs in series) and heavier.
+    assert sum(1 / k for k in deep.stiffnesses) > 5 * sum(1 / k for k in shallow.stiffnesses)
+    assert sum(deep.inertias) > sum(shallow.inertias)
+    small = spec.text.replace("[500.0, 1000.0, 2000.0, 3000.0, 4000.0, 5000.0]", "[500.0, 4000.0]")
+    small = small.replace("num = 6", "num = 2")
+    s2 = parse_spec(small, tally_text=spec.tally_text)
+    out = tmp_path / "depth.h5"
+    run_sweep(s2, out, serial=True)
+    with Atlas(out) as atlas:  # reopened without the tally file: its text is in the atlas
+        assert atlas.spec.tally_text == spec.tally_text
+        assert set(atlas.axes) == {"depth", "wob"}
+        v = atlas.value(depth=4000.0, wob=20000.0)
+        assert v["status"] == "done"
+    with pytest.raises(SpecError, match=r"model\.tally"):
+        parse_spec(
+            '[model]\ntally = "nowhere.toml"\n[axes]\ndepth = [1000.0]\nwob = [1.0]\n'
+            "torque = [1.0]\n"
+        )
