@@ -40,12 +40,27 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(EXIT_USAGE)
 
 
-def _positive(name: str):
-    def parse(text: str) -> float:
+def _number(name: str, text: str, kind: str | None) -> float:
+    """A plain number is SI; with ``kind``, a driller unit may follow (100kN, 120 rpm)."""
+    try:
+        return float(text)
+    except ValueError:
+        pass
+    if kind is not None:
+        from . import units
+
         try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+            return units.parse(text, kind)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be a number, got {text!r} ({exc})"
+            ) from None
+    raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}")
+
+
+def _positive(name: str, kind: str | None = None):
+    def parse(text: str) -> float:
+        value = _number(name, text, kind)
         if not math.isfinite(value) or value <= 0:
             raise argparse.ArgumentTypeError(f"{name} must be a finite number > 0, got {text}")
         return value
@@ -53,12 +68,9 @@ def _positive(name: str):
     return parse
 
 
-def _finite(name: str):
+def _finite(name: str, kind: str | None = None):
     def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+        value = _number(name, text, kind)
         if not math.isfinite(value):
             raise argparse.ArgumentTypeError(f"{name} must be finite, got {text}")
         return value
@@ -130,9 +142,17 @@ def build_parser() -> argparse.ArgumentParser:
         help="override every spring damping (N m s/rad)",
     )
     op = sim.add_argument_group("operating point")
-    op.add_argument("--wob", type=_positive("--wob"), required=True, help="weight on bit (N)")
     op.add_argument(
-        "--torque", type=_finite("--torque"), required=True, help="surface torque u (N m)"
+        "--wob",
+        type=_positive("--wob", "force"),
+        required=True,
+        help="weight on bit (N, or 100kN, 25klbf)",
+    )
+    op.add_argument(
+        "--torque",
+        type=_finite("--torque", "torque"),
+        required=True,
+        help="surface torque u (N m, or 12kN*m, 9kft*lbf)",
     )
     run = sim.add_argument_group("simulation")
     run.add_argument(
@@ -217,7 +237,8 @@ def _describe(result: Any, plot: str | None) -> str:
     st = result.stats
     lines = [
         f"regime          {s.regime}",
-        f"bit velocity    min {s.bit_min:.4g}  max {s.bit_max:.4g}  mean {s.bit_mean:.4g} rad/s",
+        f"bit velocity    min {s.bit_min:.4g}  max {s.bit_max:.4g}  mean {s.bit_mean:.4g} rad/s"
+        f"  (mean {s.bit_mean * 60 / (2 * math.pi):.4g} rpm)",
         f"top velocity    min {s.top_min:.4g}  max {s.top_max:.4g}  mean {s.top_mean:.4g} rad/s",
         f"severity        {s.severity:.3g}   (max-min)/(2 mean) of the bit velocity",
         f"stuck           {100 * s.stuck_fraction:.1f} % of [{s.window_start:g}, "

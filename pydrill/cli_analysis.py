@@ -25,7 +25,7 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     _string_options(hopf, PRESETS)
     hopf.add_argument(
         "--omega-max",
-        type=_positive("--omega-max"),
+        type=_positive("--omega-max", "velocity"),
         default=20.0,
         help="largest steady velocity on the plot (rad/s, default 20)",
     )
@@ -44,10 +44,18 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _string_options(stab, PRESETS)
-    stab.add_argument("--wob", type=_positive("--wob"), required=True, help="weight on bit (N)")
+    stab.add_argument(
+        "--wob", type=_positive("--wob", "force"), required=True, help="weight on bit (N, or 100kN)"
+    )
     point = stab.add_mutually_exclusive_group(required=True)
-    point.add_argument("--omega", type=_positive("--omega"), help="steady bit velocity (rad/s)")
-    point.add_argument("--torque", type=_finite("--torque"), help="surface torque u (N m)")
+    point.add_argument(
+        "--omega",
+        type=_positive("--omega", "velocity"),
+        help="steady bit velocity (rad/s, or 120rpm)",
+    )
+    point.add_argument(
+        "--torque", type=_finite("--torque", "torque"), help="surface torque u (N m, or 12kN*m)"
+    )
     stab.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     stab.add_argument("--plot", metavar="FILE.png", help="draw the eigenvalues")
     stab.set_defaults(handler=_cmd_stability)
@@ -71,13 +79,19 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         "--vary", choices=("wob", "torque"), required=True, help="the parameter along the branch"
     )
     bif.add_argument(
-        "--torque", type=_positive("--torque"), help="fixed surface torque (N m), with --vary wob"
+        "--torque",
+        type=_positive("--torque", "torque"),
+        help="fixed surface torque (N m, or 12kN*m), with --vary wob",
     )
     bif.add_argument(
-        "--wob", type=_positive("--wob"), help="fixed weight on bit (N), with --vary torque"
+        "--wob",
+        type=_positive("--wob", "force"),
+        help="fixed weight on bit (N, or 100kN), with --vary torque",
     )
     bif.add_argument(
-        "--omega-max", type=_positive("--omega-max"), help="largest Omega on the branch (rad/s)"
+        "--omega-max",
+        type=_positive("--omega-max", "velocity"),
+        help="largest Omega on the branch (rad/s)",
     )
     bif.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     bif.add_argument("--plot", metavar="FILE.png", help="draw the bifurcation diagram")
@@ -150,12 +164,12 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     _string_options(omap, PRESETS)
     omap.add_argument(
         "--wob-max",
-        type=_positive("--wob-max"),
+        type=_positive("--wob-max", "force"),
         help="largest W_ob (N; default 250 for reduced-scale, 2e5 for real-string)",
     )
     omap.add_argument(
         "--torque-max",
-        type=_positive("--torque-max"),
+        type=_positive("--torque-max", "torque"),
         help="largest u (N m; default 0.1 * wob-max)",
     )
     omap.add_argument(
@@ -274,7 +288,11 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         return 0
     for pt in points:
         verdict = "STABLE" if pt.stable else f"UNSTABLE ({pt.unstable} eigenvalues in Re > 0)"
-        print(f"steady state    Omega = {pt.omega:.6g} rad/s, u = {pt.torque:.6g} N m")
+        rpm = pt.omega * 60 / (2 * 3.141592653589793)
+        print(
+            f"steady state    Omega = {pt.omega:.6g} rad/s ({rpm:.4g} rpm), "
+            f"u = {pt.torque:.6g} N m ({pt.torque / 1e3:.4g} kN m)"
+        )
         print(f"Stribeck slope  delta = {pt.delta:.6g} N m s/rad")
         print(
             f"verdict         {verdict}; delta margin {pt.delta_margin:.4g}, "

@@ -126,3 +126,30 @@ def test_help_teaches():
     for needle in ("--wob", "weight on bit", "stick-slip", "examples:", "units:"):
         assert needle in text
     assert "simulate" in run("--help").stdout
+
+
+def test_driller_units_on_the_command_line():
+    si = json.loads(
+        run(
+            "stability",
+            "--preset",
+            "real-string",
+            "--wob",
+            "60000",
+            "--omega",
+            "12.566370614359172",
+            "--json",
+        ).stdout
+    )
+    driller = json.loads(
+        run(
+            "stability", "--preset", "real-string", "--wob", "60kN", "--omega", "120rpm", "--json"
+        ).stdout
+    )
+    assert driller["equilibria"][0]["torque"] == pytest.approx(si["equilibria"][0]["torque"])
+    klbf = json.loads(
+        run("simulate", "--wob", "0.02248klbf", "--torque", "8.3", "--t-end", "20", "--json").stdout
+    )
+    assert klbf["inputs"]["wob"] == pytest.approx(100.0, rel=1e-3)
+    bad = run("simulate", "--wob", "3 furlong", "--torque", "8.3", check=False)
+    assert bad.returncode == 2 and "not a force unit" in bad.stderr
