@@ -58,8 +58,15 @@ def register_sweep(sub, positive) -> None:
     info.set_defaults(handler=_cmd_info)
     query = asub.add_parser("query", help="everything recorded at one point")
     query.add_argument("atlas", metavar="ATLAS.h5")
-    for axis in ("wob", "torque", "dof", "pipes"):
-        query.add_argument(f"--{axis}", type=float, help=f"{axis} of the point")
+    from .cli import _finite
+
+    kinds = {"wob": "force", "torque": "torque", "depth": "length", "dof": None, "pipes": None}
+    for axis, kind in kinds.items():
+        query.add_argument(
+            f"--{axis}",
+            type=_finite(f"--{axis}", kind),
+            help=f"{axis} of the point" + (" (SI, or with a unit)" if kind else ""),
+        )
     query.add_argument(
         "--set",
         action="append",

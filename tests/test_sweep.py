@@ -160,6 +160,13 @@ def test_query_command_json(tmp_path):
     data = json.loads(proc.stdout)
     assert data["regime"] == "stick-slip"
     assert data["period"] > 0 and data["units"]["period"] == "s"
+    kn = subprocess.run(
+        [*CMD, "atlas", "query", str(out), "--wob", "0.1kN", "--torque", "0.0083 kN·m", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert json.loads(kn.stdout)["regime"] == "stick-slip"
     miss = subprocess.run(
         [*CMD, "atlas", "query", str(out), "--wob", "99", "--torque", "8.3"],
         capture_output=True,
