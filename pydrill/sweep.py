@@ -40,7 +40,7 @@ def _num(v: Any) -> Any:
 def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
     """Simulate one grid point from every initial condition and analyse its steady states."""
     from . import simulate
-    from .stability import critical_deltas, stability
+    from .stability import stability
 
     rec: dict[str, Any] = {"i": int(index), "status": "done", "message": "", "runs": {}}
     try:
@@ -90,7 +90,6 @@ def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
         if len(spec.initials) > 1 and len(rec["runs"]) == len(spec.initials):
             rec["coexistence"] = len(regimes) > 1
         if spec.record["stability"]:
-            crossings = critical_deltas(params)
             pts = stability(params, wob, torque=torque)[::-1]  # fastest first
             k = spec.record["eigenvalues"]
             rec["stability"] = {
@@ -101,7 +100,6 @@ def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
                 "unstable": [p.unstable for p in pts],
                 "eigenvalues": [[[z.real, z.imag] for z in p.eigenvalues[:k]] for p in pts],
             }
-            del crossings
     except Exception as exc:
         rec = {
             "i": int(index),

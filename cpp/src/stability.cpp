@@ -419,7 +419,10 @@ int unstable_count(const std::vector<Crossing>& crossings, double delta) {
   return count;
 }
 
-StabilityPoint stability_at_velocity(const Params& p, double wob, double omega) {
+namespace {
+
+StabilityPoint point_at(const Params& p, double wob, double omega,
+                        const std::vector<Crossing>& crossings) {
   if (!std::isfinite(omega) || !(omega > 0)) {
     std::ostringstream o;
     o << "omega = " << omega << " is not allowed: steady drilling needs a finite omega > 0 rad/s";
@@ -430,7 +433,6 @@ StabilityPoint stability_at_velocity(const Params& p, double wob, double omega) 
   s.wob = wob;
   s.torque = equilibrium_torque(p, wob, omega);
   s.delta = stribeck_slope(p, wob, omega);
-  const auto crossings = critical_deltas(p);
   s.unstable = unstable_count(crossings, s.delta);
   s.stable = s.unstable == 0;
   double nearest = std::numeric_limits<double>::infinity();
@@ -441,9 +443,18 @@ StabilityPoint stability_at_velocity(const Params& p, double wob, double omega) 
   return s;
 }
 
+}  // namespace
+
+StabilityPoint stability_at_velocity(const Params& p, double wob, double omega) {
+  return point_at(p, wob, omega, critical_deltas(p));
+}
+
 std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, double torque) {
   std::vector<StabilityPoint> out;
-  for (double omega : equilibrium_velocities(p, wob, torque)) out.push_back(stability_at_velocity(p, wob, omega));
+  const auto omegas = equilibrium_velocities(p, wob, torque);
+  if (omegas.empty()) return out;
+  const auto crossings = critical_deltas(p);  // once per string, not per steady state
+  for (double omega : omegas) out.push_back(point_at(p, wob, omega, crossings));
   return out;
 }
 
