@@ -727,5 +727,21 @@ def main(argv=None):
     return 0
 
 
+def from_params(p) -> dict:
+    """Keyword arguments of :func:`simulate_baseline` for a ``pydrill.Params``."""
+    return dict(
+        inertias=np.array(p.inertias),
+        stiffnesses=np.array(p.stiffnesses),
+        dampings=np.array(p.dampings),
+        c_r=p.top_damping,
+        c_b=p.bit_damping,
+        mu_cb=p.mu_coulomb,
+        mu_sb=p.mu_static,
+        R_b=p.bit_radius,
+        gamma_b=p.stribeck_decay,
+        v_f=p.stribeck_velocity,
+    )
+
+
 if __name__ == "__main__":
     raise SystemExit(main())

@@ -26,23 +26,9 @@ import pydrill
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from baseline_scipy import DEFAULT_METHOD, simulate_baseline
+from baseline_scipy import from_params as baseline_kwargs
 
 RTOL = ATOL = 1e-8
-
-
-def baseline_kwargs(p: pydrill.Params) -> dict:
-    return dict(
-        inertias=np.array(p.inertias),
-        stiffnesses=np.array(p.stiffnesses),
-        dampings=np.array(p.dampings),
-        c_r=p.top_damping,
-        c_b=p.bit_damping,
-        mu_cb=p.mu_coulomb,
-        mu_sb=p.mu_static,
-        R_b=p.bit_radius,
-        gamma_b=p.stribeck_decay,
-        v_f=p.stribeck_velocity,
-    )
 
 
 def best_of(fn, repeats: int):

@@ -90,6 +90,20 @@ def _list(name: str):
     return parse
 
 
+def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
+    group = parser.add_argument_group("string")
+    group.add_argument(
+        "--preset",
+        choices=presets,
+        default="reduced-scale",
+        help="parameter set (default: reduced-scale)",
+    )
+    size = group.add_mutually_exclusive_group()
+    size.add_argument("--dof", type=int, help="number of inertias, >= 2 (default 4)")
+    size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
+    return group
+
+
 def build_parser() -> argparse.ArgumentParser:
     from . import PRESETS, __version__
     from .cli_analysis import register_analysis
@@ -113,16 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=SIMULATE_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    model = sim.add_argument_group("string")
-    model.add_argument(
-        "--preset",
-        choices=PRESETS,
-        default="reduced-scale",
-        help="parameter set (default: reduced-scale, the paper's Eq. 14)",
-    )
-    size = model.add_mutually_exclusive_group()
-    size.add_argument("--dof", type=int, help="number of inertias, >= 2 (default 4)")
-    size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
+    model = _string_options(sim, PRESETS)
     model.add_argument(
         "--inertias",
         type=_list("--inertias"),

@@ -6,7 +6,7 @@ import argparse
 import json
 from collections.abc import Sequence
 
-from .cli import _finite, _positive
+from .cli import _finite, _positive, _string_options
 
 
 def register_analysis(sub, PRESETS: Sequence[str]) -> None:
@@ -188,19 +188,6 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     omap.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     omap.add_argument("--plot", metavar="FILE.png", help="draw the map")
     omap.set_defaults(handler=_cmd_map)
-
-
-def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]) -> None:
-    group = parser.add_argument_group("string")
-    group.add_argument(
-        "--preset",
-        choices=presets,
-        default="reduced-scale",
-        help="parameter set (default: reduced-scale)",
-    )
-    size = group.add_mutually_exclusive_group()
-    size.add_argument("--dof", type=int, help="number of inertias, >= 2 (default 4)")
-    size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
 
 
 def _cmd_hopf(args: argparse.Namespace) -> int:

@@ -20,28 +20,19 @@ def baseline():
     return module
 
 
-def kwargs(p):
-    return dict(
-        inertias=np.array(p.inertias),
-        stiffnesses=np.array(p.stiffnesses),
-        dampings=np.array(p.dampings),
-        c_r=p.top_damping,
-        c_b=p.bit_damping,
-        mu_cb=p.mu_coulomb,
-        mu_sb=p.mu_static,
-        R_b=p.bit_radius,
-        gamma_b=p.stribeck_decay,
-        v_f=p.stribeck_velocity,
-    )
-
-
 @pytest.mark.parametrize("method", ["erk", "adams", "bdf"])
 def test_stick_slip_switches_and_states_agree(baseline, method):
     p = pydrill.preset("reduced-scale", dof=4)
     t = np.linspace(0.0, 100.0, 401)
     core = pydrill.simulate(p, wob=100.0, torque=8.3, t_end=100.0, t_out=t, method=method)
     base = baseline.simulate_baseline(
-        **kwargs(p), wob=100.0, torque=8.3, t_end=100.0, t_eval=t, rtol=1e-10, atol=1e-10
+        **baseline.from_params(p),
+        wob=100.0,
+        torque=8.3,
+        t_end=100.0,
+        t_eval=t,
+        rtol=1e-10,
+        atol=1e-10,
     )
     kinds = {"stick": "stick", "slip+": "slip", "slip-": "slip"}
     assert [s.kind for s in core.switches] == [kinds[k] for k in base["switch_kinds"]]
@@ -57,7 +48,7 @@ def test_equilibrium_start_on_a_longer_string_agrees(baseline):
     t = np.linspace(0.0, 20.0, 81)
     core = pydrill.simulate(p, wob=100.0, torque=8.3, t_end=20.0, t_out=t, initial="equilibrium")
     base = baseline.simulate_baseline(
-        **kwargs(p),
+        **baseline.from_params(p),
         wob=100.0,
         torque=8.3,
         t_end=20.0,
