@@ -1,4 +1,5 @@
-"""The analysis commands of ``pydrill``: hopf, stability, bifurcation."""
+"""The analysis commands of ``pydrill``: hopf, stability, bifurcation, map (string and
+window live in :mod:`pydrill.cli_window`)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import json
 from collections.abc import Sequence
 
 from .cli import _finite, _positive, _string_options
+from .cli_window import register_tally
 
 
 def register_analysis(sub, PRESETS: Sequence[str]) -> None:
@@ -97,57 +99,7 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     bif.add_argument("--plot", metavar="FILE.png", help="draw the bifurcation diagram")
     bif.set_defaults(handler=_cmd_bifurcation)
 
-    string = sub.add_parser(
-        "string",
-        help="the lumped torsional model of a string from its pipe tally (TOML)",
-        description="Build the lumped chain from a tally: one element per joint (or per --lump "
-        "joints of drill pipe), stiffness G*I_p/L and inertia rho*I_p*L each; --dof N groups the "
-        "elements into N-1 springs in series (--dof 2: the paper's two-inertia model).",
-        epilog="examples:\n  pydrill string examples/tallies/paper-eq53.toml --dof 2 --json\n"
-        "  pydrill string examples/tallies/paper-eq53.toml --depth 3000m\n\n"
-        "units in the tally: m, ft, in; Pa, GPa, psi; kg/m3. Output is SI.",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    string.add_argument("tally", metavar="TALLY.toml")
-    string.add_argument("--dof", type=int, help="reduce to this many inertias (>= 2)")
-    string.add_argument("--lump", type=int, default=1, help="drill-pipe joints per element")
-    string.add_argument(
-        "--depth", help="lengthen the drill pipe to reach this depth (e.g. 3000m, 9800ft)"
-    )
-    string.add_argument("--json", action="store_true", help="print one JSON object")
-    string.set_defaults(handler=_cmd_string)
-
-    win = sub.add_parser(
-        "window",
-        help="safe (W_ob, surface rpm) window of a string from its tally, at one or more depths",
-        description="For the string of a tally at a depth: where the steady state is stable and "
-        "the bit cannot stay stuck, in weight on bit and surface rpm; optionally checked by "
-        "simulations (started near the steady state) at sample points.",
-        epilog="examples:\n  pydrill window examples/tallies/paper-eq53.toml --depth 3000m "
-        "--plot w.png\n  pydrill window examples/tallies/paper-eq53.toml --depth 500m,1000m,"
-        "3000m,5000m --plot depths.png --json\n\nunits: depth m or ft; wob kN; rpm.",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    win.add_argument("tally", metavar="TALLY.toml")
-    win.add_argument("--depth", required=True, help="depth(s), comma-separated (3000m, 9800ft)")
-    win.add_argument("--wob-max", default="300 kN", help="largest weight on bit (default 300 kN)")
-    win.add_argument(
-        "--rpm-max",
-        type=_positive("--rpm-max"),
-        default=200.0,
-        help="largest surface speed (rpm, default 200)",
-    )
-    win.add_argument(
-        "--check",
-        type=int,
-        default=0,
-        metavar="K",
-        help="simulate a K x K sample at the first depth (reduced to --check-dof)",
-    )
-    win.add_argument("--check-dof", type=int, default=12, help="dof of the checking model")
-    win.add_argument("--json", action="store_true")
-    win.add_argument("--plot", metavar="FILE.png")
-    win.set_defaults(handler=_cmd_window)
+    register_tally(sub)
 
     omap = sub.add_parser(
         "map",
@@ -393,124 +345,6 @@ def _cmd_map(args: argparse.Namespace) -> int:
         for _, _, r in checks:
             counts[r] = counts.get(r, 0) + 1
         print("simulated from rest: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
-    if args.plot:
-        print(f"figure: {args.plot}")
-    return 0
-
-
-def _cmd_string(args: argparse.Namespace) -> int:
-    from . import units
-    from .tally import load_tally
-
-    tally = load_tally(args.tally)
-    if args.depth is not None:
-        tally = tally.at_depth(units.parse(args.depth, "length"))
-    if args.lump < 1:
-        raise ValueError(f"--lump = {args.lump} is not allowed: >= 1")
-    p = tally.to_params(dof=args.dof, lump=args.lump)
-    data = {
-        "name": tally.name,
-        "dof": p.dof,
-        "length": tally.length,
-        "bha_length": tally.bha_length,
-        "inertias": list(p.inertias),
-        "stiffnesses": list(p.stiffnesses),
-        "dampings": list(p.dampings),
-        "top_damping": p.top_damping,
-        "bit_damping": p.bit_damping,
-        "bit_radius": p.bit_radius,
-        "units": {
-            "length": "m",
-            "inertias": "kg·m2",
-            "stiffnesses": "N·m/rad",
-            "dampings": "N·m·s/rad",
-            "top_damping": "N·m·s/rad",
-            "bit_damping": "N·m·s/rad",
-            "bit_radius": "m",
-        },
-    }
-    if args.json:
-        print(json.dumps(data))
-        return 0
-    print(f"{tally.name}: {tally.length:.1f} m ({tally.bha_length:.1f} m BHA), dof {p.dof}")
-    print(f"  top drive   J = {p.inertias[0]:.6g} kg m^2, c_r = {p.top_damping:g} N m s/rad")
-    if p.dof <= 12:
-        for i, (k, c, j) in enumerate(zip(p.stiffnesses, p.dampings, p.inertias[1:], strict=True)):
-            print(
-                f"  element {i + 1:3d} k = {k:.6g} N m/rad, c = {c:.6g} N m s/rad, "
-                f"J = {j:.6g} kg m^2"
-            )
-    else:
-        print(
-            f"  {p.dof - 1} elements; total inertia {sum(p.inertias[1:]):.6g} kg m^2, "
-            f"series stiffness {1 / sum(1 / k for k in p.stiffnesses):.6g} N m/rad"
-        )
-    print(f"  bit         R_b = {p.bit_radius:.6g} m, c_b = {p.bit_damping:g} N m s/rad")
-    return 0
-
-
-def _cmd_window(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from . import simulate, units
-    from .plot import save
-    from .plot_analysis import window_figure
-    from .tally import load_tally
-    from .window import RPM, operating_window
-
-    tally = load_tally(args.tally)
-    depths = [units.parse(d.strip(), "length") for d in args.depth.split(",") if d.strip()]
-    wob_max = units.parse(args.wob_max, "force")
-    wob = np.linspace(wob_max / 150, wob_max, 150)
-    rpm = np.linspace(args.rpm_max / 150, args.rpm_max, 150)
-    windows = {}
-    for d in depths:
-        windows[d] = operating_window(tally.at_depth(d).to_params(), wob, rpm)
-    checks = []
-    if args.check:
-        if not 1 <= args.check <= 20:
-            raise ValueError(f"--check = {args.check}: allowed 1 ... 20")
-        p = tally.at_depth(depths[0]).to_params(dof=args.check_dof)
-        for w in np.linspace(wob_max / args.check, wob_max, args.check):
-            for r in np.linspace(args.rpm_max / args.check, args.rpm_max, args.check):
-                from . import equilibrium_torque
-
-                u = equilibrium_torque(p, w, r * RPM)
-                res = simulate(p, wob=w, torque=u, initial="equilibrium", t_end=120.0, n_out=2)
-                checks.append((float(w), float(r), res.regime))
-    if args.plot:
-        save(window_figure(windows, checks), args.plot)
-    if args.json:
-        data = {
-            "tally": tally.name,
-            "depths": depths,
-            "wob": wob.tolist(),
-            "rpm": rpm.tolist(),
-            "windows": [
-                {
-                    "depth": d,
-                    "dof": tally.at_depth(d).to_params().dof,
-                    "safe_fraction": float(w.safe.mean()),
-                    "min_rpm": [None if np.isnan(v) else float(v) for v in w.min_rpm()],
-                }
-                for d, w in windows.items()
-            ],
-            "checks": [{"wob": w, "rpm": r, "regime": g} for w, r, g in checks],
-            "units": {"depths": "m", "wob": "N", "rpm": "rpm", "min_rpm": "rpm"},
-        }
-        print(json.dumps(data))
-        return 0
-    for d, w in windows.items():
-        mins = w.min_rpm()
-        print(
-            f"{d:7.0f} m: safe {100 * w.safe.mean():5.1f} % of the chart; least safe rpm "
-            f"{np.nanmin(mins):.0f} (light W_ob) ... {np.nanmax(mins):.0f} (heavy W_ob)"
-        )
-    if checks:
-        counts = {}
-        for *_, g in checks:
-            counts[g] = counts.get(g, 0) + 1
-        print("simulated: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
     if args.plot:
         print(f"figure: {args.plot}")
     return 0

@@ -5,6 +5,17 @@ one axis. At (W_ob, Ω) the steady state needs the torque u = (c_r + c_b)Ω + W_
 it is *safe* when it is stable (its Stribeck slope below the string's first destabilising δ_k)
 and the bit cannot stay stuck (u > T_s = μ_sb W_ob R_b, Section 3): the paper's intersection
 of no-Hopf and no-stuck, on the axes a driller sets.
+
+Both edges have closed forms (:class:`Limits`). With g = γ_b/v_f, Δμ = μ_sb − μ_cb,
+c = c_r + c_b and δ_c the first destabilising critical slope of the string:
+
+- stick-slip edge (first Hopf): stable iff W_ob R_b g Δμ e^{−gΩ} < δ_c, i.e.
+  W_ob < δ_c e^{gΩ} / (R_b g Δμ), or Ω > ln(W_ob R_b g Δμ / δ_c) / g;
+- stall edge: u > T_s iff c Ω > W_ob R_b Δμ (1 − e^{−gΩ}), i.e. W_ob < cΩ / (R_b Δμ (1 − e^{−gΩ})),
+  or, with s = W_ob R_b Δμ g / c > 1, Ω > (s + W₀(−s e^{−s})) / g (W₀: Lambert's principal branch;
+  for s ≤ 1 the bit can never stay stuck).
+
+Only δ_c depends on the string, hence on depth: the stall edge is the same at every depth.
 """
 
 from __future__ import annotations
@@ -13,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.special import lambertw
 
 from .model import Params
 from .stability import Crossing, critical_deltas, stribeck_slope, unstable_count
@@ -45,6 +57,7 @@ class Window:
 def operating_window(
     params: Params, wob: ArrayLike, rpm: ArrayLike, crossings: list[Crossing] | None = None
 ) -> Window:
+    """Classify every (W_ob, rpm) of a grid, point by point (no closed form used)."""
     wob = np.asarray(wob, dtype=float)
     rpm = np.asarray(rpm, dtype=float)
     if np.any(wob <= 0) or np.any(rpm <= 0):
@@ -61,3 +74,167 @@ def operating_window(
     stable = unstable_count(crossings, stribeck_slope(p, w, omega)) == 0
     unstick = torque > p.mu_static * w * p.bit_radius
     return Window(wob, rpm, stable, np.broadcast_to(unstick, stable.shape).copy(), torque)
+
+
+def stable_delta_limit(crossings: list[Crossing]) -> float:
+    """δ_c: the least Stribeck slope at which the steady state has an unstable eigenvalue
+    (inf if it never has). Below it, every slope is stable (the count starts at 0)."""
+    for c in crossings:
+        if unstable_count(crossings, c.delta * (1 + 1e-12) + 1e-300) > 0:
+            return float(c.delta)
+    return float("inf")
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The closed-form edges of the window of one string (see the module docstring)."""
+
+    params: Params
+    delta_limit: float  #: δ_c, N·m·s/rad
+
+    @classmethod
+    def of(cls, params: Params, crossings: list[Crossing] | None = None) -> Limits:
+        if crossings is None:
+            crossings = critical_deltas(params)
+        return cls(params, stable_delta_limit(crossings))
+
+    @property
+    def _g(self) -> float:
+        return self.params.stribeck_decay / self.params.stribeck_velocity
+
+    @property
+    def _a(self) -> float:  # W_ob R_b Δμ per newton of W_ob
+        p = self.params
+        return p.bit_radius * (p.mu_static - p.mu_coulomb)
+
+    def wob_max_stable(self, rpm: ArrayLike) -> NDArray[np.float64]:
+        """Heaviest W_ob (N) at which steady drilling at ``rpm`` is stable (stick-slip edge)."""
+        omega = np.asarray(rpm, dtype=float) * RPM
+        return self.delta_limit * np.exp(self._g * omega) / (self._a * self._g)
+
+    def wob_max_unstuck(self, rpm: ArrayLike) -> NDArray[np.float64]:
+        """Heaviest W_ob (N) at which the steady torque at ``rpm`` exceeds the static friction
+        (stall edge); independent of the string."""
+        omega = np.asarray(rpm, dtype=float) * RPM
+        c = self.params.top_damping + self.params.bit_damping
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = c * omega / (self._a * -np.expm1(-self._g * omega))
+        return np.where(omega > 0, out, c / (self._a * self._g))
+
+    def wob_max(self, rpm: ArrayLike) -> NDArray[np.float64]:
+        """Heaviest safe W_ob (N) at ``rpm``: every lighter W_ob is safe there too."""
+        return np.minimum(self.wob_max_stable(rpm), self.wob_max_unstuck(rpm))
+
+    def rpm_min_stable(self, wob: ArrayLike) -> NDArray[np.float64]:
+        """Slowest surface rpm at which steady drilling with ``wob`` (N) is stable."""
+        w = np.asarray(wob, dtype=float)
+        with np.errstate(divide="ignore"):
+            omega = np.log(w * self._a * self._g / self.delta_limit) / self._g
+        return np.maximum(omega, 0.0) / RPM
+
+    def rpm_min_unstuck(self, wob: ArrayLike) -> NDArray[np.float64]:
+        """Slowest surface rpm at which the bit cannot stay stuck under ``wob`` (N)."""
+        w = np.asarray(wob, dtype=float)
+        c = self.params.top_damping + self.params.bit_damping
+        s = np.asarray(w * self._a * self._g / c, dtype=float)
+        x = np.zeros_like(s)
+        big = s > 1
+        x[big] = s[big] + lambertw(-s[big] * np.exp(-s[big])).real
+        return x / self._g / RPM
+
+    def rpm_min(self, wob: ArrayLike) -> NDArray[np.float64]:
+        """Slowest safe surface rpm with ``wob`` (N): every faster rpm is safe too."""
+        return np.maximum(self.rpm_min_stable(wob), self.rpm_min_unstuck(wob))
+
+    def torque(self, wob: ArrayLike, rpm: ArrayLike) -> NDArray[np.float64]:
+        """Surface torque of steady drilling (N·m)."""
+        p = self.params
+        omega = np.asarray(rpm, dtype=float) * RPM
+        mu = p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(-self._g * omega)
+        return (p.top_damping + p.bit_damping) * omega + np.asarray(wob) * p.bit_radius * mu
+
+
+@dataclass(frozen=True)
+class DepthWindow:
+    """How the window changes with depth, at reference speeds and weights."""
+
+    name: str
+    depth: NDArray[np.float64]  #: m, shape (nd,)
+    dof: NDArray[np.int64]  #: inertias of each string
+    delta_limit: NDArray[np.float64]  #: δ_c per depth, N·m·s/rad
+    rpm: NDArray[np.float64]  #: reference speeds, shape (nr,)
+    wob_max: NDArray[np.float64]  #: (nd, nr) heaviest safe W_ob, N
+    wob_max_stable: NDArray[np.float64]  #: (nd, nr) the stick-slip edge alone, N
+    wob_max_unstuck: NDArray[np.float64]  #: (nr,) the stall edge (the same at every depth), N
+    wob: NDArray[np.float64]  #: reference weights, shape (nw,)
+    rpm_min: NDArray[np.float64]  #: (nd, nw) slowest safe rpm
+    rpm_min_stable: NDArray[np.float64]  #: (nd, nw) the stick-slip edge alone
+    rpm_min_unstuck: NDArray[np.float64]  #: (nw,) the stall edge
+
+
+def window_against_depth(
+    tally, depths: ArrayLike, rpm: ArrayLike, wob: ArrayLike, lump: int = 1
+) -> DepthWindow:
+    """The window's edges for the string of ``tally`` at each depth (m), one element per joint
+    (or per ``lump`` drill-pipe joints)."""
+    depths = np.asarray(depths, dtype=float)
+    rpm = np.asarray(rpm, dtype=float)
+    wob = np.asarray(wob, dtype=float)
+    if depths.ndim != 1 or depths.size == 0 or np.any(~np.isfinite(depths) | (depths <= 0)):
+        raise ValueError("depths must be a non-empty list of finite depths > 0 (m)")
+    if np.any(rpm <= 0) or np.any(wob <= 0):
+        raise ValueError("reference rpm and wob values must be > 0")
+    rows = []
+    for d in depths:
+        p = tally.at_depth(float(d)).to_params(lump=lump)
+        rows.append((p.dof, Limits.of(p)))
+    lims = [lim for _, lim in rows]
+    return DepthWindow(
+        name=tally.name,
+        depth=depths,
+        dof=np.array([dof for dof, _ in rows]),
+        delta_limit=np.array([lim.delta_limit for lim in lims]),
+        rpm=rpm,
+        wob_max=np.array([lim.wob_max(rpm) for lim in lims]),
+        wob_max_stable=np.array([lim.wob_max_stable(rpm) for lim in lims]),
+        wob_max_unstuck=lims[0].wob_max_unstuck(rpm),
+        wob=wob,
+        rpm_min=np.array([lim.rpm_min(wob) for lim in lims]),
+        rpm_min_stable=np.array([lim.rpm_min_stable(wob) for lim in lims]),
+        rpm_min_unstuck=lims[0].rpm_min_unstuck(wob),
+    )
+
+
+def parse_depths(text: str) -> list[float]:
+    """``"3000m"``, ``"500m,1000m,3000m"`` or a range ``"500m:5000m:10"`` (start:stop:count,
+    both ends included) into depths in m; a bare number is in m."""
+    from . import units
+
+    out: list[float] = []
+    for part in (p.strip() for p in text.split(",")):
+        if not part:
+            continue
+        if ":" in part:
+            bits = part.split(":")
+            if len(bits) != 3:
+                raise ValueError(
+                    f"depth range {part!r}: write start:stop:count, e.g. 500m:5000m:10"
+                )
+            try:
+                count = int(bits[2])
+            except ValueError:
+                raise ValueError(
+                    f"depth range {part!r}: count {bits[2]!r} is not an integer"
+                ) from None
+            if not 2 <= count <= 500:
+                raise ValueError(f"depth range {part!r}: count must be 2 ... 500")
+            a, b = units.parse(bits[0], "length"), units.parse(bits[1], "length")
+            out.extend(np.linspace(a, b, count).tolist())
+        else:
+            out.append(units.parse(part, "length"))
+    if not out:
+        raise ValueError("--depth: no depth given")
+    bad = [d for d in out if not d > 0]
+    if bad:
+        raise ValueError(f"--depth: depths must be > 0 m, got {bad[0]:g}")
+    return out

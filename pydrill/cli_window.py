@@ -1,0 +1,364 @@
+"""The tally commands of ``pydrill``: ``string`` (the lumped model) and ``window`` (where it is
+safe to drill, at a depth or against depth)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from .cli import _positive
+
+WINDOW_EPILOG = """\
+examples:
+  pydrill window examples/tallies/paper-eq53.toml --depth 3000m --plot window-3000m.png
+  pydrill window examples/tallies/paper-eq53.toml --depth 3000m --check 6 --json
+  pydrill window examples/tallies/paper-eq53.toml --depth 500m:5000m:10 --plot window-depth.png
+  pydrill window examples/tallies/5.5in-dp-8in-collars.toml --depth 5000ft,10000ft,15000ft
+
+reading it: SAFE = steady drilling is stable (no stick-slip grows from it) and the torque
+needed at that speed exceeds the bit's static friction (a stopped bit breaks free). With one
+depth the plot is the (W_ob, rpm) window; with several it is the window against depth.
+units: depth m or ft (500m:5000m:10 = 10 depths, ends included); wob kN or klbf; rpm."""
+
+
+def register_tally(sub) -> None:
+    string = sub.add_parser(
+        "string",
+        help="the lumped torsional model of a string from its pipe tally (TOML)",
+        description="Build the lumped chain from a tally: one element per joint (or per --lump "
+        "joints of drill pipe), stiffness G*I_p/L and inertia rho*I_p*L each; --dof N groups the "
+        "elements into N-1 springs in series (--dof 2: the paper's two-inertia model).",
+        epilog="examples:\n  pydrill string examples/tallies/paper-eq53.toml --dof 2 --json\n"
+        "  pydrill string examples/tallies/paper-eq53.toml --depth 3000m\n\n"
+        "units in the tally: m, ft, in; Pa, GPa, psi; kg/m3. Output is SI.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    string.add_argument("tally", metavar="TALLY.toml")
+    string.add_argument("--dof", type=int, help="reduce to this many inertias (>= 2)")
+    string.add_argument("--lump", type=int, default=1, help="drill-pipe joints per element")
+    string.add_argument(
+        "--depth", help="lengthen the drill pipe to reach this depth (e.g. 3000m, 9800ft)"
+    )
+    string.add_argument("--json", action="store_true", help="print one JSON object")
+    string.set_defaults(handler=_cmd_string)
+
+    win = sub.add_parser(
+        "window",
+        help="safe (W_ob, surface rpm) window of a string from its tally, at one or more depths",
+        description="For the string of a tally at a depth: where steady drilling is stable and "
+        "the bit cannot stay stuck, in weight on bit and surface rpm (exact edges from the "
+        "stability and sliding analysis); optionally checked by simulations at sample points.",
+        epilog=WINDOW_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    win.add_argument("tally", metavar="TALLY.toml")
+    win.add_argument(
+        "--depth", required=True, help="3000m; 500m,1000m,3000m; or a range 500m:5000m:10"
+    )
+    win.add_argument("--lump", type=int, default=1, help="drill-pipe joints per element")
+    win.add_argument(
+        "--wob-max",
+        type=_positive("--wob-max", "force"),
+        default=3e5,
+        help="largest weight on bit on the chart (default 300kN; or 60klbf)",
+    )
+    win.add_argument(
+        "--rpm-max",
+        type=_positive("--rpm-max"),
+        default=200.0,
+        help="largest surface speed on the chart (rpm, default 200)",
+    )
+    win.add_argument(
+        "--at-rpm",
+        default="15,20,25,30,40,60,90,120,150",
+        help="surface speeds (rpm) at which to report the heaviest safe W_ob",
+    )
+    win.add_argument(
+        "--at-wob",
+        default="10kN,20kN,30kN,50kN,100kN",
+        help="weights on bit at which to report the slowest safe rpm (kN or klbf)",
+    )
+    win.add_argument(
+        "--check",
+        type=int,
+        default=0,
+        metavar="K",
+        help="simulate a K x K sample of the chart at each depth and compare with the verdict",
+    )
+    win.add_argument(
+        "--check-dof", type=int, help="reduce the checking model to this many inertias"
+    )
+    win.add_argument(
+        "--check-from",
+        choices=("equilibrium", "rest"),
+        default="equilibrium",
+        help="start each check near the steady state (default: tests stability) or from rest "
+        "(the start-up: tests the stall edge too)",
+    )
+    win.add_argument(
+        "--t-end", type=_positive("--t-end"), default=120.0, help="simulated s per check"
+    )
+    win.add_argument("--json", action="store_true", help="print one JSON object")
+    win.add_argument("--plot", metavar="FILE.png", help="draw the window (or against depth)")
+    win.set_defaults(handler=_cmd_window)
+
+
+def _cmd_string(args: argparse.Namespace) -> int:
+    from . import units
+    from .tally import load_tally
+
+    tally = load_tally(args.tally)
+    if args.depth is not None:
+        tally = tally.at_depth(units.parse(args.depth, "length"))
+    if args.lump < 1:
+        raise ValueError(f"--lump = {args.lump} is not allowed: >= 1")
+    p = tally.to_params(dof=args.dof, lump=args.lump)
+    data = {
+        "name": tally.name,
+        "dof": p.dof,
+        "length": tally.length,
+        "bha_length": tally.bha_length,
+        "inertias": list(p.inertias),
+        "stiffnesses": list(p.stiffnesses),
+        "dampings": list(p.dampings),
+        "top_damping": p.top_damping,
+        "bit_damping": p.bit_damping,
+        "bit_radius": p.bit_radius,
+        "units": {
+            "length": "m",
+            "inertias": "kg·m2",
+            "stiffnesses": "N·m/rad",
+            "dampings": "N·m·s/rad",
+            "top_damping": "N·m·s/rad",
+            "bit_damping": "N·m·s/rad",
+            "bit_radius": "m",
+        },
+    }
+    if args.json:
+        print(json.dumps(data))
+        return 0
+    print(f"{tally.name}: {tally.length:.1f} m ({tally.bha_length:.1f} m BHA), dof {p.dof}")
+    print(f"  top drive   J = {p.inertias[0]:.6g} kg m^2, c_r = {p.top_damping:g} N m s/rad")
+    if p.dof <= 12:
+        for i, (k, c, j) in enumerate(zip(p.stiffnesses, p.dampings, p.inertias[1:], strict=True)):
+            print(
+                f"  element {i + 1:3d} k = {k:.6g} N m/rad, c = {c:.6g} N m s/rad, "
+                f"J = {j:.6g} kg m^2"
+            )
+    else:
+        print(
+            f"  {p.dof - 1} elements; total inertia {sum(p.inertias[1:]):.6g} kg m^2, "
+            f"series stiffness {1 / sum(1 / k for k in p.stiffnesses):.6g} N m/rad"
+        )
+    print(f"  bit         R_b = {p.bit_radius:.6g} m, c_b = {p.bit_damping:g} N m s/rad")
+    return 0
+
+
+def _values(text: str, kind: str, option: str) -> list[float]:
+    from . import units
+
+    out = [units.parse(v.strip(), kind) for v in text.split(",") if v.strip()]
+    if not out or any(not v > 0 for v in out):
+        raise ValueError(f"{option}: give a comma-separated list of values > 0, got {text!r}")
+    return out
+
+
+def _rpms(text: str) -> list[float]:
+    """Surface speeds in rpm: bare numbers are rpm, or any speed with its unit."""
+    from . import units
+
+    out = []
+    for v in (v.strip() for v in text.split(",")):
+        if not v:
+            continue
+        try:
+            out.append(float(v))
+        except ValueError:
+            out.append(units.parse(v, "velocity") * 60 / (2 * 3.141592653589793))
+    if not out or any(not r > 0 for r in out):
+        raise ValueError(f"--at-rpm: give a comma-separated list of speeds > 0, got {text!r}")
+    return out
+
+
+def _cmd_window(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from .tally import load_tally
+    from .window import parse_depths, window_against_depth
+
+    if args.lump < 1:
+        raise ValueError(f"--lump = {args.lump} is not allowed: >= 1")
+    if not 0 <= args.check <= 20:
+        raise ValueError(f"--check = {args.check} is not allowed: 0 ... 20")
+    tally = load_tally(args.tally)
+    depths = parse_depths(args.depth)
+    at_rpm = np.array(_rpms(args.at_rpm))
+    at_wob = np.array(_values(args.at_wob, "force", "--at-wob"))
+    dw = window_against_depth(tally, depths, at_rpm, at_wob, lump=args.lump)
+    grid = _grid_windows(tally, depths, args)
+    checks = {d: _checks(tally, d, args) for d in depths} if args.check else {}
+    if args.plot:
+        from .plot import save
+        from .plot_window import window_depth_figure, window_figure
+        from .window import Limits
+
+        if len(depths) == 1:
+            p = tally.at_depth(depths[0]).to_params(lump=args.lump)
+            fig = window_figure(
+                tally.name,
+                depths[0],
+                Limits.of(p),
+                args.wob_max,
+                args.rpm_max,
+                [c[:3] for c in checks.get(depths[0], [])],
+                args.check_from,
+            )
+        else:
+            fig = window_depth_figure(dw, args.wob_max, args.rpm_max)
+        save(fig, args.plot)
+    if args.json:
+        print(json.dumps(_window_json(tally, dw, grid, checks, args), allow_nan=False))
+        return 0
+    _print_window(tally, dw, checks, args)
+    return 0
+
+
+def _grid_windows(tally, depths, args):
+    import numpy as np
+
+    from .window import operating_window
+
+    wob = np.linspace(args.wob_max / 150, args.wob_max, 150)
+    rpm = np.linspace(args.rpm_max / 150, args.rpm_max, 150)
+    return (
+        wob,
+        rpm,
+        [operating_window(tally.at_depth(d).to_params(lump=args.lump), wob, rpm) for d in depths],
+    )
+
+
+def _checks(tally, depth, args):
+    """(wob N, rpm, outcome, stable, cannot stay stuck, mean bit rpm) on a K x K sample; the
+    verdict is the checking model's. The surface torque is held at the steady state's, so the
+    bit may settle at another steady speed (past the fold, u(Ω) is not monotone): the outcome is
+    then "steady elsewhere", not "steady"."""
+    import numpy as np
+
+    from . import equilibrium_torque, simulate
+    from .window import RPM, Limits
+
+    p = tally.at_depth(depth).to_params(dof=args.check_dof, lump=args.lump)
+    lim = Limits.of(p)
+    k = args.check
+    out = []
+    # Cell centres of a K x K division of the chart.
+    for w in (np.arange(k) + 0.5) / k * args.wob_max:
+        for r in (np.arange(k) + 0.5) / k * args.rpm_max:
+            u = equilibrium_torque(p, w, r * RPM)
+            res = simulate(p, wob=w, torque=u, initial=args.check_from, t_end=args.t_end, n_out=2)
+            stable = bool(w < lim.wob_max_stable(r))
+            unstuck = bool(w < lim.wob_max_unstuck(r))
+            bit_rpm = res.summary.bit_mean / RPM
+            outcome = res.regime
+            if outcome == "steady" and abs(bit_rpm - r) > 0.01 * r:
+                outcome = "steady elsewhere"
+            out.append((float(w), float(r), outcome, stable, unstuck, float(bit_rpm)))
+    return out
+
+
+def _window_json(tally, dw, grid, checks, args) -> dict:
+    import numpy as np
+
+    wob, rpm, windows = grid
+    return {
+        "tally": tally.name,
+        "depths": dw.depth.tolist(),
+        "wob": wob.tolist(),
+        "rpm": rpm.tolist(),
+        "at_rpm": dw.rpm.tolist(),
+        "at_wob": dw.wob.tolist(),
+        "windows": [
+            {
+                "depth": float(d),
+                "dof": int(dw.dof[i]),
+                "delta_limit": float(dw.delta_limit[i]),
+                "safe_fraction": float(windows[i].safe.mean()),
+                "min_rpm": [None if np.isnan(v) else float(v) for v in windows[i].min_rpm()],
+                "wob_max": dw.wob_max[i].tolist(),
+                "wob_max_stable": dw.wob_max_stable[i].tolist(),
+                "rpm_min": dw.rpm_min[i].tolist(),
+                "rpm_min_stable": dw.rpm_min_stable[i].tolist(),
+                "checks": [
+                    {
+                        "wob": w,
+                        "rpm": r,
+                        "outcome": g,
+                        "bit_rpm": b,
+                        "stable": s,
+                        "cannot_stay_stuck": u,
+                    }
+                    for w, r, g, s, u, b in checks.get(d, [])
+                ],
+            }
+            for i, d in enumerate(dw.depth)
+        ],
+        "wob_max_unstuck": dw.wob_max_unstuck.tolist(),
+        "rpm_min_unstuck": dw.rpm_min_unstuck.tolist(),
+        "check_from": args.check_from if checks else None,
+        "units": {
+            "depths": "m",
+            "wob": "N",
+            "rpm": "rpm",
+            "min_rpm": "rpm",
+            "wob_max": "N",
+            "rpm_min": "rpm",
+            "delta_limit": "N·m·s/rad",
+        },
+    }
+
+
+def _print_window(tally, dw, checks, args) -> None:
+    from .units import FT, LBF
+
+    print(
+        f"{tally.name}: heaviest safe weight on bit, kN (klbf), at surface speed; "
+        "* = the stick-slip edge binds, else the stall edge"
+    )
+    print(f"{'depth m':>8s} {'ft':>6s} {'dof':>4s} " + " ".join(f"{r:>9g}rpm" for r in dw.rpm))
+    for i, d in enumerate(dw.depth):
+        cells = []
+        for k in range(dw.rpm.size):
+            w = dw.wob_max[i, k]
+            star = "*" if dw.wob_max_stable[i, k] < dw.wob_max_unstuck[k] else " "
+            cells.append(
+                f"{w / 1e3:6.0f}({w / LBF / 1e3:3.0f}){star}" if w < 1e7 else f"{'-':>12s}"
+            )
+        print(f"{d:8.0f} {d / FT:6.0f} {int(dw.dof[i]):4d} " + " ".join(cells))
+    print("slowest safe surface speed, rpm, at weight on bit")
+    print(f"{'depth m':>8s} " + " ".join(f"{w / 1e3:>7g} kN" for w in dw.wob))
+    for i, d in enumerate(dw.depth):
+        cells = []
+        for k in range(dw.wob.size):
+            star = "*" if dw.rpm_min_stable[i, k] > dw.rpm_min_unstuck[k] else " "
+            cells.append(f"{dw.rpm_min[i, k]:9.0f}{star}")
+        print(f"{d:8.0f} " + " ".join(cells))
+    for d, pts in checks.items():
+        counts: dict[str, int] = {}
+        for _, _, g, *_ in pts:
+            counts[g] = counts.get(g, 0) + 1
+        line = f"checks at {d:.0f} m from {args.check_from}: " + ", ".join(
+            f"{k} {v}" for k, v in sorted(counts.items())
+        )
+        if args.check_from == "equilibrium":
+            agree = sum((g == "steady") == s for _, _, g, s, *_ in pts)
+            line += f"; steady exactly where stable at {agree}/{len(pts)} points"
+        else:
+            safe = [g for _, _, g, s, u, _ in pts if s and u]
+            stall = [g for _, _, g, s, u, _ in pts if s and not u]
+            line += (
+                f"; safe points steady from rest {safe.count('steady')}/{len(safe)}, "
+                f"stall-region points stuck {stall.count('stuck')}/{len(stall)}"
+            )
+        print(line)
+    if args.plot:
+        print(f"figure: {args.plot}")
