@@ -9,7 +9,7 @@ the torque the top spring carried (torque is continuous through the connection).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +26,10 @@ class DrillingRun:
     bit_velocity: NDArray[np.float64]  #: rad/s
     connections: list[tuple[float, float, int]]  #: (t, depth, dof after) at each connection
     regimes: list[tuple[float, float, str]]  #: (start depth, end depth, regime) per stand
+    #: (state just before, state just after) each connection, in twist coordinates
+    carried: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = field(default_factory=list)
+    #: the string of each stand, top spring first (for energies and torques of ``carried``)
+    strings: list = field(default_factory=list)
 
 
 def add_stand(state: NDArray[np.float64], k_top: float, k_new: float) -> NDArray[np.float64]:
@@ -45,11 +49,13 @@ def drill_ahead(
     wob: float,
     torque: float,
     lump: int = 1,
-    initial: str = "rest",
+    initial: str | NDArray[np.float64] = "rest",
     n_out_per_stand: int = 200,
     **options,
 ) -> DrillingRun:
-    """Simulate drilling from ``depth_start`` to ``depth_end`` (m) at ``rop`` (m/s)."""
+    """Simulate drilling from ``depth_start`` to ``depth_end`` (m) at ``rop`` (m/s), W_ob ``wob``
+    (N) and surface torque ``torque`` (N·m) held; ``initial`` is ``"rest"``, ``"equilibrium"`` or
+    a twist-coordinate state of the string at ``depth_start``."""
     if not rop > 0:
         raise ValueError(f"rop = {rop!r} is not allowed: the rate of penetration must be > 0")
     if not depth_end > depth_start:
@@ -61,9 +67,11 @@ def drill_ahead(
     depth = string.length
     state: NDArray[np.float64] | str = initial
     t0 = 0.0
-    ts, ds, tops, bits, connections, regimes = [], [], [], [], [], []
+    before = np.empty(0)
+    ts, ds, tops, bits, connections, regimes, carried, strings = [], [], [], [], [], [], [], []
     while depth < depth_end - 1e-9:
         params = string.to_params(lump=lump)
+        strings.append(params)
         seg = min(stand, depth_end - depth)
         duration = seg / rop
         r = simulate(
@@ -75,6 +83,8 @@ def drill_ahead(
             n_out=n_out_per_stand,
             **options,
         )
+        if connections:  # the state the new string actually started from
+            carried.append((before, np.array(r.states[0])))
         ts.append(t0 + r.t)
         ds.append(depth + rop * r.t)
         tops.append(np.array(r.top_velocity))
@@ -90,6 +100,7 @@ def drill_ahead(
         string = replace(string, sections=tuple(sections))
         k_new = pipe.joint_stiffness() / lump
         state = add_stand(r.states[-1], params.stiffnesses[0], k_new)
+        before = np.array(r.states[-1])
         connections.append((t0, depth, params.dof + 1))
     if not ts:
         raise TallyError("nothing to drill")
@@ -100,4 +111,6 @@ def drill_ahead(
         np.concatenate(bits),
         connections,
         regimes,
+        carried,
+        strings,
     )

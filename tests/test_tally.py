@@ -139,3 +139,149 @@ def test_string_command_json():
     assert data["length"] == pytest.approx(949.5)
     assert data["units"]["stiffnesses"] == "N·m/rad"
     assert np.isclose(data["stiffnesses"][0], 884.37, rtol=1e-3)
+
+
+# --- Both shipped tallies at 1000, 3000 and 5000 m, against numbers computed by hand -----------
+
+import tomllib  # noqa: E402
+from dataclasses import replace  # noqa: E402
+
+from scipy.linalg import eigh_tridiagonal  # noqa: E402
+from scipy.optimize import brentq  # noqa: E402
+
+from pydrill.spec import parse_spec  # noqa: E402
+
+TALLIES = [PAPER, OTHER]
+TALLY_IDS = ["paper-eq53", "5.5in-dp-8in-collars"]
+_TO_M = {"m": 1.0, "ft": 0.3048, "in": 0.0254}
+
+
+def _metres(value) -> float:
+    if isinstance(value, int | float):
+        return float(value)
+    number, unit = value.split()
+    return float(number) * _TO_M[unit]
+
+
+def _hand_sections(path: Path, depth: float) -> list[tuple[int, float, float, float, float]]:
+    """(count, length, I_p, G, rho) per section straight from the TOML, the drill pipe
+    lengthened by whole joints to reach ``depth``: no pydrill code involved."""
+    doc = tomllib.loads(path.read_text())
+    g = 79.3e9
+    rho = 7850.0
+    rows = []
+    for s in doc["section"]:
+        od, bore = _metres(s["od"]), _metres(s.get("id", 0.0))
+        rows.append([s["count"], _metres(s["length"]), math.pi * (od**4 - bore**4) / 32, g, rho])
+    bha = sum(c * length for c, length, *_ in rows[1:])
+    rows[0][0] = math.ceil((depth - bha) / rows[0][1] - 1e-9)
+    return [tuple(r) for r in rows]
+
+
+@pytest.mark.parametrize("path", TALLIES, ids=TALLY_IDS)
+@pytest.mark.parametrize("depth", [1000.0, 3000.0, 5000.0])
+def test_lumped_totals_equal_the_hand_sums(path, depth):
+    rows = _hand_sections(path, depth)
+    compliance = sum(n * length / (g * ip) for n, length, ip, g, _ in rows)  # Σ L / (G I_p)
+    inertia = sum(n * rho * ip * length for n, length, ip, _, rho in rows)  # Σ ρ I_p L
+    length = sum(n * length for n, length, *_ in rows)
+    tally = load_tally(path).at_depth(depth)
+    assert tally.length == pytest.approx(length, rel=1e-12)
+    assert depth <= length < depth + rows[0][1]
+    for p in (tally.to_params(), tally.to_params(lump=7), tally.to_params(dof=2)):
+        assert 1 / sum(1 / k for k in p.stiffnesses) == pytest.approx(1 / compliance, rel=1e-10)
+        assert sum(p.inertias[1:]) == pytest.approx(inertia, rel=1e-10)
+    full = tally.to_params()
+    assert full.dof == 1 + sum(n for n, *_ in rows)  # one element per joint, plus the top drive
+    # Each drill-pipe element is one joint: k = G I_p / L, J = ρ I_p L.
+    _, length, ip, g, rho = rows[0]
+    assert full.stiffnesses[0] == pytest.approx(g * ip / length, rel=1e-12)
+    assert full.inertias[1] == pytest.approx(rho * ip * length, rel=1e-12)
+
+
+def _lumped_fundamental(p) -> float:
+    """First non-zero natural frequency of the undamped chain (free top drive, free bit)."""
+    j = np.array(p.inertias)
+    k = np.array(p.stiffnesses)
+    diag = np.zeros(j.size)
+    diag[:-1] += k
+    diag[1:] += k
+    s = 1 / np.sqrt(j)
+    w2 = eigh_tridiagonal(
+        diag * s * s, -k * s[:-1] * s[1:], eigvals_only=True, select="i", select_range=(1, 1)
+    )
+    return float(np.sqrt(w2[0]))
+
+
+def _continuous_fundamental(path: Path, depth: float) -> float:
+    """The same string as continuous shafts: transfer matrices of (twist angle, torque) through
+    each uniform section, the top drive J_r at the top, a free end at the bit."""
+    rows = _hand_sections(path, depth)
+    j_top = tomllib.loads(path.read_text())["top_drive"]["inertia"]
+    j_top = float(j_top.split()[0]) if isinstance(j_top, str) else float(j_top)  # "2500 kg·m2"
+
+    def bit_torque(w):
+        theta, torque = 1.0, -j_top * w**2
+        for n, length, ip, g, rho in rows:
+            kappa, span = w * math.sqrt(rho / g), n * length
+            c, s = math.cos(kappa * span), math.sin(kappa * span)
+            theta, torque = (
+                theta * c + torque * s / (g * ip * kappa),
+                -g * ip * kappa * s * theta + torque * c,
+            )
+        return torque
+
+    grid = np.linspace(0.05, 20.0, 800)
+    values = [bit_torque(w) for w in grid]
+    lo = next(i for i in range(len(grid) - 1) if values[i] * values[i + 1] < 0)
+    return brentq(bit_torque, grid[lo], grid[lo + 1], xtol=1e-13)
+
+
+@pytest.mark.parametrize("path", TALLIES, ids=TALLY_IDS)
+@pytest.mark.parametrize("depth", [1000.0, 3000.0, 5000.0])
+def test_fundamental_frequency_approaches_the_continuous_shaft(path, depth):
+    """Lumping each element's inertia at its lower end is first-order accurate: splitting every
+    joint into m elements divides the error in the fundamental by m."""
+    exact = _continuous_fundamental(path, depth)
+    tally = load_tally(path).at_depth(depth)
+    errors = []
+    for m in (1, 2, 4):
+        fine = replace(
+            tally,
+            sections=tuple(
+                replace(s, count=s.count * m, length=s.length / m) for s in tally.sections
+            ),
+        )
+        errors.append(abs(_lumped_fundamental(fine.to_params()) / exact - 1))
+    assert errors[0] < 3e-3  # one element per joint: within 0.3 %
+    assert errors[1] == pytest.approx(errors[0] / 2, rel=0.05)
+    assert errors[2] == pytest.approx(errors[0] / 4, rel=0.05)
+    # Coarser elements (stands of 10 joints) are worse than joints.
+    coarse = abs(_lumped_fundamental(tally.to_params(lump=10)) / exact - 1)
+    assert coarse > 3 * errors[0]
+
+
+@pytest.mark.parametrize("path", TALLIES, ids=TALLY_IDS)
+def test_sweep_depth_axis_builds_the_at_depth_string(path):
+    spec = parse_spec(
+        "[model]\ndof = 9\ntorque = 9000.0\n[axes]\ndepth = [1000.0, 3000.0, 5000.0]\n"
+        "wob = [5e4]\n[simulation]\nt_end = 10.0\n",
+        tally_text=path.read_text(),
+    )
+    tally = load_tally(path)
+    for depth in (1000.0, 3000.0, 5000.0):
+        a = spec.params_at({"depth": depth, "wob": 5e4})
+        b = tally.at_depth(depth).to_params(dof=9)
+        assert a.inertias == b.inertias and a.stiffnesses == b.stiffnesses
+        assert a.dampings == b.dampings and a.bit_radius == b.bit_radius
+
+
+def test_shipped_tallies_are_the_designs_the_issue_names():
+    """5 in drill pipe with 6.5 in collars (the paper's), and 5.5 in pipe with 8 in collars."""
+    for path, pipe_od, collar_od in ((PAPER, 5.0, 6.5), (OTHER, 5.5, 8.0)):
+        tally = load_tally(path)
+        kinds = [s.kind for s in tally.sections]
+        assert kinds[0] == "drill-pipe" and "drill-collar" in kinds and kinds[-1] == "bit"
+        collar = tally.sections[kinds.index("drill-collar")]
+        assert tally.sections[0].od == pytest.approx(pipe_od * 0.0254)
+        assert collar.od == pytest.approx(collar_od * 0.0254)
