@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Adams against BDF on soft and stiff strings, and what ``method="auto"`` picks.
+"""Adams, BDF, ARKODE ERK and DOP853 on soft and stiff strings, and what ``method="auto"`` picks.
 
 Calibrates the stiffness estimate behind ``method="auto"`` (cpp/src/simulator.cpp,
 ``choose_method``). Each case runs both methods in the same process, so the ratio is robust to
@@ -66,20 +66,23 @@ def timed(params, wob, torque, t_end, method):
 
 def main() -> None:
     print(
-        f"{'case':26s} {'ratio':>9s} {'adams s':>9s} {'bdf s':>9s} {'erk s':>9s} "
-        f"{'auto':>6s} {'best':>6s}  regime"
+        f"{'case':26s} {'ratio':>9s} {'zeta':>6s} {'adams s':>9s} {'bdf s':>9s} {'erk s':>9s} "
+        f"{'dop853 s':>9s} {'auto':>6s} {'best':>6s}  regime"
     )
     for name, params, wob, torque, t_end in CASES:
         ta, ra = timed(params, wob, torque, t_end, "adams")
         tb, _rb = timed(params, wob, torque, t_end, "bdf")
         te, _re = timed(params, wob, torque, t_end, "erk")
+        td, _rd = timed(params, wob, torque, t_end, "dop853")
         _, rauto = timed(params, wob, torque, t_end, "auto")
         auto = rauto.stats.method
-        times = {"adams": ta, "bdf": tb, "erk": te}
+        times = {"adams": ta, "bdf": tb, "erk": te, "dop853": td}
         best = min(times, key=times.get)
+        est = pydrill._core.estimate_stiffness(params.to_core())
+        zeta = est.fastest_decay / (2 * est.fastest_frequency)
         print(
-            f"{name:26s} {rauto.stats.stiffness_ratio:9.3g} {ta:9.4f} {tb:9.4f} {te:9.4f} "
-            f"{auto:>6s} {best:>6s}  {ra.regime}"
+            f"{name:26s} {rauto.stats.stiffness_ratio:9.3g} {zeta:6.3f} {ta:9.4f} {tb:9.4f} "
+            f"{te:9.4f} {td:9.4f} {auto:>6s} {best:>6s}  {ra.regime}"
         )
 
 

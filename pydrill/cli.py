@@ -177,10 +177,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--method",
-        choices=("auto", "bdf", "adams", "erk"),
+        choices=("auto", "dop853", "bdf", "adams", "erk"),
         default="auto",
-        help="integrator: auto (by a stiffness estimate), bdf (CVODES, for stiff strings), "
-        "adams (CVODES) or erk (ARKODE explicit Runge-Kutta 7(8))",
+        help="integrator: auto (by a stiffness estimate, says why), dop853 (explicit "
+        "Runge-Kutta 8(5,3), non-stiff strings), bdf (CVODES, stiff strings), adams (CVODES) "
+        "or erk (ARKODE explicit Runge-Kutta 7(8))",
     )
     run.add_argument("--rtol", type=_positive("--rtol"), default=1e-8, help="relative tolerance")
     run.add_argument("--atol", type=_positive("--atol"), default=1e-8, help="absolute tolerance")

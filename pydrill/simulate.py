@@ -274,8 +274,10 @@ def simulate(
     still — the driller's start-up), ``"equilibrium"`` (the fastest steady state with the bit
     velocity perturbed by ``perturbation`` relative), or a twist-coordinate state of length
     ``2·dof − 1``. ``friction="exact"`` locates every stick/slip switch by rootfinding;
-    ``"karnopp"`` is the paper's Eq. (9) with its zero-velocity band. ``method`` is ``"auto"``,
-    ``"bdf"`` (banded Newton, for stiff long strings) or ``"adams"`` (non-stiff).
+    ``"karnopp"`` is the paper's Eq. (9) with its zero-velocity band. ``method`` is ``"auto"``
+    (chosen from a stiffness estimate; ``stats.method_reason`` says why), ``"dop853"``
+    (explicit Runge–Kutta 8(5,3), non-stiff strings), ``"bdf"`` (CVODES, banded Newton, for
+    stiff strings), ``"adams"`` (CVODES) or ``"erk"`` (ARKODE Runge–Kutta 7(8)).
 
     Bad input raises ``ValueError`` naming the parameter; a solver failure raises
     :class:`pydrill.SolverError` with CVODES's message and the time reached.
@@ -296,7 +298,7 @@ def simulate(
     if t_out is not None:
         opts.t_out = [float(v) for v in np.asarray(t_out, dtype=float).ravel()]
     opts.n_out = _integer("n_out", n_out)
-    opts.method = _choice("method", method, ("auto", "bdf", "adams", "erk"))
+    opts.method = _choice("method", method, ("auto", "bdf", "adams", "erk", "dop853"))
     opts.friction = _choice("friction", friction, ("exact", "karnopp"))
     if isinstance(initial, str):
         opts.initial = _choice("initial", initial, ("rest", "equilibrium"))

@@ -288,8 +288,10 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
         raise _fail("simulation.window", f"{sim['window']!r} is not allowed: 0 < window <= 1")
     if sim["friction"] not in ("exact", "karnopp"):
         raise _fail("simulation.friction", f"{sim['friction']!r}: choose 'exact' or 'karnopp'")
-    if sim["method"] not in ("auto", "bdf", "adams", "erk"):
-        raise _fail("simulation.method", f"{sim['method']!r}: choose auto, bdf, adams or erk")
+    if sim["method"] not in ("auto", "dop853", "bdf", "adams", "erk"):
+        raise _fail(
+            "simulation.method", f"{sim['method']!r}: choose auto, dop853, bdf, adams or erk"
+        )
     rec = dict(RECORD_KEYS)
     for key, value in doc.get("record", {}).items():
         if key not in RECORD_KEYS:

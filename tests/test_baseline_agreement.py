@@ -20,7 +20,7 @@ def baseline():
     return module
 
 
-@pytest.mark.parametrize("method", ["erk", "adams", "bdf"])
+@pytest.mark.parametrize("method", ["dop853", "erk", "adams", "bdf"])
 def test_stick_slip_switches_and_states_agree(baseline, method):
     p = pydrill.preset("reduced-scale", dof=4)
     t = np.linspace(0.0, 100.0, 401)

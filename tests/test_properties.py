@@ -43,7 +43,7 @@ def test_operating_point_fuzz(wob, torque, t_end, dof):
     stiffness=st.one_of(positive, anything),
     damping=st.one_of(st.floats(min_value=0.0, max_value=10.0), anything),
     mu=st.tuples(anything, anything),
-    method=st.sampled_from(["auto", "bdf", "adams", "erk"]),
+    method=st.sampled_from(["auto", "bdf", "adams", "erk", "dop853"]),
     friction=st.sampled_from(["exact", "karnopp"]),
 )
 def test_parameter_fuzz(inertias, stiffness, damping, mu, method, friction):

@@ -107,9 +107,7 @@ def test_atlas_holds_what_was_computed(tmp_path):
 
 
 def test_failing_point_is_recorded_and_the_rest_done(tmp_path):
-    text = SMALL.replace(
-        'initial = ["rest", "equilibrium"]', 'initial = ["rest"]\nmax_steps = 2500'
-    )
+    text = SMALL.replace('initial = ["rest", "equilibrium"]', 'initial = ["rest"]\nmax_steps = 900')
     report = run_sweep(parse_spec(text), tmp_path / "f.h5", serial=True)
     assert 0 < report.failed < report.points
     with Atlas(tmp_path / "f.h5") as atlas:

@@ -159,6 +159,13 @@ void bind_simulate(py::module_& m) {
       },
       py::arg("params"), py::arg("wob"), py::arg("torque"), py::arg("options"));
   m.def("stiffness_ratio", &stiffness_ratio, py::arg("params"));
+  py::class_<StiffnessEstimate>(m, "StiffnessEstimate")
+      .def_readonly("fastest_decay", &StiffnessEstimate::fastest_decay)
+      .def_readonly("fastest_frequency", &StiffnessEstimate::fastest_frequency)
+      .def_readonly("fundamental", &StiffnessEstimate::fundamental);
+  m.def("estimate_stiffness", &estimate_stiffness, py::arg("params"),
+        "Bounds on the fastest decay rate and natural frequency, and the fundamental: what "
+        "method='auto' decides on.");
   m.def("mode_names", []() {
     return std::vector<std::string>{mode_name(Mode::SlipPositive), mode_name(Mode::SlipNegative),
                                     mode_name(Mode::Stick), mode_name(Mode::Band)};

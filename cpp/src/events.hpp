@@ -20,6 +20,14 @@ struct RunData {
   double ts = 0.0, dv = 0.0;
 };
 
+// Right-hand side with the quadrature integrands riding along as four extra
+// states (the explicit integrators have no separate quadratures).
+inline void rhs_with_quadratures(const RunData& d, const double* y, double* f) {
+  double* q = f + d.chain->size();
+  q[0] = y[0];
+  d.chain->rhs(y, d.mode, f, q + 1);
+}
+
 // Quadrature integrands (power balance and the top angle).
 inline void quadrature_rhs(const RunData& d, const double* y, double* q) {
   q[0] = y[0];

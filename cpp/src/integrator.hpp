@@ -1,8 +1,10 @@
-// One interface over the SUNDIALS integrators the simulator can use:
+// One interface over the integrators the simulator can use:
 //   CVODES BDF   — stiff strings; Newton with the O(dof) chain solver;
 //   CVODES Adams — non-stiff, fixed-point iteration;
 //   ARKODE ERK   — non-stiff, explicit Fehlberg 7(8) Runge–Kutta (one-step: no
-//                  order ramp-up after each friction switch).
+//                  order ramp-up after each friction switch);
+//   DOP853       — non-stiff, Dormand–Prince 8(5,3), our own code (the fastest
+//                  where the fast modes ring; see integrator_dop853.cpp).
 // All take single steps, locate roots of the current mode's switching
 // functions, interpolate inside the last step and restart from a given state.
 #pragma once
@@ -37,6 +39,8 @@ class Integrator {
 };
 
 std::unique_ptr<Integrator> make_cvodes(Method method, RunData& data, const std::vector<double>& y0,
+                                        const SimulationOptions& opt);
+std::unique_ptr<Integrator> make_dop853(RunData& data, const std::vector<double>& y0,
                                         const SimulationOptions& opt);
 std::unique_ptr<Integrator> make_erk(RunData& data, const std::vector<double>& y0,
                                      const SimulationOptions& opt);

@@ -35,8 +35,7 @@ int rhs_fn(sunrealtype, N_Vector y, N_Vector ydot, void* ud) {
   const auto* d = static_cast<RunData*>(ud);
   const double* Y = N_VGetArrayPointer(y);
   double* F = N_VGetArrayPointer(ydot);
-  d->chain->rhs(Y, d->mode, F);
-  quadrature_rhs(*d, Y, F + d->chain->size());
+  rhs_with_quadratures(*d, Y, F);
   return 0;
 }
 

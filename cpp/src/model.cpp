@@ -43,29 +43,35 @@ double Chain::friction_torque(const double* y, Mode mode) const {
   return 0.0;
 }
 
-void Chain::rhs(const double* y, Mode mode, double* ydot) const {
+void Chain::rhs(const double* y, Mode mode, double* ydot, double* power) const {
   const int N = dof_;
   const double* k = params_.stiffnesses.data();
   const double* c = params_.dampings.data();
   // Spring torques s_i = k_i θ_i + c_i (ω_i − ω_{i+1}) are computed once and
   // used by both neighbours (Newton's third law holds exactly).
-  double s_prev = 0.0;
+  double s_prev = 0.0, viscous = 0.0;
   for (int i = 0; i < N - 1; ++i) {
     const double wi = y[2 * i], wn = y[2 * i + 2];
-    const double s = k[i] * y[2 * i + 1] + c[i] * (wi - wn);
+    const double dw = wi - wn;
+    const double s = k[i] * y[2 * i + 1] + c[i] * dw;
     const double external = (i == 0) ? torque_ - params_.top_damping * wi : s_prev;
     ydot[2 * i] = (external - s) * inv_inertia_[i];
-    ydot[2 * i + 1] = wi - wn;
+    ydot[2 * i + 1] = dw;
+    viscous += c[i] * dw * dw;
     s_prev = s;
   }
   const int b = bit_index();
-  if (mode == Mode::Stick) {
-    // The rock holds the bit: ω_b stays exactly 0.
-    ydot[b] = 0.0;
-    return;
+  const double wb = y[b];
+  const double te = s_prev - params_.bit_damping * wb;
+  // Stick: the rock holds the bit (exact friction: ω_b stays 0; Karnopp:
+  // frozen inside the band) and its torque is T_e itself.
+  const double tf = mode == Mode::Stick ? te : friction_torque(y, mode);
+  ydot[b] = mode == Mode::Stick ? 0.0 : (te - tf) * inv_inertia_[N - 1];
+  if (power) {
+    power[0] = torque_ * y[0];
+    power[1] = viscous + params_.top_damping * y[0] * y[0] + params_.bit_damping * wb * wb;
+    power[2] = tf * wb;
   }
-  const double te = s_prev - params_.bit_damping * y[b];
-  ydot[b] = (te - friction_torque(y, mode)) * inv_inertia_[N - 1];
 }
 
 void Chain::jacobian_band(const double* y, Mode mode, double* band) const {
@@ -100,10 +106,7 @@ void Chain::jacobian_band(const double* y, Mode mode, double* band) const {
     case Mode::SlipPositive:
     case Mode::SlipNegative: {
       const int dir = (mode == Mode::SlipPositive) ? 1 : -1;
-      // d/dω [dir·f(|ω|)] = f'(|ω|)·dir·sgn(ω) = slip_slope when ω has the mode's sign.
-      const double wb = y[b];
-      const double sign = (wb == 0.0) ? 1.0 : ((wb > 0) == (dir > 0) ? 1.0 : -1.0);
-      bdiag -= sign * friction_.slip_slope(wb) * inv_inertia_[N - 1];
+      bdiag -= friction_.slip_torque_slope(y[b], dir) * inv_inertia_[N - 1];
       break;
     }
     case Mode::Stick:

@@ -18,6 +18,7 @@ const char* method_name(Method m) {
     case Method::BDF: return "bdf";
     case Method::Adams: return "adams";
     case Method::ERK: return "erk";
+    case Method::DOP853: return "dop853";
   }
   return "?";
 }
@@ -38,8 +39,9 @@ Method parse_method(const std::string& s) {
   if (s == "bdf") return Method::BDF;
   if (s == "adams") return Method::Adams;
   if (s == "erk") return Method::ERK;
+  if (s == "dop853") return Method::DOP853;
   throw std::invalid_argument("method = '" + s +
-                              "' is not allowed: choose 'auto', 'bdf', 'adams' or 'erk'");
+                              "' is not allowed: choose 'auto', 'bdf', 'adams', 'erk' or 'dop853'");
 }
 
 FrictionLaw parse_friction(const std::string& s) {
@@ -120,22 +122,20 @@ double stiffness_ratio(const Params& p) {
 Method choose_method(const Params& p, std::string* reason) {
   // Stiff means fast modes that decay: BDF steps over them once they have died.
   // Otherwise every method must resolve the fast modes, and the cheapest steps
-  // win: ARKODE's explicit 7(8) pair, which restarts at full order after each
-  // friction switch, unless the fast modes are moderately damped, where its
-  // stability limit bites and Adams does better. Thresholds measured by
-  // benchmarks/bench_methods.py on soft, real, stiff and refined strings.
+  // win: DOP853, which restarts at full order after each friction switch and
+  // spends almost nothing besides the right-hand side. Measured by
+  // benchmarks/bench_methods.py on soft, real, stiff and refined strings:
+  // DOP853 is the fastest up to a decay/fundamental ratio of ~1e4 even with
+  // overdamped fast modes (3x BDF at 1.8e3); BDF wins only beyond.
   const StiffnessEstimate e = estimate_stiffness(p);
   const double zeta = e.fastest_decay / (2.0 * e.fastest_frequency);
   const double ratio = e.fastest_decay / e.fundamental;
-  constexpr double zeta_stiff = 0.5, ratio_stiff = 100.0, zeta_damped = 0.2;
-  Method m = Method::ERK;
-  const char* why = "non-stiff, lightly damped fast modes: ARKODE explicit Runge-Kutta 7(8)";
+  constexpr double zeta_stiff = 0.5, ratio_stiff = 1e4;
+  Method m = Method::DOP853;
+  const char* why = "non-stiff: explicit Runge-Kutta DOP853";
   if (zeta > zeta_stiff && ratio > ratio_stiff) {
     m = Method::BDF;
     why = "stiff (fast modes die quickly): BDF with the banded chain solver";
-  } else if (zeta > zeta_damped) {
-    m = Method::Adams;
-    why = "non-stiff, moderately damped fast modes: Adams";
   }
   if (reason) {
     std::ostringstream o;
@@ -166,8 +166,13 @@ class Run {
     data_.ts = chain.static_torque();
     data_.dv = chain.params().karnopp_band;
     data_.mode = chain.initial_mode(y0.data(), data_.karnopp);
-    integrator_ = method == Method::ERK ? detail::make_erk(data_, y0, opt)
-                                        : detail::make_cvodes(method, data_, y0, opt);
+    if (method == Method::DOP853) {
+      integrator_ = detail::make_dop853(data_, y0, opt);
+    } else if (method == Method::ERK) {
+      integrator_ = detail::make_erk(data_, y0, opt);
+    } else {
+      integrator_ = detail::make_cvodes(method, data_, y0, opt);
+    }
     res_.stats.method = method_name(method);
   }
 
@@ -177,6 +182,7 @@ class Run {
   void record_output(double t, const double* y, const double* q);
   void handle_root(double t);
   void restart(double t);
+  bool falls_back_inside(const double* y, double te) const;
   void fail(const SolverError& e);
 
   const Chain& chain_;
@@ -229,7 +235,7 @@ void Run::handle_root(double t) {
       // bit exactly at rest, then let the reaction torque decide.
       y[b] = 0.0;
       const double te = chain_.reaction_torque(y);
-      if (std::fabs(te) <= ts) {
+      if (std::fabs(te) <= ts || falls_back_inside(y, te)) {
         after = Mode::Stick;
         kind = SwitchKind::Stick;
       } else if ((te > 0) != (before == Mode::SlipPositive)) {
@@ -283,6 +289,19 @@ void Run::handle_root(double t) {
     }
   }
   restart(t);
+}
+
+bool Run::falls_back_inside(const double* y, double te) const {
+  // The bit came to rest with |T_e| on the static limit, within the noise of
+  // locating the switch that started this slip (a graze of T_s). If T_e is
+  // heading back inside ±T_s the rock holds the bit; slipping on would start
+  // it the wrong way.
+  const double ts = data_.ts;
+  if (std::fabs(te) - ts > 1e-9 * ts) return false;
+  std::vector<double> ydot(static_cast<std::size_t>(n_));
+  chain_.rhs(y, Mode::Stick, ydot.data());
+  const double rate = chain_.reaction_torque(ydot.data());  // T_e is linear in y
+  return te > 0 ? rate < 0 : rate > 0;
 }
 
 void Run::restart(double t) {

@@ -30,9 +30,18 @@ struct BitFriction {
   }
 
   // Signed slip torque T_fb(ω) = f_b(|ω|)·sgn(ω) for a bit that slips in
-  // direction `dir` (+1 or -1). The direction is the mode's, not sgn(ω): a
-  // trial point of the integrator a hair across zero must not flip it.
-  double slip_torque(double omega, int dir) const { return dir * magnitude(omega); }
+  // direction `dir` (+1 or -1), written dir·f_b(dir·ω). The direction is the
+  // mode's, not sgn(ω), and f_b is continued analytically past ω = 0: a trial
+  // stage of the integrator a hair across zero sees neither a flipped sign nor
+  // the kink of |ω|, so the steps that reach a stick event stay long.
+  double slip_torque(double omega, int dir) const {
+    return dir * scale * (mu_c + (mu_s - mu_c) * std::exp(-decay * dir * omega));
+  }
+
+  // d slip_torque / dω for the same smooth continuation.
+  double slip_torque_slope(double omega, int dir) const {
+    return -scale * (mu_s - mu_c) * decay * std::exp(-decay * dir * omega);
+  }
 
   // d T_fb / dω in slip (both directions): −scale·(μ_s−μ_c)·decay·e^{−decay|ω|}.
   double slip_slope(double omega) const {

@@ -47,7 +47,10 @@ class Chain {
   double friction_torque(const double* y, Mode mode) const;
 
   // ẏ = f(y) in the given mode. Pure: no state is changed.
-  void rhs(const double* y, Mode mode, double* ydot) const;
+  void rhs(const double* y, Mode mode, double* ydot) const { rhs(y, mode, ydot, nullptr); }
+  // The same, and (if power is not null) the three power densities below in
+  // power[0..2] = input, viscous, friction, from the same pass over the chain.
+  void rhs(const double* y, Mode mode, double* ydot, double* power) const;
 
   // Jacobian ∂f/∂y in band storage: band[5*r + (c − r + 2)] = J(r, c) for
   // |c − r| <= 2. Entries outside the matrix are set to zero.

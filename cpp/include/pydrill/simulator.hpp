@@ -15,12 +15,12 @@
 
 namespace pydrill {
 
-enum class Method { Auto, BDF, Adams, ERK };
+enum class Method { Auto, BDF, Adams, ERK, DOP853 };
 enum class FrictionLaw { Exact, Karnopp };
 enum class Initial { Rest, Equilibrium, State };
 
 const char* method_name(Method m);
-Method parse_method(const std::string& s);            // "auto", "bdf", "adams", "erk"
+Method parse_method(const std::string& s);            // "auto", "bdf", "adams", "erk", "dop853"
 FrictionLaw parse_friction(const std::string& s);     // "exact", "karnopp"
 Initial parse_initial(const std::string& s);          // "rest", "equilibrium"
 
