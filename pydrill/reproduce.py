@@ -1,0 +1,449 @@
+"""``pydrill reproduce``: the paper's Sections 3–4 recomputed, drawn and compared in a report.
+
+:func:`reproduce` runs the simulations of Figs. 4, 5, 7, 8, 9 (:mod:`pydrill.reproduce_sims`),
+the stability and bifurcation analysis of Figs. 10–12 and of 10-, 100- and 500-pipe strings
+(:mod:`pydrill.reproduce_analysis`), and the regime atlases behind Fig. 6b and the periodic
+orbits of Fig. 11 (Dask sweeps, :mod:`pydrill.sweep`). It writes one PNG per figure
+(:mod:`pydrill.reproduce_figures`, :mod:`pydrill.reproduce_plots`), ``report.md``
+(:mod:`pydrill.reproduce_report`) and ``numbers.json`` into the output directory.
+
+Whatever it computed is kept there and reused on the next run: atlases in ``atlases/`` (each
+tied to its sweep's spec digest and the pydrill version, resumed if a run was interrupted),
+analysis results in ``cache/`` (keyed by a digest of what was computed: the section, its
+arguments, the pydrill version). ``force=True`` recomputes everything.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import shutil
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+CACHE_SCHEMA = 1
+
+
+def _range(start: float, stop: float, step: float) -> list[float]:
+    n = round((stop - start) / step) + 1
+    return [round(start + k * step, 10) for k in range(n)]
+
+
+def atlas_plan(quick: bool = False) -> dict[str, dict[str, Any]]:
+    """Every atlas the reproduction needs: name -> sweep settings (``quick``: coarser, and no
+    100- or 500-pipe strings). Fig. 6b's (W_ob, u) grid holds the paper's Section 3 cases
+    (40, 100, 160 N at 8.3 N·m); the Fig. 11 atlases are the diagrams' parameter ranges, both
+    starts, simulated long enough for each string to wind up (its torsional time constant
+    c_r·Σ1/k_i is 30 s for 10 pipes, 250 s for 100, 1240 s for 500)."""
+    s = 2.0 if quick else 1.0
+    plan = {
+        "fig06b": {
+            "model": {"dof": 4},
+            "axes": {
+                "wob": _range(20.0, 200.0, 5.0 * s),
+                "torque": _range(1.3, 16.3, 0.5 * s),
+            },
+            "t_end": 300.0,
+            "parallel": True,
+        },
+    }
+    panels = {"a": (2, "wob"), "b": (2, "torque"), "c": (4, "wob"), "d": (4, "torque")}
+    for panel, (dof, vary) in panels.items():
+        plan[f"fig11{panel}"] = _fig11_atlas({"dof": dof}, vary, panel, s, 300.0)
+    for pipes, t_end, coarse in ((10, 600.0, 1.0), (100, 6000.0, 2.0), (500, 30000.0, 5.0)):
+        if quick and pipes > 10:
+            continue
+        for panel, vary in (("c", "wob"), ("d", "torque")):
+            plan[f"pipes{pipes}-fig11{panel}"] = _fig11_atlas(
+                {"pipes": pipes}, vary, panel, s * coarse, t_end, parallel=pipes >= 100
+            )
+    return plan
+
+
+def _fig11_atlas(model, vary, panel, step, t_end, parallel=False) -> dict[str, Any]:
+    if vary == "wob":
+        fixed, axes = {"torque": 8.1}, {"wob": _range(60.0, 160.0, 2.0 * step)}
+    else:
+        w = 80.0 if panel == "b" else 60.0
+        fixed, axes = {"wob": w}, {"torque": _range(2.0, 12.0, 0.2 * step)}
+    return {
+        "model": {**model, **fixed},
+        "axes": axes,
+        "t_end": t_end,
+        "parallel": parallel,
+    }
+
+
+def spec_text(settings: dict[str, Any]) -> str:
+    """The sweep spec (TOML) of one planned atlas."""
+    lines = ["[model]", 'preset = "reduced-scale"']
+    lines += [f"{k} = {v!r}" for k, v in settings["model"].items()]
+    lines += ["", "[axes]"]
+    lines += [f"{k} = [{', '.join(repr(x) for x in v)}]" for k, v in settings["axes"].items()]
+    lines += [
+        "",
+        "[simulation]",
+        f"t_end = {settings['t_end']!r}",
+        'initial = ["rest", "equilibrium"]',
+        "",
+        "[record]",
+        "stability = true",
+        "eigenvalues = 4",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+class Cache:
+    """JSON results in ``DIR/cache``, each stored with the digest of what produced it."""
+
+    def __init__(self, root: Path, force: bool = False) -> None:
+        from . import __version__
+
+        self.root = root / "cache"
+        self.root.mkdir(parents=True, exist_ok=True)
+        self.version = __version__
+        self.force = force
+        self.hits: list[str] = []
+        self.computed: list[str] = []
+
+    def key(self, name: str, args: Any) -> str:
+        doc = {"name": name, "args": args, "version": self.version, "schema": CACHE_SCHEMA}
+        return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:16]
+
+    def get(self, name: str, args: Any, compute: Callable[[], Any]) -> Any:
+        path = self.root / f"{name}.json"
+        key = self.key(name, args)
+        if not self.force and path.exists():
+            try:
+                stored = json.loads(path.read_text())
+                if stored.get("key") == key:
+                    self.hits.append(name)
+                    return stored["data"]
+            except (OSError, ValueError):
+                pass  # unreadable: recompute
+        data = _plain(compute())
+        tmp = path.with_suffix(".tmp")
+        tmp.write_text(json.dumps({"key": key, "name": name, "args": args, "data": data}))
+        tmp.replace(path)
+        self.computed.append(name)
+        return data
+
+
+def _plain(x: Any) -> Any:
+    """JSON-ready: numpy scalars to Python, non-finite floats to None."""
+    if isinstance(x, dict):
+        return {str(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [_plain(v) for v in x]
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x
+
+
+def run_atlas(
+    out: Path,
+    name: str,
+    settings: dict[str, Any],
+    *,
+    force: bool,
+    workers: int | None,
+    scheduler: str | None,
+    progress: Callable[[int, int], None] | None = None,
+) -> tuple[Path, str]:
+    """The atlas ``name`` in ``out/atlases``: reused if it holds this spec, computed by this
+    pydrill version and complete; resumed if interrupted; recomputed otherwise."""
+    from . import __version__
+    from .atlas import Atlas
+    from .spec import parse_spec
+    from .sweep import AtlasError, run_sweep
+
+    spec = parse_spec(spec_text(settings))
+    path = out / "atlases" / f"{name}.h5"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    journal = path.with_name(path.name + ".journal")
+    resume = False
+    if path.exists() and not force:
+        try:
+            with Atlas(path) as atlas:
+                same = atlas.spec.digest == spec.digest and atlas.version == __version__
+                done = atlas.summary()["status"]["missing"] == 0
+            if same and done and not journal.exists():
+                return path, "reused"
+            resume = same
+        except AtlasError:
+            resume = False
+    if not resume or force:
+        path.unlink(missing_ok=True)
+        journal.unlink(missing_ok=True)
+    run_sweep(
+        spec,
+        path,
+        workers=workers,
+        scheduler=scheduler,
+        resume=resume,
+        progress=progress,
+        serial=not settings["parallel"] and scheduler is None,
+    )
+    return path, "resumed" if resume else "computed"
+
+
+def atlas_numbers(path: Path) -> dict[str, Any]:
+    """What an atlas says, as plain data: its axes, and per start the regime and the bit's
+    velocity range at every point (1-D atlases) or the regime grid (2-D)."""
+    from .atlas import Atlas
+
+    with Atlas(path) as atlas:
+        f = atlas._f  # the arrays, read once
+        data: dict[str, Any] = {
+            "axes": {k: v.tolist() for k, v in atlas.axes.items()},
+            "fixed": atlas.spec.fixed,
+            "dof": atlas.spec.params_at(atlas.spec.coords(0)).dof,
+            "t_end": atlas.spec.simulation["t_end"],
+            "summary": atlas.summary()["regimes"],
+            "initials": atlas.initials,
+        }
+        for j, init in enumerate(atlas.initials):
+            data[init] = {
+                "regime": atlas.regimes(init).tolist(),
+                **{k: f[k][..., j].tolist() for k in ("bit_min", "bit_max", "period")},
+            }
+        data["unstable"] = f["unstable"][..., 0].tolist()
+    return _plain(data)
+
+
+def reproduce(
+    out: str | Path,
+    *,
+    quick: bool = False,
+    force: bool = False,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool | None = None,
+) -> dict[str, Any]:
+    """Recompute the paper's Sections 3–4 into ``out``; returns the run's summary (also in
+    ``out/numbers.json`` with every number the report quotes)."""
+    from tqdm import tqdm
+
+    from . import __version__
+    from . import reproduce_analysis as ra
+    from . import reproduce_sims as rs
+    from .reproduce_figures import draw_simulations
+    from .reproduce_plots import draw_analysis
+    from .reproduce_report import write_report
+
+    t0 = time.perf_counter()
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    if force and (out / "cache").exists():
+        shutil.rmtree(out / "cache")
+    cache = Cache(out, force=force)
+    plan = atlas_plan(quick)
+    pipes = (10,) if quick else (10, 100, 500)
+    steps = 5 + 3 + len(pipes) + len(plan) + 2
+    bar = tqdm(
+        total=steps,
+        desc="reproduce",
+        unit="step",
+        file=sys.stderr,
+        disable=(not sys.stderr.isatty()) if progress is None else not progress,
+        bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}<{remaining}] {postfix}",
+    )
+
+    def step(label: str) -> None:
+        bar.set_postfix_str(label)
+
+    numbers: dict[str, Any] = {"quick": quick, "pydrill_version": __version__}
+    runs: dict[str, Any] = {}
+    for name, fn in (
+        ("fig04", rs.fig4),
+        ("fig05", rs.fig5),
+        ("fig07", rs.fig7),
+        ("fig09", rs.fig9),
+    ):
+        step(f"simulating {name}")
+        numbers[name], runs[name] = fn()
+        bar.update()
+    step("simulating fig08")
+    numbers["fig08"], runs["fig08"] = rs.fig8(runs["fig04"]["exact"])
+    bar.update()
+    for preset_name, key in (("reduced-scale", "fig10a"), ("real-string", "fig10b")):
+        step(f"analysing {key}")
+        numbers[key] = cache.get(key, {"preset": preset_name}, lambda n=preset_name: ra.fig10(n))
+    bar.update()
+    for panel, *_ in ra.FIG11:
+        numbers[f"fig11{panel}"] = cache.get(f"fig11{panel}", {}, lambda p=panel: ra.fig11(p))
+    bar.update()
+    step("analysing the paper's strings (Fig. 12, multiple Hopf)")
+    numbers["strings"] = cache.get("strings", {}, ra.paper_strings)
+    bar.update()
+    for p in pipes:
+        step(f"analysing {p} pipes")
+        numbers[f"pipes{p}"] = cache.get(f"pipes{p}", {"pipes": p}, lambda p=p: ra.long_string(p))
+        bar.update()
+    atlases: dict[str, str] = {}
+    for name, settings in plan.items():
+        step(f"atlas {name}")
+
+        def sweep_progress(n: int, total: int, name=name) -> None:
+            bar.set_postfix_str(f"atlas {name}: {n} points done of {total}")
+
+        path, how = run_atlas(
+            out,
+            name,
+            settings,
+            force=force,
+            workers=workers,
+            scheduler=scheduler,
+            progress=sweep_progress,
+        )
+        atlases[name] = how
+        numbers[f"atlas_{name}"] = atlas_numbers(path)
+        bar.update()
+    step("drawing the figures")
+    figures = draw_simulations(out, numbers, runs)
+    figures += draw_analysis(out, numbers, pipes)
+    bar.update()
+    step("writing report.md")
+    summary = {
+        "out": str(out),
+        "report": str(out / "report.md"),
+        "figures": [str(f) for f in figures],
+        "atlases": atlases,
+        "cache": {"reused": cache.hits, "computed": cache.computed},
+        "quick": quick,
+        "pydrill_version": __version__,
+    }
+    summary["wall_time"] = time.perf_counter() - t0
+    write_report(out, numbers, summary)
+    (out / "numbers.json").write_text(json.dumps(_plain(numbers), allow_nan=False))
+    bar.update()
+    bar.close()
+    summary["wall_time"] = time.perf_counter() - t0
+    summary["highlights"] = highlights(numbers)
+    return summary
+
+
+def highlights(numbers: dict[str, Any]) -> dict[str, Any]:
+    """The key numbers of the report, for ``--json``."""
+    f4, f10 = numbers["fig04"]["exact"], numbers["fig10a"]
+    return {
+        "fig4_regime": f4["regime"],
+        "fig4_period_s": f4["period"],
+        "fig4_bit_max_rad_s": f4["bit_max"],
+        "fig7_regime": numbers["fig07"]["loaded"]["regime"],
+        "fig9_regime": numbers["fig09"]["run"]["regime"],
+        "fig9_omega_rad_s": numbers["fig09"]["omega"],
+        "fig10a_hopf_delta": f10["h2_delta"],
+        "fig10b_hopf_delta": numbers["fig10b"]["h2_delta"],
+        "fig11": {
+            p: {
+                "first_hopf": (numbers[f"fig11{p}"]["first_hopf"] or {}).get(
+                    "wob" if numbers[f"fig11{p}"]["vary"] == "wob" else "torque"
+                ),
+                "fold": (numbers[f"fig11{p}"]["fold"] or {}).get(
+                    "wob" if numbers[f"fig11{p}"]["vary"] == "wob" else "torque"
+                ),
+            }
+            for p in "abcd"
+        },
+        "hopf_crossings": {
+            k: numbers[k]["summary"]["hopf"] for k in numbers if k.startswith("pipes")
+        },
+    }
+
+
+EPILOG = """\
+what it does:
+  Recomputes every figure of the paper's Sections 3-4 (Figs. 4, 5, 6b, 7, 8, 9, 10a-b, 11a-d,
+  12a-b) with pydrill, draws each as a PNG, and writes DIR/report.md: per figure, what the
+  paper states, what pydrill computed (regimes, stick-slip periods, Hopf and fold points and
+  their criticality) and where and why they differ (including the paper's typos). Beyond the
+  paper: Figs. 11 and 12 for 10, 100 and 500 pipes, the multiple Hopf crossings for n' > 3,
+  and the first Lyapunov coefficient of every Hopf point.
+
+reuse:
+  Atlases (DIR/atlases/*.h5) and analysis results (DIR/cache/*.json) are kept and reused
+  when the same computation is asked again (keyed by the sweep spec or the section's
+  arguments and the pydrill version); an interrupted run resumes. --force starts over.
+
+time:
+  about 3 minutes on 2 cores from scratch (the 500-pipe string takes half of it), seconds
+  when everything is cached; --quick (coarser grids, no 100/500 pipes) about 30 s.
+
+examples:
+  pydrill reproduce --out paper/            # then read paper/report.md
+  pydrill reproduce --out paper/ --json     # summary and key numbers for scripts
+  pydrill reproduce --out /tmp/p --quick    # a fast check
+  pydrill reproduce --out paper/ --scheduler tcp://host:8786   # sweeps on a Dask cluster
+"""
+
+
+def register_reproduce(sub) -> None:
+    import argparse
+
+    rep = sub.add_parser(
+        "reproduce",
+        help="recompute the paper's figures and write a report comparing the numbers",
+        description="Recompute Navarro-Lopez & Cortes (2007), Sections 3-4, with pydrill: "
+        "every figure as a PNG and DIR/report.md comparing the paper's statements with "
+        "pydrill's numbers.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    rep.add_argument("--out", required=True, metavar="DIR", help="output directory (created)")
+    rep.add_argument(
+        "--quick", action="store_true", help="coarser atlases and no 100/500-pipe strings"
+    )
+    rep.add_argument("--force", action="store_true", help="ignore what DIR already holds")
+    rep.add_argument("--workers", type=int, help="Dask worker processes (default: one per core)")
+    rep.add_argument("--scheduler", metavar="ADDRESS", help="use an existing Dask scheduler")
+    rep.add_argument("--json", action="store_true", help="print one JSON summary for scripts")
+    rep.add_argument(
+        "--no-progress", action="store_true", help="no progress bar (it goes to stderr)"
+    )
+    rep.set_defaults(handler=_cmd_reproduce)
+
+
+def _cmd_reproduce(args) -> int:
+    if args.workers is not None and not 1 <= args.workers <= 256:
+        raise ValueError(f"--workers = {args.workers} is not allowed: 1 ... 256")
+    summary = reproduce(
+        args.out,
+        quick=args.quick,
+        force=args.force,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=False if args.no_progress else None,
+    )
+    if args.json:
+        print(json.dumps(_plain(summary), allow_nan=False))
+        return 0
+    h = summary["highlights"]
+    print(f"{summary['report']}: {len(summary['figures'])} figures, {summary['wall_time']:.0f} s")
+    print(
+        f"  Fig. 4  {h['fig4_regime']}, period {h['fig4_period_s']:.4g} s, "
+        f"bit up to {h['fig4_bit_max_rad_s']:.4g} rad/s"
+    )
+    print(
+        f"  Fig. 7  {h['fig7_regime']};  Fig. 9  {h['fig9_regime']} at "
+        f"{h['fig9_omega_rad_s']:.4g} rad/s"
+    )
+    print(
+        f"  Fig. 10 Hopf at delta = {h['fig10a_hopf_delta']:.5g} (Eq. 14), "
+        f"{h['fig10b_hopf_delta']:.5g} N m s/rad (Eq. 53)"
+    )
+    reused = [k for k, v in summary["atlases"].items() if v == "reused"]
+    print(
+        f"  reused {len(reused)} of {len(summary['atlases'])} atlases and "
+        f"{len(summary['cache']['reused'])} cached analyses"
+    )
+    return 0
