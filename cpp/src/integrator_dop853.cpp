@@ -18,9 +18,11 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 #include <vector>
 
-#include "dop853_coefficients.hpp"
+#define PYDRILL_DOP853_VARIANT generic
+#include "dop853_kernels.hpp"
 #include "integrator.hpp"
 
 namespace pydrill::detail {
@@ -38,6 +40,14 @@ inline bool crosses(double lo, double hi, int dir) {
   return (lo < 0 && hi >= 0 && dir >= 0) || (lo > 0 && hi <= 0 && dir <= 0);
 }
 
+// AVX2+FMA doubles the width of every stage sum; the plain build runs anywhere.
+const c::Kernels& select_kernels() {
+#if defined(PYDRILL_DOP853_AVX2)
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return c::kernels_avx2();
+#endif
+  return c::kernels_generic();
+}
+
 class Dop853 final : public Integrator {
  public:
   Dop853(RunData& data, const std::vector<double>& y0, const SimulationOptions& opt)
@@ -47,8 +57,6 @@ class Dop853 final : public Integrator {
     yold_.assign(m, 0.0);
     ynew_.assign(m, 0.0);
     tmp_.assign(m, 0.0);
-    e5_.assign(m, 0.0);
-    e3_.assign(m, 0.0);
     k_.assign(m * c::kStagesExtended, 0.0);
     dense_.assign(m * c::kInterpolatorPower, 0.0);
     std::copy(y0.begin(), y0.end(), y_.begin());  // quadratures start at 0
@@ -172,46 +180,16 @@ class Dop853 final : public Integrator {
     ++rhs_evals_;
   }
 
-  // out = base + h Σ_j a[j] K_j over the stages j < s with a non-zero weight.
-  void combine(const double* base, const double* a, int s, double h, double* out) {
-    std::copy_n(base, m_, out);
-    for (int j = 0; j < s; ++j) {
-      if (a[j] == 0.0) continue;
-      const double w = h * a[j];
-      const double* kj = row(j);
-      for (int i = 0; i < m_; ++i) out[i] += w * kj[i];
-    }
+  static void rhs_callback(void* ctx, double t, const double* y, double* f) {
+    static_cast<Dop853*>(ctx)->rhs(t, y, f);
   }
 
   // One trial step of size h from (t_, y_): the new state in ynew_, f there in
   // row 12, and the error norm (< 1 accepts).
   double attempt(double h) {
-    for (int s = 1; s < c::kStages; ++s) {
-      combine(y_.data(), c::A[s], s, h, tmp_.data());
-      rhs(t_ + c::C[s] * h, tmp_.data(), row(s));
-    }
-    combine(y_.data(), c::B, c::kStages, h, ynew_.data());
-    rhs(t_ + h, ynew_.data(), row(12));
-
-    std::fill(e5_.begin(), e5_.end(), 0.0);
-    std::fill(e3_.begin(), e3_.end(), 0.0);
-    for (int j = 0; j <= 12; ++j) {
-      const double* kj = row(j);
-      const double a5 = c::E5[j], a3 = c::E3[j];
-      if (a5 == 0.0 && a3 == 0.0) continue;
-      for (int i = 0; i < m_; ++i) {
-        e5_[i] += a5 * kj[i];
-        e3_[i] += a3 * kj[i];
-      }
-    }
     double s5 = 0.0, s3 = 0.0;
-    const double rtol = opt_.rtol, atol = opt_.atol;
-    for (int i = 0; i < m_; ++i) {
-      const double scale = atol + std::max(std::fabs(y_[i]), std::fabs(ynew_[i])) * rtol;
-      const double a = e5_[i] / scale, b = e3_[i] / scale;
-      s5 += a * a;
-      s3 += b * b;
-    }
+    kernels_.trial_step(y_.data(), k_.data(), m_, t_, h, tmp_.data(), ynew_.data(), opt_.rtol,
+                        opt_.atol, rhs_callback, this, &s5, &s3);
     if (s5 == 0.0 && s3 == 0.0) return 0.0;
     return std::fabs(h) * s5 / std::sqrt((s5 + 0.01 * s3) * m_);
   }
@@ -253,45 +231,14 @@ class Dop853 final : public Integrator {
   // of the last step [told_, told_ + hlast_] (y_ still the step's end state).
   void prepare_dense() {
     if (dense_ready_) return;
-    const double h = hlast_;
-    for (int s = c::kStages + 1; s < c::kStagesExtended; ++s) {
-      combine(yold_.data(), c::A[s], s, h, tmp_.data());
-      rhs(told_ + c::C[s] * h, tmp_.data(), row(s));
-    }
-    const double* f_old = row(0);
-    const double* f_new = row(12);
-    double* F = dense_.data();
-    for (int i = 0; i < m_; ++i) {
-      const double dy = y_[i] - yold_[i];
-      F[i] = dy;
-      F[m_ + i] = h * f_old[i] - dy;
-      F[2 * m_ + i] = 2 * dy - h * (f_new[i] + f_old[i]);
-    }
-    for (int r = 0; r < 4; ++r) {
-      double* Fr = F + static_cast<std::size_t>(3 + r) * m_;
-      std::fill_n(Fr, m_, 0.0);
-      for (int j = 0; j < c::kStagesExtended; ++j) {
-        const double w = h * c::D[r][j];
-        if (w == 0.0) continue;
-        const double* kj = row(j);
-        for (int i = 0; i < m_; ++i) Fr[i] += w * kj[i];
-      }
-    }
+    kernels_.prepare_dense(yold_.data(), y_.data(), k_.data(), m_, told_, hlast_, tmp_.data(),
+                           dense_.data(), rhs_callback, this);
     dense_ready_ = true;
   }
 
   void evaluate_dense(double t, double* out) {
     prepare_dense();
-    const double x = (t - told_) / hlast_;
-    const double* F = dense_.data();
-    std::fill_n(out, m_, 0.0);
-    // Horner-like nesting of scipy's Dop853DenseOutput: alternate factors x, 1 − x.
-    for (int k = c::kInterpolatorPower - 1, i = 0; k >= 0; --k, ++i) {
-      const double* Fk = F + static_cast<std::size_t>(k) * m_;
-      const double f = (i % 2 == 0) ? x : 1.0 - x;
-      for (int j = 0; j < m_; ++j) out[j] = (out[j] + Fk[j]) * f;
-    }
-    for (int j = 0; j < m_; ++j) out[j] += yold_[j];
+    kernels_.evaluate_dense(yold_.data(), dense_.data(), m_, (t - told_) / hlast_, out);
   }
 
   // Illinois-modified regula falsi on the dense output between the last two
@@ -353,8 +300,9 @@ class Dop853 final : public Integrator {
 
   RunData& data_;
   const SimulationOptions& opt_;
+  const c::Kernels& kernels_ = select_kernels();
   int n_, m_;
-  std::vector<double> y_, yold_, ynew_, tmp_, e5_, e3_, k_, dense_;
+  std::vector<double> y_, yold_, ynew_, tmp_, k_, dense_;
   double t_ = 0, told_ = 0, h_ = 0, hlast_ = 0;
   enum class F0 { Current, FromLastStage, Stale } f0_ = F0::Stale;
   bool dense_ready_ = false;
@@ -370,6 +318,13 @@ class Dop853 final : public Integrator {
 };
 
 }  // namespace
+
+namespace dop853 {
+const Kernels& kernels_generic() {
+  static const Kernels k{generic::trial_step, generic::prepare_dense, generic::evaluate_dense};
+  return k;
+}
+}  // namespace dop853
 
 std::unique_ptr<Integrator> make_dop853(RunData& data, const std::vector<double>& y0,
                                         const SimulationOptions& opt) {

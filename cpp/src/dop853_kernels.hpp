@@ -1,0 +1,162 @@
+// The arithmetic of a DOP853 step, on raw arrays: the trial step (stages,
+// solution, error sums), the dense-output coefficients and their evaluation.
+//
+// Compiled twice: plain (x86-64 baseline SSE2) in integrator_dop853.cpp and
+// with AVX2+FMA in integrator_dop853_avx2.cpp; the integrator picks one at run
+// time. Everything here has internal linkage and calls nothing inline from a
+// library header, so no AVX2 code can leak into the plain build through the
+// linker's choice among duplicate inline functions.
+#pragma once
+
+#include <cstddef>
+#include <utility>
+
+#include "dop853_coefficients.hpp"
+
+#ifndef PYDRILL_DOP853_VARIANT
+#error "define PYDRILL_DOP853_VARIANT before including dop853_kernels.hpp"
+#endif
+
+namespace pydrill::detail::dop853 {
+
+// f = rhs(ctx, t, y): the integrator's right-hand side.
+using RhsFn = void (*)(void* ctx, double t, const double* y, double* f);
+
+struct Kernels {
+  // Stages 1–11 from (t, y) with row 0 = f(t, y) in k, the 8th-order solution
+  // in ynew, f(t + h, ynew) in row 12, and the squared error sums.
+  void (*trial_step)(const double* y, double* k, int m, double t, double h, double* tmp,
+                     double* ynew, double rtol, double atol, RhsFn rhs, void* ctx, double* s5,
+                     double* s3);
+  // Stages 13–15 from (told, yold) and the 7 rows of the interpolant in dense.
+  void (*prepare_dense)(const double* yold, const double* ynew, double* k, int m, double told,
+                        double h, double* tmp, double* dense, RhsFn rhs, void* ctx);
+  // y(told + x h) from the interpolant.
+  void (*evaluate_dense)(const double* yold, const double* dense, int m, double x, double* out);
+};
+
+const Kernels& kernels_generic();
+const Kernels& kernels_avx2();  // only where the compiler can target AVX2+FMA
+
+namespace PYDRILL_DOP853_VARIANT {
+namespace {
+
+// The weights of one linear combination of stages, known at compile time: a
+// zero weight costs nothing, and each output element is summed in a register
+// from all stages at once (one pass over memory instead of one per stage).
+template <int S>
+struct StageWeights {  // row S of the Butcher matrix
+  template <std::size_t J>
+  static void add(double& acc, double k) {
+    if constexpr (A[S][J] != 0.0) acc += A[S][J] * k;
+  }
+};
+struct SolutionWeights {  // the 8th-order solution
+  template <std::size_t J>
+  static void add(double& acc, double k) {
+    if constexpr (B[J] != 0.0) acc += B[J] * k;
+  }
+};
+template <int R>
+struct DenseWeights {  // row R of the dense-output matrix
+  template <std::size_t J>
+  static void add(double& acc, double k) {
+    if constexpr (D[R][J] != 0.0) acc += D[R][J] * k;
+  }
+};
+
+// out = base + h Σ_{j<N} w_j K_j (base may be null: out = h Σ w_j K_j).
+template <typename W, std::size_t... J>
+void weighted_sum(const double* base, const double* k, int m, double h, double* __restrict__ out,
+                  std::index_sequence<J...>) {
+  const double* rows[] = {k + J * static_cast<std::size_t>(m)...};
+  for (int i = 0; i < m; ++i) {
+    double acc = 0.0;
+    (W::template add<J>(acc, rows[J][i]), ...);
+    out[i] = base ? base[i] + h * acc : h * acc;
+  }
+}
+
+template <int S>
+void stage(const double* base, double* k, int m, double t0, double h, double* tmp, RhsFn rhs,
+           void* ctx) {
+  weighted_sum<StageWeights<S>>(base, k, m, h, tmp, std::make_index_sequence<S>{});
+  rhs(ctx, t0 + C[S] * h, tmp, k + static_cast<std::size_t>(S) * m);
+}
+
+template <std::size_t... S>
+void stages(const double* base, double* k, int m, double t0, double h, double* tmp, RhsFn rhs,
+            void* ctx, std::index_sequence<S...>) {
+  (stage<static_cast<int>(S) + 1>(base, k, m, t0, h, tmp, rhs, ctx), ...);
+}
+
+inline double magnitude(double v) { return v < 0 ? -v : v; }
+
+// Σ_i (e5_i/sc_i)², Σ_i (e3_i/sc_i)² with sc_i = atol + rtol·max(|y_i|, |ŷ_i|).
+template <std::size_t... J>
+void error_sums(const double* k, int m, const double* y, const double* ynew, double rtol,
+                double atol, double* s5, double* s3, std::index_sequence<J...>) {
+  const double* rows[] = {k + J * static_cast<std::size_t>(m)...};
+  double a5 = 0.0, a3 = 0.0;
+  for (int i = 0; i < m; ++i) {
+    double e5 = 0.0, e3 = 0.0;
+    (
+        [&] {
+          if constexpr (E5[J] != 0.0) e5 += E5[J] * rows[J][i];
+          if constexpr (E3[J] != 0.0) e3 += E3[J] * rows[J][i];
+        }(),
+        ...);
+    const double a = magnitude(y[i]), b = magnitude(ynew[i]);
+    const double scale = atol + (a > b ? a : b) * rtol;
+    a5 += (e5 / scale) * (e5 / scale);
+    a3 += (e3 / scale) * (e3 / scale);
+  }
+  *s5 = a5;
+  *s3 = a3;
+}
+
+void trial_step(const double* y, double* k, int m, double t, double h, double* tmp, double* ynew,
+                double rtol, double atol, RhsFn rhs, void* ctx, double* s5, double* s3) {
+  stages(y, k, m, t, h, tmp, rhs, ctx, std::make_index_sequence<kStages - 1>{});
+  weighted_sum<SolutionWeights>(y, k, m, h, ynew, std::make_index_sequence<kStages>{});
+  rhs(ctx, t + h, ynew, k + static_cast<std::size_t>(kStages) * m);
+  error_sums(k, m, y, ynew, rtol, atol, s5, s3, std::make_index_sequence<kStages + 1>{});
+}
+
+void prepare_dense(const double* yold, const double* ynew, double* k, int m, double told,
+                   double h, double* tmp, double* dense, RhsFn rhs, void* ctx) {
+  stage<13>(yold, k, m, told, h, tmp, rhs, ctx);
+  stage<14>(yold, k, m, told, h, tmp, rhs, ctx);
+  stage<15>(yold, k, m, told, h, tmp, rhs, ctx);
+  const double* f_old = k;
+  const double* f_new = k + static_cast<std::size_t>(kStages) * m;
+  double* F = dense;
+  for (int i = 0; i < m; ++i) {
+    const double dy = ynew[i] - yold[i];
+    F[i] = dy;
+    F[m + i] = h * f_old[i] - dy;
+    F[2 * m + i] = 2 * dy - h * (f_new[i] + f_old[i]);
+  }
+  constexpr auto all = std::make_index_sequence<kStagesExtended>{};
+  const auto row = [&](int r) { return F + static_cast<std::size_t>(3 + r) * m; };
+  weighted_sum<DenseWeights<0>>(nullptr, k, m, h, row(0), all);
+  weighted_sum<DenseWeights<1>>(nullptr, k, m, h, row(1), all);
+  weighted_sum<DenseWeights<2>>(nullptr, k, m, h, row(2), all);
+  weighted_sum<DenseWeights<3>>(nullptr, k, m, h, row(3), all);
+}
+
+void evaluate_dense(const double* yold, const double* dense, int m, double x, double* out) {
+  static_assert(kInterpolatorPower == 7);
+  const double u = 1.0 - x;
+  const double* F[7];
+  for (int r = 0; r < 7; ++r) F[r] = dense + static_cast<std::size_t>(r) * m;
+  // scipy's Dop853DenseOutput nesting, alternate factors x and 1 − x, in one pass.
+  for (int j = 0; j < m; ++j) {
+    out[j] = yold[j] + x * (F[0][j] + u * (F[1][j] + x * (F[2][j] + u * (F[3][j] +
+             x * (F[4][j] + u * (F[5][j] + x * F[6][j]))))));
+  }
+}
+
+}  // namespace
+}  // namespace PYDRILL_DOP853_VARIANT
+}  // namespace pydrill::detail::dop853
