@@ -51,19 +51,6 @@ struct StageWeights {  // row S of the Butcher matrix
     if constexpr (A[S][J] != 0.0) acc += A[S][J] * k;
   }
 };
-struct SolutionWeights {  // the 8th-order solution
-  template <std::size_t J>
-  static void add(double& acc, double k) {
-    if constexpr (B[J] != 0.0) acc += B[J] * k;
-  }
-};
-template <int R>
-struct DenseWeights {  // row R of the dense-output matrix
-  template <std::size_t J>
-  static void add(double& acc, double k) {
-    if constexpr (D[R][J] != 0.0) acc += D[R][J] * k;
-  }
-};
 
 // out = base + h Σ_{j<N} w_j K_j (base may be null: out = h Σ w_j K_j).
 template <typename W, std::size_t... J>
@@ -92,20 +79,27 @@ void stages(const double* base, double* k, int m, double t0, double h, double* t
 
 inline double magnitude(double v) { return v < 0 ? -v : v; }
 
+// The solution ŷ = y + h Σ b_j K_j and, in the same pass over the stages,
 // Σ_i (e5_i/sc_i)², Σ_i (e3_i/sc_i)² with sc_i = atol + rtol·max(|y_i|, |ŷ_i|).
+// The error weights of f(t + h, ŷ) are zero, so it is not needed yet.
+static_assert(E5[kStages] == 0.0 && E3[kStages] == 0.0);
 template <std::size_t... J>
-void error_sums(const double* k, int m, const double* y, const double* ynew, double rtol,
-                double atol, double* s5, double* s3, std::index_sequence<J...>) {
+void solution_and_error(const double* k, int m, const double* y, double h, double* ynew,
+                        double rtol, double atol, double* s5, double* s3,
+                        std::index_sequence<J...>) {
   const double* rows[] = {k + J * static_cast<std::size_t>(m)...};
   double a5 = 0.0, a3 = 0.0;
   for (int i = 0; i < m; ++i) {
-    double e5 = 0.0, e3 = 0.0;
+    double acc = 0.0, e5 = 0.0, e3 = 0.0;
     (
         [&] {
-          if constexpr (E5[J] != 0.0) e5 += E5[J] * rows[J][i];
-          if constexpr (E3[J] != 0.0) e3 += E3[J] * rows[J][i];
+          const double kj = rows[J][i];
+          if constexpr (B[J] != 0.0) acc += B[J] * kj;
+          if constexpr (E5[J] != 0.0) e5 += E5[J] * kj;
+          if constexpr (E3[J] != 0.0) e3 += E3[J] * kj;
         }(),
         ...);
+    ynew[i] = y[i] + h * acc;
     const double a = magnitude(y[i]), b = magnitude(ynew[i]);
     const double scale = atol + (a > b ? a : b) * rtol;
     a5 += (e5 / scale) * (e5 / scale);
@@ -118,9 +112,37 @@ void error_sums(const double* k, int m, const double* y, const double* ynew, dou
 void trial_step(const double* y, double* k, int m, double t, double h, double* tmp, double* ynew,
                 double rtol, double atol, RhsFn rhs, void* ctx, double* s5, double* s3) {
   stages(y, k, m, t, h, tmp, rhs, ctx, std::make_index_sequence<kStages - 1>{});
-  weighted_sum<SolutionWeights>(y, k, m, h, ynew, std::make_index_sequence<kStages>{});
+  solution_and_error(k, m, y, h, ynew, rtol, atol, s5, s3, std::make_index_sequence<kStages>{});
   rhs(ctx, t + h, ynew, k + static_cast<std::size_t>(kStages) * m);
-  error_sums(k, m, y, ynew, rtol, atol, s5, s3, std::make_index_sequence<kStages + 1>{});
+}
+
+// The 7 rows of the interpolant, all in one pass over the 16 stages.
+template <std::size_t... J>
+void dense_rows(const double* yold, const double* ynew, const double* f_old, const double* f_new,
+                const double* k, int m, double h, double* F, std::index_sequence<J...>) {
+  const double* rows[] = {k + J * static_cast<std::size_t>(m)...};
+  double* out[7];
+  for (int r = 0; r < 7; ++r) out[r] = F + static_cast<std::size_t>(r) * m;
+  for (int i = 0; i < m; ++i) {
+    const double dy = ynew[i] - yold[i];
+    out[0][i] = dy;
+    out[1][i] = h * f_old[i] - dy;
+    out[2][i] = 2 * dy - h * (f_new[i] + f_old[i]);
+    double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0;
+    (
+        [&] {
+          const double kj = rows[J][i];
+          if constexpr (D[0][J] != 0.0) d0 += D[0][J] * kj;
+          if constexpr (D[1][J] != 0.0) d1 += D[1][J] * kj;
+          if constexpr (D[2][J] != 0.0) d2 += D[2][J] * kj;
+          if constexpr (D[3][J] != 0.0) d3 += D[3][J] * kj;
+        }(),
+        ...);
+    out[3][i] = h * d0;
+    out[4][i] = h * d1;
+    out[5][i] = h * d2;
+    out[6][i] = h * d3;
+  }
 }
 
 void prepare_dense(const double* yold, const double* ynew, double* k, int m, double told,
@@ -130,19 +152,8 @@ void prepare_dense(const double* yold, const double* ynew, double* k, int m, dou
   stage<15>(yold, k, m, told, h, tmp, rhs, ctx);
   const double* f_old = k;
   const double* f_new = k + static_cast<std::size_t>(kStages) * m;
-  double* F = dense;
-  for (int i = 0; i < m; ++i) {
-    const double dy = ynew[i] - yold[i];
-    F[i] = dy;
-    F[m + i] = h * f_old[i] - dy;
-    F[2 * m + i] = 2 * dy - h * (f_new[i] + f_old[i]);
-  }
-  constexpr auto all = std::make_index_sequence<kStagesExtended>{};
-  const auto row = [&](int r) { return F + static_cast<std::size_t>(3 + r) * m; };
-  weighted_sum<DenseWeights<0>>(nullptr, k, m, h, row(0), all);
-  weighted_sum<DenseWeights<1>>(nullptr, k, m, h, row(1), all);
-  weighted_sum<DenseWeights<2>>(nullptr, k, m, h, row(2), all);
-  weighted_sum<DenseWeights<3>>(nullptr, k, m, h, row(3), all);
+  dense_rows(yold, ynew, f_old, f_new, k, m, h, dense,
+             std::make_index_sequence<kStagesExtended>{});
 }
 
 void evaluate_dense(const double* yold, const double* dense, int m, double x, double* out) {
