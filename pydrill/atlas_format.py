@@ -93,29 +93,34 @@ class AtlasTable:
         self.coexistence = np.full(shape, -1, dtype="i1")
 
     def apply(self, rec: dict[str, Any]) -> None:
-        idx = np.unravel_index(rec["i"], self.spec.shape)
-        self.status[idx] = STATUS[rec["status"]]
-        self.message[idx] = rec.get("message", "")
+        # Flat views (sharing memory with the grid-shaped arrays) indexed by the point's flat
+        # index: a sweep's client applies every record, on a machine busy with its workers.
+        i = rec["i"]
+        n = self.status.size
+        self.status.reshape(n)[i] = STATUS[rec["status"]]
+        self.message.reshape(n)[i] = rec.get("message", "")
+        runs = rec.get("runs", {})
         for j, init in enumerate(self.spec.initials):
-            run = rec.get("runs", {}).get(init)
+            run = runs.get(init)
             if run is None:
                 continue
-            self.regime[(*idx, j)] = REGIMES[run["regime"]]
+            self.regime.reshape(n, -1)[i, j] = REGIMES[run["regime"]]
             for name, (_, fill, _, _) in RUN_FIELDS.items():
                 v = run.get(name)
-                self.runs[name][(*idx, j)] = fill if v is None else v
+                self.runs[name].reshape(n, -1)[i, j] = fill if v is None else v
         stab = rec.get("stability")
         if stab:
             for name, (_, fill, _, _) in EQ_FIELDS.items():
-                vals = stab.get(name, [])
-                for e in range(N_EQ):
-                    v = vals[e] if e < len(vals) else None
-                    self.eqs[name][(*idx, e)] = fill if v is None else v
+                vals = list(stab.get(name, []))[:N_EQ]
+                row = [fill if v is None else v for v in vals] + [fill] * (N_EQ - len(vals))
+                self.eqs[name].reshape(n, N_EQ)[i] = row
+            k = self.eig.shape[-1]
+            eig = self.eig.reshape(n, N_EQ, k)
             for e, row in enumerate(stab.get("eigenvalues", [])[:N_EQ]):
-                for m, (re, im) in enumerate(row[: self.eig.shape[-1]]):
-                    self.eig[(*idx, e, m)] = complex(re, im)
+                for m, (re, im) in enumerate(row[:k]):
+                    eig[i, e, m] = complex(re, im)
         if rec.get("coexistence") is not None:
-            self.coexistence[idx] = int(rec["coexistence"])
+            self.coexistence.reshape(n)[i] = int(rec["coexistence"])
 
     def missing(self) -> np.ndarray:
         """Flat indices of the points still to compute."""

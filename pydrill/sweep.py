@@ -13,7 +13,7 @@ import json
 import math
 import os
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -112,10 +112,13 @@ def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
 
 def evaluate_batch(
     spec_text: str, indices: list[int], tally_text: str | None = None
-) -> list[dict[str, Any]]:
-    """Worker entry point: plain data in and out (no pickled objects of ours)."""
+) -> tuple[list[dict[str, Any]], str]:
+    """Worker entry point: plain data in and out (no pickled objects of ours). Returns the
+    records and their journal lines: encoding them here keeps that work off the client,
+    which shares the machine with the workers."""
     spec = parse_spec(spec_text, tally_text=tally_text)
-    return [evaluate_point(spec, i) for i in indices]
+    records = [evaluate_point(spec, i) for i in indices]
+    return records, "".join(json.dumps(rec, allow_nan=False) + "\n" for rec in records)
 
 
 @dataclass
@@ -256,13 +259,12 @@ def run_sweep(
     computed = failed = 0
     last_flush = time.perf_counter()
 
-    def absorb(records: Iterable[dict[str, Any]]) -> None:
+    def absorb(batch: tuple[list[dict[str, Any]], str]) -> None:
         nonlocal computed, failed, write_time, last_flush
-        records = list(records)
+        records, lines = batch
         tw = time.perf_counter()
         with jp.open("a") as fh:
-            for rec in records:
-                fh.write(json.dumps(rec, allow_nan=False) + "\n")
+            fh.write(lines)
             fh.flush()
             os.fsync(fh.fileno())
         for rec in records:
