@@ -123,7 +123,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="simulate one operating point and report its regime",
         description="Simulate the string at one (W_ob, u) and judge the regime: steady, "
         "stick-slip, stuck or oscillation. Every stick/slip switch is located exactly by "
-        "CVODES rootfinding.",
+        "rootfinding and the integrator restarts there.",
         epilog=SIMULATE_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -280,7 +280,7 @@ def simulate(
     stiff strings), ``"adams"`` (CVODES) or ``"erk"`` (ARKODE Runge–Kutta 7(8)).
 
     Bad input raises ``ValueError`` naming the parameter; a solver failure raises
-    :class:`pydrill.SolverError` with CVODES's message and the time reached.
+    :class:`pydrill.SolverError` with the integrator's message and the time reached.
 
     >>> r = simulate(wob=100, torque=8.3, dof=4, t_end=300)
     >>> r.regime
