@@ -108,6 +108,7 @@ def build_parser() -> argparse.ArgumentParser:
     from . import PRESETS, __version__
     from .cli_analysis import register_analysis
     from .cli_sweep import register_sweep
+    from .reproduce import register_reproduce
 
     parser = _Parser(
         prog="pydrill",
@@ -199,6 +200,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     register_analysis(sub, PRESETS)
     register_sweep(sub, _positive)
+    register_reproduce(sub)
     return parser
 
 

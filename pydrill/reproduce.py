@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import shutil
 import sys
 import time
@@ -25,79 +24,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import numpy as np
+from .reproduce_atlases import _plain, atlas_numbers, atlas_plan, band, orbits, run_atlas
 
 CACHE_SCHEMA = 1
-
-
-def _range(start: float, stop: float, step: float) -> list[float]:
-    n = round((stop - start) / step) + 1
-    return [round(start + k * step, 10) for k in range(n)]
-
-
-def atlas_plan(quick: bool = False) -> dict[str, dict[str, Any]]:
-    """Every atlas the reproduction needs: name -> sweep settings (``quick``: coarser, and no
-    100- or 500-pipe strings). Fig. 6b's (W_ob, u) grid holds the paper's Section 3 cases
-    (40, 100, 160 N at 8.3 N·m); the Fig. 11 atlases are the diagrams' parameter ranges, both
-    starts, simulated long enough for each string to wind up (its torsional time constant
-    c_r·Σ1/k_i is 30 s for 10 pipes, 250 s for 100, 1240 s for 500)."""
-    s = 2.0 if quick else 1.0
-    plan = {
-        "fig06b": {
-            "model": {"dof": 4},
-            "axes": {
-                "wob": _range(20.0, 200.0, 5.0 * s),
-                "torque": _range(1.3, 16.3, 0.5 * s),
-            },
-            "t_end": 300.0,
-            "parallel": True,
-        },
-    }
-    panels = {"a": (2, "wob"), "b": (2, "torque"), "c": (4, "wob"), "d": (4, "torque")}
-    for panel, (dof, vary) in panels.items():
-        plan[f"fig11{panel}"] = _fig11_atlas({"dof": dof}, vary, panel, s, 300.0)
-    for pipes, t_end, coarse in ((10, 600.0, 1.0), (100, 6000.0, 2.0), (500, 30000.0, 5.0)):
-        if quick and pipes > 10:
-            continue
-        for panel, vary in (("c", "wob"), ("d", "torque")):
-            plan[f"pipes{pipes}-fig11{panel}"] = _fig11_atlas(
-                {"pipes": pipes}, vary, panel, s * coarse, t_end, parallel=pipes >= 100
-            )
-    return plan
-
-
-def _fig11_atlas(model, vary, panel, step, t_end, parallel=False) -> dict[str, Any]:
-    if vary == "wob":
-        fixed, axes = {"torque": 8.1}, {"wob": _range(60.0, 160.0, 2.0 * step)}
-    else:
-        w = 80.0 if panel == "b" else 60.0
-        fixed, axes = {"wob": w}, {"torque": _range(2.0, 12.0, 0.2 * step)}
-    return {
-        "model": {**model, **fixed},
-        "axes": axes,
-        "t_end": t_end,
-        "parallel": parallel,
-    }
-
-
-def spec_text(settings: dict[str, Any]) -> str:
-    """The sweep spec (TOML) of one planned atlas."""
-    lines = ["[model]", 'preset = "reduced-scale"']
-    lines += [f"{k} = {v!r}" for k, v in settings["model"].items()]
-    lines += ["", "[axes]"]
-    lines += [f"{k} = [{', '.join(repr(x) for x in v)}]" for k, v in settings["axes"].items()]
-    lines += [
-        "",
-        "[simulation]",
-        f"t_end = {settings['t_end']!r}",
-        'initial = ["rest", "equilibrium"]',
-        "",
-        "[record]",
-        "stability = true",
-        "eigenvalues = 4",
-        "",
-    ]
-    return "\n".join(lines)
 
 
 class Cache:
@@ -134,90 +63,6 @@ class Cache:
         tmp.replace(path)
         self.computed.append(name)
         return data
-
-
-def _plain(x: Any) -> Any:
-    """JSON-ready: numpy scalars to Python, non-finite floats to None."""
-    if isinstance(x, dict):
-        return {str(k): _plain(v) for k, v in x.items()}
-    if isinstance(x, list | tuple):
-        return [_plain(v) for v in x]
-    if isinstance(x, np.generic):
-        x = x.item()
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    return x
-
-
-def run_atlas(
-    out: Path,
-    name: str,
-    settings: dict[str, Any],
-    *,
-    force: bool,
-    workers: int | None,
-    scheduler: str | None,
-    progress: Callable[[int, int], None] | None = None,
-) -> tuple[Path, str]:
-    """The atlas ``name`` in ``out/atlases``: reused if it holds this spec, computed by this
-    pydrill version and complete; resumed if interrupted; recomputed otherwise."""
-    from . import __version__
-    from .atlas import Atlas
-    from .spec import parse_spec
-    from .sweep import AtlasError, run_sweep
-
-    spec = parse_spec(spec_text(settings))
-    path = out / "atlases" / f"{name}.h5"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    journal = path.with_name(path.name + ".journal")
-    resume = False
-    if path.exists() and not force:
-        try:
-            with Atlas(path) as atlas:
-                same = atlas.spec.digest == spec.digest and atlas.version == __version__
-                done = atlas.summary()["status"]["missing"] == 0
-            if same and done and not journal.exists():
-                return path, "reused"
-            resume = same
-        except AtlasError:
-            resume = False
-    if not resume or force:
-        path.unlink(missing_ok=True)
-        journal.unlink(missing_ok=True)
-    run_sweep(
-        spec,
-        path,
-        workers=workers,
-        scheduler=scheduler,
-        resume=resume,
-        progress=progress,
-        serial=not settings["parallel"] and scheduler is None,
-    )
-    return path, "resumed" if resume else "computed"
-
-
-def atlas_numbers(path: Path) -> dict[str, Any]:
-    """What an atlas says, as plain data: its axes, and per start the regime and the bit's
-    velocity range at every point (1-D atlases) or the regime grid (2-D)."""
-    from .atlas import Atlas
-
-    with Atlas(path) as atlas:
-        f = atlas._f  # the arrays, read once
-        data: dict[str, Any] = {
-            "axes": {k: v.tolist() for k, v in atlas.axes.items()},
-            "fixed": atlas.spec.fixed,
-            "dof": atlas.spec.params_at(atlas.spec.coords(0)).dof,
-            "t_end": atlas.spec.simulation["t_end"],
-            "summary": atlas.summary()["regimes"],
-            "initials": atlas.initials,
-        }
-        for j, init in enumerate(atlas.initials):
-            data[init] = {
-                "regime": atlas.regimes(init).tolist(),
-                **{k: f[k][..., j].tolist() for k in ("bit_min", "bit_max", "period")},
-            }
-        data["unstable"] = f["unstable"][..., 0].tolist()
-    return _plain(data)
 
 
 def reproduce(
@@ -308,6 +153,12 @@ def reproduce(
         atlases[name] = how
         numbers[f"atlas_{name}"] = atlas_numbers(path)
         bar.update()
+    numbers["fig06b_band"] = band(numbers["atlas_fig06b"])
+    for name in plan:
+        if "fig11" in name:
+            source = name.replace("-fig11", "/fig11").split("/")
+            b = numbers[source[0]][source[1]] if len(source) == 2 else numbers[name]
+            numbers[f"orbits_{name}"] = orbits(numbers[f"atlas_{name}"], b)
     step("drawing the figures")
     figures = draw_simulations(out, numbers, runs)
     figures += draw_analysis(out, numbers, pipes)

@@ -1,0 +1,485 @@
+"""Figures of the reproduction's analysis: the paper's Figs. 6b, 10, 11, 12, and their analogues
+for long strings with the multiple Hopf crossings and their criticality."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .model import preset
+from .operating import hopf_curve_wu, operating_map
+from .plot import REGIME_COLORS, plt, save
+from .stability import boundary_wob
+
+SUB, SUPER, FOLD, SLIDE = "#c0392b", "#27ae60", "#1f618d", "black"
+REGIME_ORDER = ("steady", "stick-slip", "stuck", "oscillation", "no-steady-state")
+
+
+def _regime_image(ax, x, y, regimes) -> None:
+    from matplotlib.colors import ListedColormap
+
+    codes = np.vectorize(lambda r: REGIME_ORDER.index(r) if r in REGIME_ORDER else 4)(
+        np.asarray(regimes, dtype=object)
+    )
+    colors = [REGIME_COLORS[r] for r in REGIME_ORDER[:4]] + ["#d6eaf8"]
+    ax.pcolormesh(
+        x,
+        y,
+        codes.T,
+        cmap=ListedColormap(colors),
+        vmin=-0.5,
+        vmax=4.5,
+        shading="nearest",
+        alpha=0.55,
+        rasterized=True,
+    )
+
+
+def fig6b(out: Path, numbers: dict[str, Any]) -> Path:
+    from matplotlib.patches import Patch
+
+    a = numbers["atlas_fig06b"]
+    wob, torque = np.array(a["axes"]["wob"]), np.array(a["axes"]["torque"])
+    p = preset("reduced-scale", dof=4)
+    fig, axes = plt.subplots(1, 2, figsize=(14, 6), layout="constrained", sharey=True)
+    for ax, init, title in zip(
+        axes,
+        ("rest", "equilibrium"),
+        ("(a) started from rest", "(b) started near the steady state"),
+        strict=True,
+    ):
+        _regime_image(ax, wob, torque, a[init]["regime"])
+        w = np.linspace(0, wob.max() * 1.02, 100)
+        ax.plot(
+            w, p.static_torque(w), color=SLIDE, lw=2, label="$u^+ = \\mu_{sb} R_b W_{ob}$ (Eq. 38)"
+        )
+        for case, (ww, uu) in {
+            "Fig. 9": (40, 8.3),
+            "Fig. 4": (100, 8.3),
+            "Fig. 7": (160, 8.3),
+        }.items():
+            ax.plot(ww, uu, "o", mfc="white", mec="black", ms=8)
+            ax.annotate(case, (ww, uu), xytext=(5, 6), textcoords="offset points", fontsize=9)
+        ax.set_xlim(wob.min() - 2.5, wob.max() + 2.5)
+        ax.set_ylim(torque.min() - 0.25, torque.max() + 0.25)
+        ax.set_xlabel("weight on bit $W_{ob}$ (N)")
+        ax.set_title(title, fontsize=10)
+    axes[0].set_ylabel("surface torque u (N·m)")
+    handles = [Patch(color=REGIME_COLORS[r], alpha=0.55, label=r) for r in REGIME_ORDER[:4]]
+    handles.append(Patch(color="#d6eaf8", label="no steady state to start from"))
+    handles += axes[0].get_legend_handles_labels()[0]
+    axes[1].legend(handles=handles, fontsize=9, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    s = numbers["fig06b_band"]
+    fig.suptitle(
+        "Fig. 6(b) — where the bit sticks and slips: a band along $u^+ = \\mu_{sb} R_b W_{ob}$ "
+        f"(n = 8, {len(wob) * len(torque)} simulations × 2 starts; at u = 8.3 N·m stick-slip "
+        f"for {s['wob_lo']:g}–{s['wob_hi']:g} N, $W^*_{{ob}}$ = {s['wob_star']:.2f} N)",
+        fontweight="bold",
+        fontsize=11,
+    )
+    return save(fig, out / "fig06b_regime_map.png")
+
+
+def fig10(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> Path:
+    fig, axes = plt.subplots(1, 2, figsize=(14, 6), layout="constrained")
+    for ax, key, name, w_max in (
+        (axes[0], "fig10a", "reduced-scale", 10.0),
+        (axes[1], "fig10b", "real-string", 6.0),
+    ):
+        n = numbers[key]
+        p = preset(name, dof=2)
+        omega = np.linspace(0, w_max, 400)
+        h2 = boundary_wob(p, n["h2_delta"], omega)
+        h1 = boundary_wob(p, n["h1_delta"], omega)
+        fold = boundary_wob(p, n["fold_delta"], omega)
+        scale = 1e-3 if name == "real-string" else 1.0
+        ax.fill_between(
+            omega, h2 * 1e-6 * scale, h2 * scale, color="#abebc6", label="stable steady state"
+        )
+        ax.plot(
+            omega,
+            h2 * scale,
+            color=SUB,
+            lw=2.4,
+            label=f"$\\mathcal{{H}}_2$: Hopf locus, δ = {n['h2_delta']:.5g} "
+            f"({n['h2_frequency']:.3g} rad/s, "
+            f"{'subcritical' if n['lyapunov_h2'] > 0 else 'supercritical'})",
+        )
+        ax.plot(
+            omega,
+            fold * scale,
+            ":",
+            color=FOLD,
+            lw=1.6,
+            label=f"$a_0 = 0$ (fold): δ = $c_r + c_b$ = {n['fold_delta']:.4g}",
+        )
+        ax.plot(
+            omega,
+            h1 * scale,
+            "--",
+            color="#7d3c98",
+            lw=1.6,
+            label=f"$\\mathcal{{H}}_1$: Δ₂ = 0 outside $\\mathcal{{H}}_+$, δ = {n['h1_delta']:.4g}",
+        )
+        if name == "reduced-scale":
+            for k, pp in enumerate(pipes):
+                d = numbers[f"pipes{pp}"]["summary"]["first"]["delta"]
+                ax.plot(
+                    omega,
+                    boundary_wob(p, d, omega),
+                    color="0.35",
+                    lw=0.9,
+                    ls=(0, (1 + k, 2)),
+                    label=f"first Hopf curve, {pp} pipes: δ = {d:.4g}",
+                )
+        ax.set_yscale("log")
+        ax.set_xlim(0, w_max)
+        ax.set_ylim(h2[0] * scale / 3, h2[-1] * scale * 3)
+        ax.set_xlabel("steady rotary velocity Ω (rad/s)")
+        ax.set_ylabel("weight on bit $W_{ob}$ (" + ("kN" if scale != 1.0 else "N") + ")")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8, loc="upper left")
+        ax.set_title(
+            "(a) laboratory string, Eq. (14)"
+            if name == "reduced-scale"
+            else "(b) real string, Eq. (53)",
+            fontsize=10,
+        )
+    fig.suptitle(
+        "Fig. 10 — (Ω, $W_{ob}$) where steady drilling is stable, n' = 3: below $\\mathcal{H}_2$ "
+        "(Δ₂ = a₂a₁ − a₀ = 0; the paper's printed Δ₂ = a₁ − a₂ − a₀ has no root)",
+        fontweight="bold",
+        fontsize=11,
+    )
+    return save(fig, out / "fig10_stability_region.png")
+
+
+def _draw_branch(ax, b: dict[str, Any], labels: bool) -> None:
+    """Steady states (stable thick, unstable thin dashed) with their HB and LP points."""
+    x = np.array(b["branch"]["x"])
+    omega = np.array(b["branch"]["omega"])
+    stable = np.array(b["branch"]["unstable"]) == 0
+    ax.plot(x, np.where(stable, omega, np.nan), color=FOLD, lw=3, label="stable steady state")
+    ax.plot(
+        x,
+        np.where(~stable, omega, np.nan),
+        "--",
+        color="#922b21",
+        lw=1.2,
+        label="unstable steady state",
+    )
+    key = "wob" if b["vary"] == "wob" else "torque"
+    hb = sorted((pt for pt in b["points"] if pt["type"] == "HB"), key=lambda q: -q["omega"])
+    for i, pt in enumerate(hb):
+        color = SUB if pt["criticality"] == "subcritical" else SUPER
+        ax.plot(pt[key], pt["omega"], "s", color=color, ms=6, zorder=6)
+        if labels and i < 6:
+            ax.annotate(
+                f"HB{i + 1}",
+                (pt[key], pt["omega"]),
+                xytext=(7, 5 - 10 * (i % 3)),
+                textcoords="offset points",
+                fontsize=7,
+                color=color,
+            )
+    if b["other_hopf"]:
+        ox, oy = np.array(b["other_hopf"]).T
+        ax.plot(
+            ox,
+            oy,
+            "s",
+            color="0.5",
+            ms=3,
+            zorder=5,
+            label=f"{len(ox)} further Hopf points (criticality not computed)",
+        )
+    if b["fold"]:
+        ax.plot(b["fold"][key], b["fold"]["omega"], "D", color="black", ms=6, zorder=6)
+        if labels:
+            ax.annotate(
+                "LP",
+                (b["fold"][key], b["fold"]["omega"]),
+                xytext=(6, -10),
+                textcoords="offset points",
+                fontsize=8,
+            )
+
+
+def _branch_panel(ax, b: dict[str, Any], atlas: dict[str, Any] | None, letter: str) -> None:
+    """One bifurcation diagram: the branch, the attractors the simulations found (the paper's
+    circles), and an inset around the Hopf and fold points."""
+    _draw_branch(ax, b, labels=False)
+    key = "wob" if b["vary"] == "wob" else "torque"
+    special = [pt for pt in b["points"]] + ([b["fold"]] if b["fold"] else [])
+    if special:
+        xs = [pt[key] for pt in special]
+        pad = max(0.15 * (max(xs) - min(xs)), 0.01 * max(xs))
+        top = max(pt["omega"] for pt in special)
+        where = [0.5, 0.4, 0.47, 0.42] if key == "wob" else [0.08, 0.5, 0.4, 0.42]
+        ins = ax.inset_axes(where)
+        _draw_branch(ins, b, labels=True)
+        ins.set_xlim(min(xs) - pad, max(xs) + 2 * pad)
+        ins.set_ylim(-0.3, top * 1.25 + 0.3)
+        ins.tick_params(labelsize=7)
+        ins.grid(alpha=0.3)
+        ins.set_title("Hopf and fold points", fontsize=7)
+        ax.indicate_inset_zoom(ins, edgecolor="0.4")
+    if atlas is not None:
+        ax_x = np.array(atlas["axes"][key])
+        for init, marker, label in (("rest", "o", "from rest"), ("equilibrium", "^", "from Ω")):
+            reg = np.array(atlas[init]["regime"], dtype=object)
+            top = np.array(atlas[init]["bit_max"], dtype=float)
+            osc = (reg == "stick-slip") | (reg == "oscillation")
+            ax.plot(
+                ax_x[osc],
+                top[osc],
+                marker,
+                mfc="none",
+                mec="#d35400",
+                ms=6,
+                label=f"periodic orbit {label}: max $\\dot\\varphi_b$",
+            )
+            stuck = reg == "stuck"
+            ax.plot(
+                ax_x[stuck],
+                np.zeros(stuck.sum()),
+                marker,
+                color="0.45",
+                ms=4,
+                label=f"stuck bit {label}" if stuck.any() else None,
+            )
+        ax.set_xlim(ax_x.min(), ax_x.max())
+    ax.plot([], [], "s", color=SUB, label="Hopf point, subcritical ($l_1$ > 0)")
+    ax.plot([], [], "D", color="black", label="limit point (fold)")
+    ax.set_ylim(bottom=-1.5)
+    ax.set_xlabel("weight on bit $W_{ob}$ (N)" if key == "wob" else "surface torque u (N·m)")
+    ax.set_ylabel("bit velocity (rad/s)")
+    ax.grid(alpha=0.3)
+    fixed = f"u = {b['fixed']:g} N·m" if key == "wob" else f"$W_{{ob}}$ = {b['fixed']:g} N"
+    first = b["first_hopf"]
+    text = ""
+    if first:
+        text = (
+            f"; HB1 at {first[key]:.5g} {'N' if key == 'wob' else 'N·m'}, "
+            f"$l_1$ = {first['lyapunov']:.2g}"
+            if first["lyapunov"] is not None
+            else ""
+        )
+    ax.set_title(f"({letter}) n' = {2 * b['dof'] - 1} (dof {b['dof']}), {fixed}{text}", fontsize=10)
+
+
+def fig11(out: Path, numbers: dict[str, Any]) -> Path:
+    fig, axes = plt.subplots(2, 2, figsize=(15, 10.5), layout="constrained")
+    for ax, letter in zip(axes.ravel(), "abcd", strict=True):
+        _branch_panel(ax, numbers[f"fig11{letter}"], numbers.get(f"atlas_fig11{letter}"), letter)
+    axes[0, 1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.suptitle(
+        "Fig. 11 — bifurcation diagrams of steady drilling (Eq. 14): Hopf points (squares) with "
+        "their criticality;\nstick-slip (circles) coexists with the stable branch below HB1",
+        fontweight="bold",
+    )
+    return save(fig, out / "fig11_bifurcation.png")
+
+
+def fig11_long(out: Path, numbers: dict[str, Any], pipes: int) -> Path:
+    n = numbers[f"pipes{pipes}"]
+    fig, axes = plt.subplots(1, 2, figsize=(15, 5.8), layout="constrained")
+    for ax, letter in zip(axes, "cd", strict=True):
+        _branch_panel(
+            ax, n[f"fig11{letter}"], numbers.get(f"atlas_pipes{pipes}-fig11{letter}"), letter
+        )
+    axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    s = n["summary"]
+    fig.suptitle(
+        f"Fig. 11 (c, d) for {pipes} drill pipes (dof {s['dof']}, n' = {s['n_prime']}): "
+        f"{s['hopf']} Hopf crossings, up to {s['max_unstable']} unstable eigenvalues",
+        fontweight="bold",
+    )
+    return save(fig, out / f"fig11_pipes{pipes}.png")
+
+
+def _hopf_wu(ax, p, curves, fold_delta, wob_max, torque_max, first_only=False) -> None:
+    omega = np.linspace(1e-4, 80.0, 4000)
+    shown = 0
+    for c in curves:
+        w, u = hopf_curve_wu(p, c["delta"], omega)
+        keep = (w <= wob_max * 1.1) & (u <= torque_max * 1.1)
+        if not keep.any():
+            continue
+        first = shown == 0 and c["direction"] > 0
+        if first_only and not first:
+            ax.plot(w[keep], u[keep], color="#922b21", lw=0.5, alpha=0.4)
+            continue
+        color = SUB if (c["lyapunov"] or 0) > 0 else (SUPER if c["lyapunov"] else "0.5")
+        l1 = f", $l_1$ = {c['lyapunov']:.2g}" if c["lyapunov"] is not None else ""
+        ax.plot(
+            w[keep],
+            u[keep],
+            color=color,
+            lw=2.4 if first else 1.2,
+            ls="-" if c["direction"] > 0 else "-.",
+            label=f"HB{shown + 1}: δ = {c['delta']:.4g}, {c['frequency']:.3g} rad/s{l1}"
+            + ("" if c["direction"] > 0 else " (restabilising)"),
+        )
+        shown += 1
+    if fold_delta:
+        w, u = hopf_curve_wu(p, fold_delta, omega)
+        keep = (w <= wob_max * 1.1) & (u <= torque_max * 1.1)
+        ax.plot(w[keep], u[keep], ":", color=FOLD, lw=2, label="fold (LP): δ = $c_r + c_b$")
+    wob = np.linspace(0, wob_max, 50)
+    ax.plot(
+        wob,
+        p.static_torque(wob),
+        color=SLIDE,
+        lw=1.5,
+        label="$u^+ = \\mu_{sb} R_b W_{ob}$ (Fig. 6b)",
+    )
+    ax.set_xlim(0, wob_max)
+    ax.set_ylim(0, torque_max)
+    ax.set_xlabel("weight on bit $W_{ob}$ (N)")
+    ax.set_ylabel("surface torque u (N·m)")
+    ax.grid(alpha=0.3)
+
+
+def fig12(out: Path, numbers: dict[str, Any]) -> Path:
+    fig, axes = plt.subplots(1, 2, figsize=(15, 6.2), layout="constrained", sharey=True)
+    for ax, dof, letter in ((axes[0], 2, "a"), (axes[1], 4, "b")):
+        p = preset("reduced-scale", dof=dof)
+        f12 = numbers["strings"][f"dof{dof}"]["fig12"]
+        wob, torque = np.linspace(1, 200, 160), np.linspace(0.1, 16, 160)
+        om = operating_map(p, wob, torque)
+        stable = (om.category <= 1).astype(float)
+        ax.contourf(wob, torque, stable, levels=[0.5, 1.5], colors=["#d5f5e3"])
+        if dof == 4 and "atlas_fig06b" in numbers:
+            a = numbers["atlas_fig06b"]
+            reg = np.array(a["rest"]["regime"], dtype=object)
+            ww, uu = np.meshgrid(a["axes"]["wob"], a["axes"]["torque"], indexing="ij")
+            ss = reg == "stick-slip"
+            ax.plot(
+                ww[ss],
+                uu[ss],
+                ".",
+                color="#e67e22",
+                ms=4,
+                label="stick-slip from rest (atlas of Fig. 6b)",
+            )
+        _hopf_wu(ax, p, f12["curves"], f12["fold_delta"], 200, 16)
+        ax.plot([], [], color="#d5f5e3", lw=8, label="a stable steady state exists")
+        ax.legend(fontsize=8, loc="upper left")
+        ax.set_title(f"({letter}) n' = {2 * dof - 1} (dof {dof})", fontsize=10)
+    fig.suptitle(
+        "Fig. 12 — (W_ob, u) at which a Hopf point appears (Eq. 14): one curve per critical "
+        "slope δ_k, each of one criticality",
+        fontweight="bold",
+    )
+    return save(fig, out / "fig12_hopf_wob_torque.png")
+
+
+def fig12_long(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> Path:
+    fig, axes = plt.subplots(
+        1, len(pipes), figsize=(6 * len(pipes), 6), layout="constrained", sharey=True, squeeze=False
+    )
+    base = numbers["strings"]["dof2"]["fig12"]["curves"][0]["delta"]
+    for ax, pp in zip(axes[0], pipes, strict=True):
+        n = numbers[f"pipes{pp}"]
+        p = preset("reduced-scale", pipes=pp)
+        _hopf_wu(ax, p, n["fig12"]["curves"], n["fig12"]["fold_delta"], 200, 16, first_only=True)
+        w, u = hopf_curve_wu(p, base, np.linspace(1e-4, 80, 4000))
+        keep = (w < 220) & (u < 17.6)
+        ax.plot(w[keep], u[keep], "--", color="0.2", lw=1.2, label="first Hopf curve of n' = 3")
+        ax.plot([], [], color="#922b21", lw=0.5, label="further Hopf curves")
+        ax.legend(fontsize=8, loc="upper left")
+        s = n["summary"]
+        ax.set_title(f"{pp} pipes (n' = {s['n_prime']}): {s['hopf']} Hopf curves", fontsize=10)
+    fig.suptitle(
+        "Fig. 12 for long strings: the first Hopf curve bounds stable drilling; the "
+        "others lie just beyond it",
+        fontweight="bold",
+    )
+    return save(fig, out / "fig12_long_strings.png")
+
+
+def multiple_hopf(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> Path:
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(15, 6), layout="constrained")
+    strings = [("dof 4 (n' = 7)", numbers["strings"]["dof4"])]
+    strings += [
+        (f"{pp} pipes (n' = {numbers[f'pipes{pp}']['summary']['n_prime']})", numbers[f"pipes{pp}"])
+        for pp in pipes
+    ]
+    markers = "osD^v"
+    n_sub = n_all = 0
+    for k, (label, d) in enumerate(strings):
+        curves = d["fig12"]["curves"]
+        delta = np.array([c["delta"] for c in curves])
+        freq = np.array([c["frequency"] for c in curves])
+        l1 = np.array([np.nan if c["lyapunov"] is None else c["lyapunov"] for c in curves])
+        destab = np.array([c["direction"] > 0 for c in curves])
+        color = plt.cm.viridis(k / max(len(strings) - 1, 1))
+        ax.scatter(
+            delta[destab],
+            freq[destab],
+            marker=markers[k],
+            color=color,
+            s=18,
+            label=f"{label}: {len(curves)} Hopf",
+        )
+        ax.scatter(
+            delta[~destab],
+            freq[~destab],
+            marker=markers[k],
+            facecolor="none",
+            edgecolor=color,
+            s=18,
+        )
+        pos, neg = np.isfinite(l1) & (l1 > 0), np.isfinite(l1) & (l1 < 0)
+        ax2.scatter(freq[pos], l1[pos], marker=markers[k], color=color, s=18, label=label)
+        if neg.any():
+            ax2.scatter(
+                freq[neg],
+                -l1[neg],
+                marker=markers[k],
+                facecolor="none",
+                edgecolor=SUPER,
+                s=60,
+                lw=1.5,
+                label=f"{label}: |l₁| of a supercritical crossing (l₁ < 0)",
+            )
+        n_sub += int(pos.sum())
+        n_all += int(pos.sum() + neg.sum())
+    ax.set_xscale("log")
+    ax.set_xlabel("critical Stribeck slope $\\delta_k$ (N·m·s/rad)")
+    ax.set_ylabel("Hopf frequency $\\omega_k$ (rad/s)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=9, loc="upper right")
+    ax.set_title(
+        "(a) every Hopf crossing (filled: destabilising as δ grows, open: restabilising)",
+        fontsize=10,
+    )
+    ax2.set_yscale("log")
+    ax2.set_xlabel("Hopf frequency $\\omega_k$ (rad/s)")
+    ax2.set_ylabel("first Lyapunov coefficient |$l_1$| (filled: $l_1$ > 0, subcritical)")
+    ax2.grid(alpha=0.3, which="both")
+    ax2.legend(fontsize=9)
+    ax2.set_title(
+        f"(b) criticality: {n_sub} of {n_all} computed Hopf crossings are subcritical", fontsize=10
+    )
+    fig.suptitle(
+        "Multiple Hopf crossings for n' > 3 (the paper: 'untractable') and their "
+        "criticality (not in the paper)",
+        fontweight="bold",
+    )
+    return save(fig, out / "hopf_multiple_criticality.png")
+
+
+def draw_analysis(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> list[Path]:
+    paths = [
+        fig6b(out, numbers),
+        fig10(out, numbers, pipes),
+        fig11(out, numbers),
+        fig12(out, numbers),
+    ]
+    paths += [fig11_long(out, numbers, pp) for pp in pipes]
+    paths += [fig12_long(out, numbers, pipes), multiple_hopf(out, numbers, pipes)]
+    return paths
