@@ -52,15 +52,15 @@ struct StageWeights {  // row S of the Butcher matrix
   }
 };
 
-// out = base + h Σ_{j<N} w_j K_j (base may be null: out = h Σ w_j K_j).
+// out = base + h Σ_{j<N} w_j K_j.
 template <typename W, std::size_t... J>
 void weighted_sum(const double* base, const double* k, int m, double h, double* __restrict__ out,
                   std::index_sequence<J...>) {
-  const double* rows[] = {k + J * static_cast<std::size_t>(m)...};
+  const double* const rows[] = {k + J * static_cast<std::size_t>(m)...};
   for (int i = 0; i < m; ++i) {
     double acc = 0.0;
     (W::template add<J>(acc, rows[J][i]), ...);
-    out[i] = base ? base[i] + h * acc : h * acc;
+    out[i] = base[i] + h * acc;
   }
 }
 
@@ -87,7 +87,7 @@ template <std::size_t... J>
 void solution_and_error(const double* k, int m, const double* y, double h, double* ynew,
                         double rtol, double atol, double* s5, double* s3,
                         std::index_sequence<J...>) {
-  const double* rows[] = {k + J * static_cast<std::size_t>(m)...};
+  const double* const rows[] = {k + J * static_cast<std::size_t>(m)...};
   double a5 = 0.0, a3 = 0.0;
   for (int i = 0; i < m; ++i) {
     double acc = 0.0, e5 = 0.0, e3 = 0.0;
@@ -120,14 +120,22 @@ void trial_step(const double* y, double* k, int m, double t, double h, double* t
 template <std::size_t... J>
 void dense_rows(const double* yold, const double* ynew, const double* f_old, const double* f_new,
                 const double* k, int m, double h, double* F, std::index_sequence<J...>) {
-  const double* rows[] = {k + J * static_cast<std::size_t>(m)...};
-  double* out[7];
-  for (int r = 0; r < 7; ++r) out[r] = F + static_cast<std::size_t>(r) * m;
+  const double* const rows[] = {k + J * static_cast<std::size_t>(m)...};
+  const auto at = [&](int r) { return F + static_cast<std::size_t>(r) * m; };
+  double* __restrict__ o0 = at(0);
+  double* __restrict__ o1 = at(1);
+  double* __restrict__ o2 = at(2);
+  double* __restrict__ o3 = at(3);
+  double* __restrict__ o4 = at(4);
+  double* __restrict__ o5 = at(5);
+  double* __restrict__ o6 = at(6);
   for (int i = 0; i < m; ++i) {
     const double dy = ynew[i] - yold[i];
-    out[0][i] = dy;
-    out[1][i] = h * f_old[i] - dy;
-    out[2][i] = 2 * dy - h * (f_new[i] + f_old[i]);
+    o0[i] = dy;
+    o1[i] = h * f_old[i] - dy;
+    o2[i] = 2 * dy - h * (f_new[i] + f_old[i]);
+  }
+  for (int i = 0; i < m; ++i) {
     double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0;
     (
         [&] {
@@ -138,10 +146,10 @@ void dense_rows(const double* yold, const double* ynew, const double* f_old, con
           if constexpr (D[3][J] != 0.0) d3 += D[3][J] * kj;
         }(),
         ...);
-    out[3][i] = h * d0;
-    out[4][i] = h * d1;
-    out[5][i] = h * d2;
-    out[6][i] = h * d3;
+    o3[i] = h * d0;
+    o4[i] = h * d1;
+    o5[i] = h * d2;
+    o6[i] = h * d3;
   }
 }
 
