@@ -6,6 +6,11 @@
 #include <memory>
 #include <sstream>
 
+#if defined(__SSE2__) || defined(_M_X64)
+#include <xmmintrin.h>
+#define PYDRILL_HAVE_MXCSR 1
+#endif
+
 #include "integrator.hpp"
 #include "pydrill/equilibrium.hpp"
 #include "summary.hpp"
@@ -311,7 +316,24 @@ void Run::restart(double t) {
   ++res_.stats.reinits;
 }
 
+// Subnormal numbers flushed to zero while a simulation runs (this thread only,
+// restored after). A string started from rest winds up from its top: ahead of
+// the torsional wave the states are exponentially small, and arithmetic on
+// subnormals costs ~100x: measured, 200 pipes from rest ran 2x slower per step
+// than from equilibrium. Nothing below 2e-308 matters at any tolerance.
+class FlushSubnormals {
+ public:
+#ifdef PYDRILL_HAVE_MXCSR
+  FlushSubnormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040); }  // FTZ | DAZ
+  ~FlushSubnormals() { _mm_setcsr(saved_); }
+
+ private:
+  unsigned saved_;
+#endif
+};
+
 Result Run::run() {
+  const FlushSubnormals flush;
   const double t_end = opt_.t_end;
   std::vector<double> tout = opt_.t_out;
   if (tout.empty()) {
