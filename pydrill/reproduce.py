@@ -24,7 +24,15 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .reproduce_atlases import _plain, atlas_numbers, atlas_plan, band, orbits, run_atlas
+from .reproduce_atlases import (
+    _plain,
+    atlas_numbers,
+    atlas_plan,
+    band,
+    hopf_meets_band,
+    orbits,
+    run_atlas,
+)
 
 CACHE_SCHEMA = 1
 
@@ -154,6 +162,9 @@ def reproduce(
         numbers[f"atlas_{name}"] = atlas_numbers(path)
         bar.update()
     numbers["fig06b_band"] = band(numbers["atlas_fig06b"])
+    numbers["fig12_meets_band"] = hopf_meets_band(
+        numbers["atlas_fig06b"], numbers["strings"]["dof4"]["fig12"]["curves"][0]["delta"]
+    )
     for name in plan:
         if "fig11" in name:
             source = name.replace("-fig11", "/fig11").split("/")

@@ -261,3 +261,37 @@ def orbits(a: dict[str, Any], branch: dict[str, Any]) -> dict[str, Any]:
     else:
         out["end"] = None
     return _plain(out)
+
+
+def hopf_meets_band(a: dict[str, Any], delta: float) -> dict[str, Any]:
+    """Where the first Hopf curve δ(Ω, W_ob) = δ crosses the sliding line u = T_s(W_ob), and the
+    W_ob columns of the Fig. 6b atlas whose cell nearest to the curve is stick-slip from rest
+    (the paper: the Hopf set of Fig. 12 intersects the stick-slip region Δ of Fig. 6b)."""
+    from .model import preset
+    from .operating import hopf_curve_wu
+
+    p = preset("reduced-scale", dof=a["dof"])
+    w_ax, u_ax = np.array(a["axes"]["wob"]), np.array(a["axes"]["torque"])
+    rest = np.array(a["rest"]["regime"], dtype=object)
+    w, u = hopf_curve_wu(p, delta, np.linspace(1e-4, 60.0, 60001))
+    order = np.argsort(w)
+    w, u = w[order], u[order]
+    above = u - p.static_torque(w)
+    flips = np.nonzero(np.sign(above[1:]) != np.sign(above[:-1]))[0]
+    hits = []
+    for i, wi in enumerate(w_ax):
+        if wi < w[0] or wi > w[-1]:
+            continue
+        uh = float(np.interp(wi, w, u))
+        if (
+            u_ax.min() <= uh <= u_ax.max()
+            and rest[i, int(np.argmin(np.abs(u_ax - uh)))] == "stick-slip"
+        ):
+            hits.append(float(wi))
+    return _plain(
+        {
+            "crosses_line_at": float(w[flips[0]]) if len(flips) else None,
+            "stick_slip_wob": hits,
+            "columns": len(w_ax),
+        }
+    )

@@ -175,7 +175,7 @@ def _draw_branch(ax, b: dict[str, Any], labels: bool) -> None:
     for i, pt in enumerate(hb):
         color = SUB if pt["criticality"] == "subcritical" else SUPER
         ax.plot(pt[key], pt["omega"], "s", color=color, ms=6, zorder=6)
-        if labels and i < 6:
+        if labels and (i == 0 or len(hb) <= 4):
             ax.annotate(
                 f"HB{i + 1}",
                 (pt[key], pt["omega"]),
@@ -252,6 +252,8 @@ def _branch_panel(ax, b: dict[str, Any], atlas: dict[str, Any] | None, letter: s
             )
         ax.set_xlim(ax_x.min(), ax_x.max())
     ax.plot([], [], "s", color=SUB, label="Hopf point, subcritical ($l_1$ > 0)")
+    if any(pt["criticality"] == "supercritical" for pt in b["points"]):
+        ax.plot([], [], "s", color=SUPER, label="Hopf point, supercritical ($l_1$ < 0)")
     ax.plot([], [], "D", color="black", label="limit point (fold)")
     ax.set_ylim(bottom=-1.5)
     ax.set_xlabel("weight on bit $W_{ob}$ (N)" if key == "wob" else "surface torque u (N·m)")
@@ -416,7 +418,7 @@ def multiple_hopf(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) ->
         freq = np.array([c["frequency"] for c in curves])
         l1 = np.array([np.nan if c["lyapunov"] is None else c["lyapunov"] for c in curves])
         destab = np.array([c["direction"] > 0 for c in curves])
-        color = plt.cm.viridis(k / max(len(strings) - 1, 1))
+        color = ("#1f618d", "#d35400", "#7d3c98", "#117a65", "#b7950b")[k % 5]
         ax.scatter(
             delta[destab],
             freq[destab],
@@ -448,6 +450,13 @@ def multiple_hopf(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) ->
             )
         n_sub += int(pos.sum())
         n_all += int(pos.sum() + neg.sum())
+    ax.axvline(
+        numbers["fig10a"]["fold_delta"],
+        color=FOLD,
+        ls=":",
+        lw=1.5,
+        label="fold: δ = $c_r + c_b$ (every string)",
+    )
     ax.set_xscale("log")
     ax.set_xlabel("critical Stribeck slope $\\delta_k$ (N·m·s/rad)")
     ax.set_ylabel("Hopf frequency $\\omega_k$ (rad/s)")

@@ -220,6 +220,23 @@ def _fig11_criticality(n: dict[str, Any]) -> str:
     return f"Of the {len(hb)} Hopf points on the four diagrams, {sub} are subcritical (l₁ > 0)."
 
 
+def _fig12_text(n: dict[str, Any]) -> str:
+    m = n.get("fig12_meets_band")
+    if not m:
+        return ""
+    return (
+        f"The first Hopf curve crosses the sliding line u = μ_sb R_b W_ob at W_ob ≈ "
+        f"{g(m['crosses_line_at'], 3)} N and runs below it beyond (u < T_s: there the bit may "
+        f"also stay stuck). On the Fig. 6b grid it passes through stick-slip cells (from rest) "
+        f"at {len(m['stick_slip_wob'])} of {m['columns']} W_ob columns "
+        f"({', '.join(g(w, 3) for w in m['stick_slip_wob'][:8]) or 'none'} N): the Hopf set "
+        "and the stick-slip region Δ "
+        + ("do intersect, as the paper says" if m["stick_slip_wob"] else "do not intersect here")
+        + ", but mostly they lie on opposite sides of the line — steady drilling is lost to "
+        "the Hopf points below the line, and stick-slip from rest lives above it."
+    )
+
+
 def _fig12(n: dict[str, Any]) -> list[str]:
     lines = [
         "## Fig. 12 — (W_ob, u) at which Hopf points appear",
@@ -246,8 +263,7 @@ def _fig12(n: dict[str, Any]) -> list[str]:
         lines.append(f"| {2 * dof - 1} | {len(f['curves'])} | " + " | ".join(vals) + " |")
     lines += [
         "",
-        "The Hopf curves run close to and above the sliding line u = μ_sb R_b W_ob, through the "
-        "stick-slip points of the Fig. 6b atlas (panel b), as the paper observes.",
+        _fig12_text(n),
         "",
         "**Differences.** None in kind; pydrill's curves are closed-form (no continuation).",
         "",
