@@ -13,6 +13,13 @@ from .tally import Tally, load_tally
 
 __version__: str = _core.__version__
 
+SolverError.__doc__ = """The integrator failed (too many steps, error test failures, switch storms).
+
+A ``RuntimeError`` raised by :func:`simulate` with the integrator's message; its ``t_reached``
+attribute is the simulated time (s) reached before the failure. The command line reports it
+with exit status 3.
+"""
+
 
 def equilibrium_velocities(params: Params, wob: float, torque: float) -> list[float]:
     """Every steady bit velocity Ω > 0 (rad/s) at which ``torque`` balances the string."""

@@ -53,6 +53,7 @@ class Atlas:
             raise AtlasError(f"{self.path} is damaged or incomplete: {exc}") from None
 
     def close(self) -> None:
+        """Close the HDF5 file (done by ``with``)."""
         self._f.close()
 
     def __enter__(self) -> Atlas:
@@ -63,6 +64,7 @@ class Atlas:
 
     @property
     def shape(self) -> tuple[int, ...]:
+        """Grid size along each axis, in the order of :attr:`axes`."""
         return tuple(len(v) for v in self.axes.values())
 
     def index(self, method: str = "exact", **coords: float) -> tuple[int, ...]:
@@ -146,6 +148,8 @@ class Atlas:
         return steady & stable
 
     def summary(self) -> dict[str, Any]:
+        """What ``pydrill atlas info`` prints, as data: axes, point status, regime counts per
+        start, safe and coexistence points, version and spec digest."""
         status = self._f["status"][...]
         codes = self._f["regime"][...]
         regimes = {}

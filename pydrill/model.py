@@ -37,9 +37,9 @@ class Params:
     :meth:`replace` for non-uniform strings.
     """
 
-    inertias: tuple[float, ...]
-    stiffnesses: tuple[float, ...]
-    dampings: tuple[float, ...]
+    inertias: tuple[float, ...]  #: J_i, kg·m², top drive first, bit last
+    stiffnesses: tuple[float, ...]  #: k_i, N·m/rad, one per spring (dof − 1)
+    dampings: tuple[float, ...]  #: c_i, N·m·s/rad, one per spring (dof − 1)
     top_damping: float  #: c_r, N·m·s/rad
     bit_damping: float  #: c_b, N·m·s/rad
     bit_radius: float  #: R_b, m
@@ -48,7 +48,7 @@ class Params:
     stribeck_decay: float  #: γ_b
     stribeck_velocity: float = 1.0  #: v_f, rad/s
     karnopp_band: float = 1e-6  #: D_v, rad/s (Karnopp friction only)
-    name: str = field(default="custom", compare=False)
+    name: str = field(default="custom", compare=False)  #: label (the preset's name)
 
     def __post_init__(self) -> None:
         for key in _LISTS:
@@ -59,6 +59,7 @@ class Params:
 
     @property
     def dof(self) -> int:
+        """Number of inertias (degrees of freedom of the chain), ≥ 2."""
         return len(self.inertias)
 
     @property
@@ -81,12 +82,14 @@ class Params:
         return dataclasses.replace(self, **changes)
 
     def to_core(self) -> _core.Params:
+        """The same parameters as the C++ core's ``pydrill._core.Params``."""
         p = _core.Params()
         for key in _LISTS + _SCALARS:
             setattr(p, key, getattr(self, key))
         return p
 
     def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready data: every field (lists for the chain), ``dof`` and ``name``."""
         d = {key: list(getattr(self, key)) for key in _LISTS}
         d.update({key: getattr(self, key) for key in _SCALARS})
         d["dof"] = self.dof

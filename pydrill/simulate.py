@@ -113,10 +113,13 @@ class SimulationResult:
 
     @property
     def dof(self) -> int:
+        """Number of inertias of the simulated string (top drive first, bit last)."""
         return self.params.dof
 
     @property
     def regime(self) -> str:
+        """``"steady"``, ``"stick-slip"``, ``"stuck"`` or ``"oscillation"`` (see :data:`REGIMES`),
+        judged on the last ``window_fraction`` of the run; the metrics are in :attr:`summary`."""
         return self.summary.regime
 
     @property
@@ -131,10 +134,12 @@ class SimulationResult:
 
     @property
     def bit_velocity(self) -> NDArray[np.float64]:
+        """ω_b, the bit's angular velocity at times ``t`` (rad/s)."""
         return self.states[:, -1]
 
     @property
     def top_velocity(self) -> NDArray[np.float64]:
+        """ω_0, the top drive's angular velocity at times ``t`` (rad/s)."""
         return self.states[:, 0]
 
     @property
@@ -147,6 +152,7 @@ class SimulationResult:
 
     @property
     def bit_angle(self) -> NDArray[np.float64]:
+        """φ_b, the bit's absolute angle at times ``t`` (rad)."""
         return self.top_angle - self.twist.sum(axis=1)
 
     @property
@@ -162,6 +168,9 @@ class SimulationResult:
 
     @property
     def modes(self) -> list[str]:
+        """The friction mode at each output time: ``"slip+"``, ``"slip-"``, ``"stick"`` or
+        ``"band"`` (Karnopp); ``mode_index`` holds the same as codes into ``MODES``
+        (``from pydrill.simulate import MODES``)."""
         return [MODES[i] for i in self.mode_index]
 
     def stick_intervals(self) -> list[tuple[float, float]]:

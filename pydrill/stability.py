@@ -48,6 +48,8 @@ class StabilityPoint:
     eigenvalues: tuple[complex, ...]  #: sorted by decreasing real part
 
     def to_dict(self, n_eigenvalues: int | None = 6) -> dict:
+        """Plain JSON-ready data (``pydrill stability --json``), eigenvalues as ``[re, im]``
+        pairs: the leading ``n_eigenvalues`` of them, or all with ``None``."""
         ev = self.eigenvalues if n_eigenvalues is None else self.eigenvalues[:n_eigenvalues]
         return {
             "omega": self.omega,

@@ -75,24 +75,33 @@ class Section:
 
 @dataclass(frozen=True)
 class Tally:
+    """A drill string as listed on its pipe tally, top down, in SI units.
+
+    Read one with :func:`load_tally` (or ``parse_tally`` from TOML text); :meth:`at_depth`
+    lengthens the drill pipe to a depth, :meth:`to_params` lumps it into the torsional chain
+    that :func:`pydrill.simulate` and the stability analysis take.
+    """
+
     sections: tuple[Section, ...]
-    top_inertia: float
-    top_damping: float
-    bit_radius: float
-    bit_damping: float
+    top_inertia: float  #: J_0 of top drive and gearbox, kg·m²
+    top_damping: float  #: c_r, N·m·s/rad
+    bit_radius: float  #: R_b, m (half the bit diameter)
+    bit_damping: float  #: c_b, mud on the bit, N·m·s/rad
     beta: float  #: s, element damping c = β k
-    mu_coulomb: float = 0.5
-    mu_static: float = 0.8
-    stribeck_decay: float = 0.9
-    stribeck_velocity: float = 1.0
-    name: str = field(default="tally", compare=False)
+    mu_coulomb: float = 0.5  #: μ_cb
+    mu_static: float = 0.8  #: μ_sb
+    stribeck_decay: float = 0.9  #: γ_b
+    stribeck_velocity: float = 1.0  #: v_f, rad/s
+    name: str = field(default="tally", compare=False)  #: the tally file's stem
 
     @property
     def length(self) -> float:
+        """Measured length of the whole string, m (the depth it reaches)."""
         return sum(s.count * s.length for s in self.sections)
 
     @property
     def bha_length(self) -> float:
+        """Length of everything but the drill pipe (the bottom-hole assembly), m."""
         return sum(s.count * s.length for s in self.sections if s.kind != "drill-pipe")
 
     def at_depth(self, depth: float) -> Tally:
@@ -239,6 +248,10 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
 
 
 def load_tally(path: str | Path) -> Tally:
+    """Read a tally (TOML) file; the string is named after the file.
+
+    Raises :class:`TallyError` (a ``ValueError``) naming the key at fault.
+    """
     path = Path(path)
     try:
         text = path.read_text()
