@@ -417,7 +417,8 @@ Result Run::run() {
   w.top1 = q[0];
   w.bit1 = bit_angle(y, q[0]);
   res_.stats.switches = static_cast<long>(res_.switches.size());
-  res_.summary = detail::summarize(chain_, trace_, modes_, w, data_.karnopp);
+  res_.summary = detail::summarize(chain_, trace_, modes_, w, data_.karnopp,
+                                   detail::steady_swing_for_tolerance(opt_.rtol));
   return std::move(res_);
 }
 

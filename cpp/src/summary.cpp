@@ -36,7 +36,7 @@ double span(const Trace& tr, double t0, double t1) {
 }  // namespace
 
 Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeChange>& modes,
-                  const WindowAngles& w, bool karnopp) {
+                  const WindowAngles& w, bool karnopp, double steady_swing) {
   Summary s;
   s.window_start = w.t0;
   s.window_end = w.t1;
@@ -108,7 +108,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     const double mid = 0.5 * (w.t0 + w.t1);
     const double a1 = span(tr, w.t0, mid), a2 = span(tr, mid, w.t1);
     const double scale = std::max(std::fabs(s.bit_mean), 1e-12);
-    if (a2 <= 2e-6 * scale || a2 < 0.7 * a1) {
+    if (a2 <= steady_swing * scale || a2 < 0.7 * a1) {
       s.regime = "steady";
     } else {
       s.regime = "oscillation";

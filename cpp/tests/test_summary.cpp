@@ -55,6 +55,19 @@ TEST_CASE("a decaying swing is steady", "[summary]") {
   CHECK(detail::summarize(chain, s.trace, modes, s.angles, false).regime == "steady");
 }
 
+TEST_CASE("a sustained swing below the tolerance's floor is steady, above it oscillation",
+          "[summary]") {
+  const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
+  // Relative swing (max - min) / mean = 2 * 1.5e-4 / 30 = 1e-5, not decaying.
+  const auto s = sine(30.0, 1.5e-4, 0.0, 7.5, 500.0, 1000.0);
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  CHECK(detail::summarize(chain, s.trace, modes, s.angles, false).regime == "oscillation");
+  CHECK(detail::summarize(chain, s.trace, modes, s.angles, false,
+                          detail::steady_swing_for_tolerance(1e-8)).regime == "steady");
+  CHECK(detail::summarize(chain, s.trace, modes, s.angles, false,
+                          detail::steady_swing_for_tolerance(1e-10)).regime == "oscillation");
+}
+
 TEST_CASE("stick phases in the window make stick-slip; a stick covering it makes stuck",
           "[summary]") {
   const auto s = sine(10.0, 1.0, 0.0, 10.0, 150.0, 300.0);
