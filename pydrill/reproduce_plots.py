@@ -175,7 +175,7 @@ def _draw_branch(ax, b: dict[str, Any], labels: bool) -> None:
     for i, pt in enumerate(hb):
         color = SUB if pt["criticality"] == "subcritical" else SUPER
         ax.plot(pt[key], pt["omega"], "s", color=color, ms=6, zorder=6)
-        if labels and (i == 0 or len(hb) <= 4):
+        if labels and (i == 0 or b["dof"] <= 4):
             ax.annotate(
                 f"HB{i + 1}",
                 (pt[key], pt["omega"]),

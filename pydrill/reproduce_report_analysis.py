@@ -377,23 +377,29 @@ def _criticality_text(entries: list[tuple[str, dict[str, Any]]]) -> str:
         if first_sub
         else "Not every first Hopf crossing is subcritical (see the table)."
     )
-    sup = [
-        (label, c)
-        for label, d in entries
-        for c in d["fig12"]["curves"]
-        if c["lyapunov"] is not None and c["lyapunov"] < 0
-    ]
-    if sup:
+    parts = []
+    for label, d in entries:
+        cross = d["summary"]["crossings"]
+        sup = [c for c in d["fig12"]["curves"] if c["lyapunov"] is not None and c["lyapunov"] < 0]
+        if not sup:
+            continue
+        deltas = [c["delta"] for c in cross]
+        steps = [c["direction"] * (2 if c["type"] == "hopf" else 1) for c in cross]
+        before = [
+            sum(st for dd, st in zip(deltas, steps, strict=True) if dd < c["delta"]) for c in sup
+        ]
+        parts.append(
+            f"{label}: {len(sup)} (δ = {g(min(c['delta'] for c in sup), 3)}–"
+            f"{g(max(c['delta'] for c in sup), 3)}, ω = "
+            f"{g(min(c['frequency'] for c in sup), 3)}–{g(max(c['frequency'] for c in sup), 3)} "
+            f"rad/s, l₁ down to {g(min(c['lyapunov'] for c in sup), 2)}, with "
+            f"{min(before)}–{max(before)} eigenvalues already unstable)"
+        )
+    if parts:
         text += (
-            " Supercritical crossings (l₁ < 0) exist only beyond it, where the steady state "
-            "is already unstable in other directions, so no stable small oscillation is born "
-            "there: "
-            + "; ".join(
-                f"{label}: δ = {g(c['delta'], 4)}, ω = {g(c['frequency'], 3)} rad/s, "
-                f"l₁ = {g(c['lyapunov'], 2)}"
-                for label, c in sup
-            )
-            + "."
+            " Supercritical crossings (l₁ < 0) appear only beyond the boundary, where the "
+            "steady state is already unstable in other directions, so no stable small "
+            "oscillation is born there: " + "; ".join(parts) + "."
         )
     else:
         text += " No supercritical crossing was found."
