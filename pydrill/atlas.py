@@ -23,7 +23,13 @@ from .sweep import AtlasError
 
 
 class Atlas:
-    """An atlas file, opened read-only. Use as a context manager or call :meth:`close`."""
+    """An atlas file, opened read-only. Use as a context manager or call :meth:`close`.
+
+    ``axes`` maps each swept axis to its values (grid order), ``initials`` lists the starts
+    (``"rest"``, ``"equilibrium"``), ``spec`` is the sweep specification it was made from and
+    ``version`` the pydrill that wrote it. A missing, damaged or foreign file raises
+    ``pydrill.sweep.AtlasError`` naming the problem.
+    """
 
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
@@ -92,7 +98,15 @@ class Atlas:
         return tuple(idx)
 
     def value(self, method: str = "exact", **coords: float) -> dict[str, Any]:
-        """Everything recorded at one point."""
+        """Everything recorded at one point, as plain data.
+
+        Give a value for every axis (``wob=100, torque=8.3``); ``method="nearest"`` takes the
+        nearest grid point instead of requiring an exact one. Keys: ``coords``, ``status``
+        (``"done"``, ``"failed"`` with ``message``, ``"missing"``), ``regime`` and ``metrics``
+        (each by start), ``stability`` (lists over the steady states: ``omega_eq``, ``delta``,
+        ``spectral_abscissa``, ``hopf_margin``, ``unstable``, ``eigenvalues``) and
+        ``coexistence`` (the starts disagree; ``None`` with one start).
+        """
         idx = self.index(method, **coords)
         f = self._f
         status = {v: k for k, v in fmt.STATUS.items()}[int(f["status"][idx])]
