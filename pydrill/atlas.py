@@ -191,21 +191,38 @@ class Atlas:
 
     def sel(self, method: str | None = None, **coords: float):
         """A slice of the atlas as an ``xarray.Dataset``: fix some axes (or ``initial``),
-        keep the others, e.g. ``atlas.sel(torque=8.3).regime`` is the regime against W_ob."""
+        keep the others, e.g. ``atlas.sel(torque=8.3).regime_name`` is the regime against W_ob
+        (``regime`` holds the same as codes, named in its ``flag_meanings`` attribute)."""
         unknown = set(coords) - set(self.axes) - {"initial"}
         if unknown:
             raise KeyError(
                 f"{sorted(unknown)[0]} is not an axis of this atlas; axes: "
                 + ", ".join([*self.axes, "initial"])
             )
-        ds = self.to_xarray().load()
+        ds = with_regime_names(self.to_xarray().load())
         return ds.sel(method=method, **coords)
 
     def to_xarray(self):
-        """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates."""
+        """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates, read
+        lazily. ``regime`` is an integer code; its CF attributes ``flag_values`` and
+        ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable)."""
         import xarray as xr
 
-        return xr.open_dataset(self.path, engine="h5netcdf")
+        ds = xr.open_dataset(self.path, engine="h5netcdf")
+        if "regime" in ds:
+            codes = sorted(fmt.REGIMES.items(), key=lambda kv: kv[1])
+            ds["regime"].attrs["flag_values"] = np.array([c for _, c in codes], dtype="i1")
+            ds["regime"].attrs["flag_meanings"] = " ".join(n.replace("-", "_") for n, _ in codes)
+        return ds
+
+
+def with_regime_names(ds):
+    """``ds`` with a ``regime_name`` variable: the regime codes as their names."""
+    if "regime" not in ds:
+        return ds
+    names = {c: n for n, c in fmt.REGIMES.items()}
+    values = np.vectorize(lambda c: names.get(int(c), "?"), otypes=[object])(ds["regime"].values)
+    return ds.assign(regime_name=(ds["regime"].dims, values))
 
 
 def _clean(v: Any) -> Any:

@@ -186,7 +186,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
 
     coords = {
         k: getattr(args, k)
-        for k in ("wob", "torque", "dof", "pipes")
+        for k in ("wob", "torque", "depth", "dof", "pipes")
         if getattr(args, k) is not None
     }
     for item in args.set:
@@ -226,9 +226,13 @@ def _cmd_query(args: argparse.Namespace) -> int:
     for init, regime in v["regime"].items():
         m = v["metrics"]
         period = m["period"][init]
+        mean, stuck = m["bit_mean"][init], m["stuck_fraction"][init]
         print(
-            f"  from {init:12s} {regime:12s} bit mean {m['bit_mean'][init]}, stuck "
-            f"{m['stuck_fraction'][init]}" + (f", period {period:.4g} s" if period else "")
+            f"  from {init:12s} {regime:12s} bit mean "
+            + ("-" if mean is None else f"{mean:.4g} rad/s")
+            + ", stuck "
+            + ("-" if stuck is None else f"{100 * stuck:.1f} %")
+            + (f", period {period:.4g} s" if period else "")
         )
     st = v["stability"]
     for w, unstable in zip(st["omega_eq"], st["unstable"], strict=True):
@@ -259,12 +263,15 @@ def _cmd_export(args: argparse.Namespace) -> int:
         if out.suffix == ".nc":
             ds.load().to_netcdf(out, engine="h5netcdf")
         elif out.suffix == ".csv":
+            from .atlas import with_regime_names
+
+            ds = with_regime_names(ds.load())
             keep = [
                 v
                 for v in ds.data_vars
                 if "eigenvalue" not in ds[v].dims
                 and "equilibrium" not in ds[v].dims
-                and ds[v].dtype.kind != "O"
+                and (ds[v].dtype.kind != "O" or v == "regime_name")
             ]
             ds[keep].to_dataframe().to_csv(out)
         else:

@@ -335,7 +335,7 @@ def _print_window(tally, dw, checks, args) -> None:
             )
         print(f"{d:8.0f} {d / FT:6.0f} {int(dw.dof[i]):4d} " + " ".join(cells))
     print("slowest safe surface speed, rpm, at weight on bit")
-    print(f"{'depth m':>8s} " + " ".join(f"{w / 1e3:>7g} kN" for w in dw.wob))
+    print(f"{'depth m':>8s} " + " ".join(f"{w / 1e3:>7.4g} kN" for w in dw.wob))
     for i, d in enumerate(dw.depth):
         cells = []
         for k in range(dw.wob.size):
