@@ -99,8 +99,12 @@ def test_atlas_holds_what_was_computed(tmp_path):
         assert int(ds.regime.sel(wob=100.0, torque=8.3, initial="rest")) == 1  # stick-slip
         assert ds.omega_eq.sel(wob=40.0, torque=8.3).values[0] == pytest.approx(33.15789473684)
         # A slice: the regime from rest against W_ob at u = 8.3 N·m.
-        row = atlas.sel(torque=8.3, initial="rest").regime.values.tolist()
-        assert row == [0, 1, 2]  # steady, stick-slip, stuck
+        row = atlas.sel(torque=8.3, initial="rest")
+        assert row.regime.values.tolist() == [0, 1, 2]
+        assert row.regime_name.values.tolist() == ["steady", "stick-slip", "stuck"]
+        meanings = ds.regime.attrs["flag_meanings"].split()
+        codes = ds.regime.attrs["flag_values"].tolist()
+        assert meanings[codes.index(1)] == "stick_slip"
         # Paper: at W_ob = 100 N, u = 8.3 N·m the steady state coexists with stick-slip.
         assert atlas.value(wob=100.0, torque=8.3)["coexistence"] is True
         ds.close()
