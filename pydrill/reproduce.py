@@ -4,8 +4,9 @@
 the stability and bifurcation analysis of Figs. 10–12 and of 10-, 100- and 500-pipe strings
 (:mod:`pydrill.reproduce_analysis`), and the regime atlases behind Fig. 6b and the periodic
 orbits of Fig. 11 (Dask sweeps, :mod:`pydrill.sweep`). It writes one PNG per figure
-(:mod:`pydrill.reproduce_figures`, :mod:`pydrill.reproduce_plots`, :mod:`pydrill.reproduce_plots_long`), ``report.md``
-(:mod:`pydrill.reproduce_report`) and ``numbers.json`` into the output directory.
+(:mod:`pydrill.reproduce_figures`, :mod:`pydrill.reproduce_plots`,
+:mod:`pydrill.reproduce_plots_long`), ``report.md`` (:mod:`pydrill.reproduce_report`) and
+``numbers.json`` into the output directory.
 
 Whatever it computed is kept there and reused on the next run: atlases in ``atlases/`` (each
 tied to its sweep's spec digest and the pydrill version, resumed if a run was interrupted),
