@@ -300,10 +300,20 @@ def _run_dask(spec, todo, workers, scheduler, absorb) -> None:
 
     # One process per core: the Python around each simulation holds the GIL. Workers are
     # forked rather than spawned: they start in a third of the time (measured 0.85 s against
-    # 1.4 s for two), which is a tenth of a short sweep.
-    with dask.config.set(
-        {"distributed.worker.daemon": False, "distributed.worker.multiprocessing-method": "fork"}
-    ):
+    # 1.4 s for two), which is a tenth of a short sweep. On a machine with as many workers as
+    # cores, every cycle Dask's housekeeping takes is a cycle a simulation waits for: the
+    # workers' statistical profiler (a stack sample every 10 ms) is off, and the event-loop
+    # tick and memory monitor run 10x less often (measured: batches ran ~15 % slower in Dask
+    # workers than in a plain process pool with the defaults).
+    quiet = {
+        "distributed.worker.daemon": False,
+        "distributed.worker.multiprocessing-method": "fork",
+        "distributed.worker.profile.enabled": False,
+        "distributed.admin.tick.interval": "200ms",
+        "distributed.worker.memory.monitor-interval": "1s",
+        "distributed.admin.system-monitor.interval": "5s",
+    }
+    with dask.config.set(quiet):
         if scheduler:
             client = Client(scheduler, timeout="30s")
             cluster = None
