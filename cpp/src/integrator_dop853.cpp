@@ -75,11 +75,16 @@ class Dop853 final : public Integrator {
     double h_abs = std::min(h_, max_step);
     bool rejected = false;
     for (;;) {
-      const double min_step = 10.0 * std::fabs(std::nextafter(t_, INFINITY) - t_);
+      // Ten ulps of t (scipy's floor), but never below 1e-14 of the span: near t = 0 the
+      // ulp is subnormal, and flushed to zero while a simulation runs, so a right-hand
+      // side gone infinite would shrink the step for ever.
+      const double min_step = std::max(10.0 * std::fabs(std::nextafter(t_, INFINITY) - t_),
+                                       1e-14 * std::max(1.0, std::fabs(t_end)));
       if (h_abs < min_step || !std::isfinite(h_abs)) {
         std::ostringstream o;
         o << "DOP853 step size fell to " << h_abs << " s at t = " << t_
-          << " s (below the floating-point resolution of t): the solution is not smooth here";
+          << " s (below the floating-point resolution): the solution is not smooth or not "
+             "finite here";
         t = t_;
         throw SolverError(o.str(), t_);
       }
