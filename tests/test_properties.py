@@ -95,3 +95,14 @@ def test_state_and_tolerance_fuzz(state, rtol, atol):
         assert str(exc)
         return
     assert r.states.shape == (5, 7)
+
+
+def test_infinite_right_hand_side_fails_fast_with_every_method():
+    """A torque of 1e300 N·m makes the right-hand side overflow at t = 0: every integrator
+    must give up with a SolverError, not shrink its step for ever (DOP853 once did, its
+    smallest step being a subnormal ulp flushed to zero)."""
+    import pytest
+
+    for method in ("auto", "dop853", "erk", "adams", "bdf"):
+        with pytest.raises(pydrill.SolverError, match="at t = "):
+            pydrill.simulate(wob=100.0, torque=1e300, dof=4, t_end=5.0, method=method)
