@@ -4,6 +4,7 @@ abort or a segfault (a crash would take the test process down with it)."""
 import math
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -101,8 +102,6 @@ def test_infinite_right_hand_side_fails_fast_with_every_method():
     """A torque of 1e300 N·m makes the right-hand side overflow at t = 0: every integrator
     must give up with a SolverError, not shrink its step for ever (DOP853 once did, its
     smallest step being a subnormal ulp flushed to zero)."""
-    import pytest
-
     for method in ("auto", "dop853", "erk", "adams", "bdf"):
         with pytest.raises(pydrill.SolverError, match="at t = "):
             pydrill.simulate(wob=100.0, torque=1e300, dof=4, t_end=5.0, method=method)
