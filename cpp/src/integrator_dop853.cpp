@@ -13,8 +13,6 @@
 // Step-size control, initial step and error norm follow scipy's DOP853 (the
 // benchmark baseline), so both take the same steps for the same tolerances.
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <sstream>
