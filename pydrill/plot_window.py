@@ -22,6 +22,23 @@ STALL_EDGE = "#1c2833"
 KLBF = LBF  # kN per klbf (1 klbf = 4.448 kN)
 
 
+def _curve_label(ax, text: str, xy: tuple[float, float], color) -> None:
+    """Name a curve of the depth chart at its foot, written upwards along it."""
+    ax.annotate(
+        text,
+        xy,
+        xytext=(3, 0),
+        textcoords="offset points",
+        rotation=90,
+        va="bottom",
+        ha="left",
+        fontsize=8.5,
+        color=color,
+        weight="bold",
+        bbox=_BOX,
+    )
+
+
 def _klbf_axis(ax, where: str = "top"):
     """A second W_ob axis in klbf beside the kN one."""
     sec = ax.secondary_xaxis(where, functions=(lambda kn: kn / KLBF, lambda k: k * KLBF))
@@ -225,19 +242,7 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
         stable = dw.wob_max_stable[:, k] / 1e3
         ax_w.plot(np.where(stable < x_w, stable, np.nan), depth, color=colors[k], lw=0.9, ls=":")
         if w[-1] < 0.97 * x_w:
-            ax_w.annotate(
-                f"{r:g} rpm",
-                (w[-1], label_y),
-                xytext=(3, 0),
-                textcoords="offset points",
-                rotation=90,
-                va="bottom",
-                ha="left",
-                fontsize=8.5,
-                color=colors[k],
-                weight="bold",
-                bbox=_BOX,
-            )
+            _curve_label(ax_w, f"{r:g} rpm", (w[-1], label_y), colors[k])
     ax_w.plot([], [], color="#555555", lw=2.6, label="heaviest safe W_ob (left of it: safe)")
     ax_w.plot([], [], color="#555555", lw=0.9, ls=":", label="stick-slip edge alone")
     ax_w.set_xlim(0, x_w)
@@ -255,18 +260,8 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
             np.minimum(dw.rpm_min_stable[:, k], rpm_max), depth, color=colors[k], lw=0.9, ls=":"
         )
         if r[-1] < 0.97 * rpm_max:
-            ax_r.annotate(
-                f"{w / 1e3:g} kN ({w / LBF / 1e3:.3g} klbf)",
-                (r[-1], label_y),
-                xytext=(3, 0),
-                textcoords="offset points",
-                rotation=90,
-                va="bottom",
-                ha="left",
-                fontsize=8.5,
-                color=colors[k],
-                weight="bold",
-                bbox=_BOX,
+            _curve_label(
+                ax_r, f"{w / 1e3:g} kN ({w / LBF / 1e3:.3g} klbf)", (r[-1], label_y), colors[k]
             )
     ax_r.plot([], [], color="#555555", lw=2.6, label="slowest safe speed (right of it: safe)")
     ax_r.plot([], [], color="#555555", lw=0.9, ls=":", label="stick-slip edge alone")
