@@ -35,6 +35,14 @@ REGIME_NAMES = {v: k for k, v in REGIMES.items()}
 STATUS = {"missing": 0, "done": 1, "failed": 2}
 N_EQ = 2  # a (W_ob, u) has at most two steady states
 
+# The sweep's client is an atlas's only writer (the spec digest and the journal see to that),
+# and it writes without HDF5's file lock. A lock is an flock on the open file, shared with
+# every process forked while the file is open — and Dask's nanny forks workers from the
+# client, at start-up and whenever a lost worker is replaced. A worker forked during a write
+# would hold the lock for its whole life, and every later write would fail; so would a write
+# while someone ran `pydrill atlas info` on the growing atlas.
+WRITER_LOCKING = False
+
 # name -> (dtype, fill, dims beyond the axes, units, description)
 RUN_FIELDS = {
     "bit_min": ("f8", math.nan, "rad/s", "least bit velocity in the judged window"),
@@ -69,9 +77,15 @@ def _chunks(shape: tuple[int, ...]) -> tuple[int, ...] | None:
 
 @dataclass
 class AtlasTable:
-    """All of an atlas's point data in memory; a sweep updates it, then writes it whole."""
+    """All of an atlas's point data in memory; a sweep updates it, then writes it whole.
+
+    With ``points=m`` the table has m rows instead of the grid's shape: a worker fills such a
+    block with its batch, and the client puts the block into the grid in one assignment per
+    field (applying records one by one cost the client, which shares the cores with the
+    workers, about 5 % of a sweep's wall time)."""
 
     spec: SweepSpec
+    points: int | None = None
     status: np.ndarray = field(init=False)
     message: np.ndarray = field(init=False)
     regime: np.ndarray = field(init=False)
@@ -81,7 +95,7 @@ class AtlasTable:
     coexistence: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
-        shape = self.spec.shape
+        shape = self.spec.shape if self.points is None else (self.points,)
         n_init = len(self.spec.initials)
         k = self.spec.record["eigenvalues"]
         self.status = np.zeros(shape, dtype="u1")
@@ -92,10 +106,29 @@ class AtlasTable:
         self.eig = np.full((*shape, N_EQ, k), complex(math.nan, math.nan), dtype="c16")
         self.coexistence = np.full(shape, -1, dtype="i1")
 
-    def apply(self, rec: dict[str, Any]) -> None:
-        # Flat views (sharing memory with the grid-shaped arrays) indexed by the point's flat
-        # index: a sweep's client applies every record, on a machine busy with its workers.
-        i = rec["i"]
+    def columns(self) -> dict[str, np.ndarray]:
+        """Every per-point array by name; the point axes come first."""
+        return {
+            "status": self.status,
+            "message": self.message,
+            "regime": self.regime,
+            **{f"run:{k}": v for k, v in self.runs.items()},
+            **{f"eq:{k}": v for k, v in self.eqs.items()},
+            "eig": self.eig,
+            "coexistence": self.coexistence,
+        }
+
+    def put(self, indices: np.ndarray, block: dict[str, np.ndarray]) -> None:
+        """Put the rows of a block (``AtlasTable(spec, points=m).columns()``) at the flat
+        grid indices ``indices``."""
+        n = self.status.size
+        for name, array in self.columns().items():
+            array.reshape(n, *array.shape[self.status.ndim :])[indices] = block[name]
+
+    def apply(self, rec: dict[str, Any], row: int | None = None) -> None:
+        """Store one point's record at its flat index (or at ``row`` of a block)."""
+        # Flat views share memory with the grid-shaped arrays.
+        i = rec["i"] if row is None else row
         n = self.status.size
         self.status.reshape(n)[i] = STATUS[rec["status"]]
         self.message.reshape(n)[i] = rec.get("message", "")
@@ -130,7 +163,7 @@ class AtlasTable:
 def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
     """A new atlas with every point missing (overwrites ``path``: callers check first)."""
     table = AtlasTable(spec)
-    with h5py.File(path, "w", libver="latest") as f:
+    with h5py.File(path, "w", libver="latest", locking=WRITER_LOCKING) as f:
         f.attrs["format"] = FORMAT
         f.attrs["format_version"] = FORMAT_VERSION
         f.attrs["pydrill_version"] = version
@@ -223,7 +256,7 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
 
 def write(path: Path, table: AtlasTable) -> None:
     """Write the whole table into an existing atlas."""
-    with h5py.File(path, "r+") as f:
+    with h5py.File(path, "r+", locking=WRITER_LOCKING) as f:
         f["status"][...] = table.status
         f["message"][...] = table.message.astype(h5py.string_dtype())
         f["regime"][...] = table.regime

@@ -110,15 +110,26 @@ def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
     return rec
 
 
+def encode_batch(
+    spec: SweepSpec, records: list[dict[str, Any]]
+) -> tuple[np.ndarray, dict[str, np.ndarray], str]:
+    """Finished records as the client absorbs them: their flat indices, their rows as a block
+    of columns (``AtlasTable.columns``) and their journal lines."""
+    block = fmt.AtlasTable(spec, points=len(records))
+    for row, rec in enumerate(records):
+        block.apply(rec, row=row)
+    lines = "".join(json.dumps(rec, allow_nan=False) + "\n" for rec in records)
+    return np.array([rec["i"] for rec in records], dtype=np.int64), block.columns(), lines
+
+
 def evaluate_batch(
     spec_text: str, indices: list[int], tally_text: str | None = None
-) -> tuple[list[dict[str, Any]], str]:
-    """Worker entry point: plain data in and out (no pickled objects of ours). Returns the
-    records and their journal lines: encoding them here keeps that work off the client,
-    which shares the machine with the workers."""
+) -> tuple[np.ndarray, dict[str, np.ndarray], str]:
+    """Worker entry point: plain data in and out (no pickled objects of ours). The records
+    are encoded here (``encode_batch``), so that the client, which shares the machine with
+    the workers, only appends text and assigns arrays."""
     spec = parse_spec(spec_text, tally_text=tally_text)
-    records = [evaluate_point(spec, i) for i in indices]
-    return records, "".join(json.dumps(rec, allow_nan=False) + "\n" for rec in records)
+    return encode_batch(spec, [evaluate_point(spec, i) for i in indices])
 
 
 @dataclass
@@ -212,17 +223,24 @@ def prepare(
     return fmt.AtlasTable(spec), 0
 
 
-def batches(indices: np.ndarray, workers: int, target: int = 256) -> list[list[int]]:
-    """Split the points into about four batches per worker, at most ``target`` points each:
-    big enough to hide Dask's per-task overhead (measured: 8 batches of 250 points ran a
-    2000-point sweep 15 % faster than 125 batches of 16), small enough for progress and little
-    to recompute after an interruption. Batches take every n-th point, so each one samples the
-    whole grid and costs about the same: no worker waits on a batch of slow stick-slip points."""
-    n = len(indices)
-    if n == 0:
-        return []
-    count = min(n, max(4 * max(workers, 1), math.ceil(n / target)))
-    return [indices[k::count].tolist() for k in range(count)]
+def batches(
+    indices: np.ndarray, workers: int, largest: int = 256, smallest: int = 16
+) -> list[list[int]]:
+    """Split the points into batches of decreasing size ("guided" scheduling): each takes
+    1/(2 x workers) of what is left, between ``smallest`` and ``largest`` points. Big early
+    batches hide Dask's per-task overhead (measured: 8 batches of 250 points ran a 2000-point
+    sweep 15 % faster than 125 of 16); small last ones let every worker finish within a few
+    points of the others instead of one waiting a whole batch for the last. The points are
+    dealt in a fixed pseudo-random order, so every batch samples the whole grid and costs
+    about its size: no worker draws a batch of slow stick-slip points. Batches are small
+    enough for a lively progress bar and little recomputation after an interruption."""
+    order = np.asarray(indices)[np.random.default_rng(0).permutation(len(indices))]
+    out, start = [], 0
+    while start < len(order):
+        size = min(largest, max(smallest, math.ceil((len(order) - start) / (2 * max(workers, 1)))))
+        out.append(order[start : start + size].tolist())
+        start += size
+    return out
 
 
 def run_sweep(
@@ -259,83 +277,40 @@ def run_sweep(
     computed = failed = 0
     last_flush = time.perf_counter()
 
-    def absorb(batch: tuple[list[dict[str, Any]], str]) -> None:
+    def absorb(batch: tuple[np.ndarray, dict[str, np.ndarray], str]) -> None:
         nonlocal computed, failed, write_time, last_flush
-        records, lines = batch
+        indices, block, lines = batch
         tw = time.perf_counter()
         with jp.open("a") as fh:
             fh.write(lines)
             fh.flush()
             os.fsync(fh.fileno())
-        for rec in records:
-            table.apply(rec)
-            computed += 1
-            failed += rec["status"] == "failed"
+        table.put(indices, block)
+        computed += len(indices)
+        failed += int(np.count_nonzero(block["status"] == fmt.STATUS["failed"]))
         if time.perf_counter() - last_flush > FLUSH_SECONDS:
             fmt.write(out, table)
             last_flush = time.perf_counter()
         write_time += time.perf_counter() - tw
         if progress:
-            progress(len(records), len(todo))
+            progress(len(indices), len(todo))
 
-    if len(todo):
-        if serial:
-            for batch in batches(todo, 1):
-                absorb(evaluate_batch(spec.text, batch, spec.tally_text))
-        else:
-            _run_dask(spec, todo, workers, scheduler, absorb)
+    if len(todo) and serial:
+        for batch in batches(todo, 1):
+            absorb(evaluate_batch(spec.text, batch, spec.tally_text))
+    elif len(todo):
+        from .sweep_dask import run_dask
+
+        run_dask(spec, todo, workers, scheduler, absorb)
     tw = time.perf_counter()
     fmt.write(out, table)
-    if not np.any(table.status == fmt.STATUS["missing"]):
-        jp.unlink(missing_ok=True)  # everything is in the atlas now
+    left = int(np.count_nonzero(table.status == fmt.STATUS["missing"]))
+    if left:
+        # Every point handed out comes back (done or failed) or raises; this guards the
+        # bookkeeping itself. The journal stays, so --resume completes the atlas.
+        raise AtlasError(f"{left} points of {out} were not computed; run again with --resume")
+    jp.unlink(missing_ok=True)  # everything is in the atlas now
     write_time += time.perf_counter() - tw
     return SweepReport(
         out, spec.size, computed, failed, resumed, time.perf_counter() - t0, write_time
     )
-
-
-def _run_dask(spec, todo, workers, scheduler, absorb) -> None:
-    import dask
-    from distributed import Client, LocalCluster, as_completed
-
-    # One process per core: the Python around each simulation holds the GIL. Workers are
-    # forked rather than spawned: they start in a third of the time (measured 0.85 s against
-    # 1.4 s for two), which is a tenth of a short sweep. On a machine with as many workers as
-    # cores, every cycle Dask's housekeeping takes is a cycle a simulation waits for: the
-    # workers' statistical profiler (a stack sample every 10 ms) is off, and the event-loop
-    # tick and memory monitor run 10x less often (measured: batches ran ~15 % slower in Dask
-    # workers than in a plain process pool with the defaults).
-    quiet = {
-        "distributed.worker.daemon": False,
-        "distributed.worker.multiprocessing-method": "fork",
-        "distributed.worker.profile.enabled": False,
-        "distributed.admin.tick.interval": "200ms",
-        "distributed.worker.memory.monitor-interval": "1s",
-        "distributed.admin.system-monitor.interval": "5s",
-    }
-    with dask.config.set(quiet):
-        if scheduler:
-            client = Client(scheduler, timeout="30s")
-            cluster = None
-            n = max(1, len(client.scheduler_info().get("workers", {})))
-        else:
-            n = workers or os.cpu_count() or 1
-            cluster = LocalCluster(
-                n_workers=n,
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=None,
-                silence_logs=40,
-            )
-            client = Client(cluster)
-        try:
-            futures = [
-                client.submit(evaluate_batch, spec.text, b, spec.tally_text, pure=False, retries=3)
-                for b in batches(todo, n)
-            ]
-            for fut in as_completed(futures):
-                absorb(fut.result())
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()

@@ -350,3 +350,72 @@ def test_depth_sweep_of_a_tally_string(tmp_path):
             '[model]\ntally = "nowhere.toml"\n[axes]\ndepth = [1000.0]\nwob = [1.0]\n'
             "torque = [1.0]\n"
         )
+
+
+def test_batches_deal_every_point_once_in_shrinking_batches():
+    from pydrill.sweep import batches
+
+    todo = np.arange(3, 2003)
+    parts = batches(todo, 2)
+    flat = np.concatenate(parts)
+    assert sorted(flat.tolist()) == todo.tolist()  # each point exactly once
+    sizes = [len(p) for p in parts]
+    assert sizes[0] == 256 and all(16 <= s <= 256 for s in sizes[:-1])
+    assert sizes == sorted(sizes, reverse=True)  # guided: the tail is made of small batches
+    # Pseudo-random, not contiguous: the first batch samples the whole grid.
+    assert np.ptp(parts[0]) > 0.9 * np.ptp(todo)
+    assert batches(todo, 2)[3] == parts[3]  # the same deal every time
+    assert batches(np.array([], dtype=int), 2) == []
+
+
+def test_block_of_records_equals_records_applied_one_by_one():
+    from pydrill import atlas_format as fmt
+    from pydrill.sweep import evaluate_batch, evaluate_point
+
+    spec = parse_spec(SMALL)
+    picked = [4, 0, 5, 2]
+    indices, block, lines = evaluate_batch(spec.text, picked)
+    assert indices.tolist() == picked and len(lines.splitlines()) == len(picked)
+    by_block, by_record = fmt.AtlasTable(spec), fmt.AtlasTable(spec)
+    by_block.put(indices, block)
+    for i in picked:
+        by_record.apply(evaluate_point(spec, i))
+    for name, a in by_block.columns().items():
+        b = by_record.columns()[name]
+        if name in ("message", "run:wall_time"):
+            assert a.shape == b.shape
+            continue
+        assert np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"), name
+    assert sorted(by_block.missing().tolist()) == [1, 3]
+
+
+def test_a_reader_holding_the_atlas_open_does_not_stop_the_writer(tmp_path):
+    # The sweep writes without HDF5's file lock: a `pydrill atlas info` during a flush, or a
+    # worker forked while the file was open, must not make the next flush fail.
+    from pydrill import atlas_format as fmt
+
+    spec = parse_spec(SMALL)
+    out = tmp_path / "a.h5"
+    fmt.create(out, spec, "{}", "test")
+    table = fmt.AtlasTable(spec)
+    table.status[...] = fmt.STATUS["failed"]
+    reader = subprocess.Popen(  # another process reads, with HDF5's default lock
+        [
+            sys.executable,
+            "-c",
+            "import h5py,sys,time; f=h5py.File(sys.argv[1]); print(1); "
+            "sys.stdout.flush(); time.sleep(60)",
+            str(out),
+        ],
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert reader.stdout.readline().strip() == "1"
+        fmt.write(out, table)
+    finally:
+        reader.kill()
+        reader.wait()
+        reader.stdout.close()
+    with h5py.File(out, "r") as f:
+        assert np.all(f["status"][...] == fmt.STATUS["failed"])

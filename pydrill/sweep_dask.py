@@ -1,0 +1,75 @@
+"""Running a sweep's points on Dask: a LocalCluster of processes, or an existing scheduler.
+
+The client only hands out batches and absorbs what comes back (``sweep.run_sweep`` does the
+writing). The cluster is started in the calling thread, before any point is computed: Dask's
+nanny forks the workers from this process, and a fork while another thread of it is busy
+(computing, writing) can copy a held lock into the child and hang it — tried, and seen.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Callable
+from typing import Any
+
+import dask
+import numpy as np
+
+from .spec import SweepSpec
+
+# One process per core: the Python around each simulation holds the GIL. Workers are forked
+# rather than spawned: they start in a third of the time (measured 0.85 s against 1.4 s for
+# two). On a machine with as many workers as cores, every cycle Dask's housekeeping takes is
+# a cycle a simulation waits for: the workers' statistical profiler (a stack sample every
+# 10 ms) is off, and the event-loop tick and memory monitor run 10x less often (measured:
+# batches ran ~15 % slower in Dask workers than in a plain process pool with the defaults).
+QUIET = {
+    "distributed.worker.daemon": False,
+    "distributed.worker.multiprocessing-method": "fork",
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "200ms",
+    "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.admin.system-monitor.interval": "5s",
+}
+
+
+def run_dask(
+    spec: SweepSpec,
+    todo: np.ndarray,
+    workers: int | None,
+    scheduler: str | None,
+    absorb: Callable[[Any], None],
+) -> None:
+    """Compute the flat indices ``todo`` of ``spec``, handing each finished batch to ``absorb``."""
+    from distributed import Client, LocalCluster, as_completed
+
+    from .sweep import batches, evaluate_batch
+
+    with dask.config.set(QUIET):
+        cluster = None
+        if scheduler:
+            client = Client(scheduler, timeout="30s")
+        else:
+            cluster = LocalCluster(
+                n_workers=workers or os.cpu_count() or 1,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                # A worker's heartbeat racing the shutdown logs an error; failures that
+                # matter reach the client through the futures.
+                silence_logs=logging.CRITICAL,
+            )
+            client = Client(cluster)
+        try:
+            n = max(1, len(client.scheduler_info().get("workers", {})))
+            futures = [
+                client.submit(evaluate_batch, spec.text, b, spec.tally_text, pure=False, retries=3)
+                for b in batches(todo, n)
+            ]
+            for fut in as_completed(futures):
+                absorb(fut.result())
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
