@@ -55,7 +55,11 @@ def run_dask(
                 n_workers=workers or os.cpu_count() or 1,
                 threads_per_worker=1,
                 processes=True,
-                dashboard_address=None,
+                # The scheduler serves HTTP (health, metrics) even without a dashboard; on
+                # port 8787 by default, which warns when another cluster holds it. Any free
+                # port will do, and no dashboard: it is gone with the sweep.
+                dashboard_address=":0",
+                scheduler_kwargs={"dashboard": False},
                 # A worker's heartbeat racing the shutdown logs an error; failures that
                 # matter reach the client through the futures.
                 silence_logs=logging.CRITICAL,

@@ -419,3 +419,21 @@ def test_a_reader_holding_the_atlas_open_does_not_stop_the_writer(tmp_path):
         reader.stdout.close()
     with h5py.File(out, "r") as f:
         assert np.all(f["status"][...] == fmt.STATUS["failed"])
+
+
+def test_a_sweep_beside_another_cluster_on_port_8787_stays_quiet(tmp_path):
+    """Dask's HTTP port 8787 is often held by a user's own cluster (or its dashboard). The
+    sweep's throwaway cluster then used to warn "Port 8787 is already in use"; with pytest's
+    warnings-as-errors this test failed before the sweep asked for any free port."""
+    holder = socket.socket()
+    try:
+        holder.bind(("", 8787))
+        holder.listen()
+    except OSError:
+        pass  # somebody else holds it already: the same situation
+    try:
+        spec = parse_spec(SMALL.replace("[40.0, 100.0, 160.0]", "[40.0, 160.0]"))
+        report = run_sweep(spec, tmp_path / "beside.h5", workers=2)
+        assert report.computed == 4 and report.failed == 0
+    finally:
+        holder.close()
