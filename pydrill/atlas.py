@@ -19,7 +19,7 @@ import numpy as np
 
 from . import atlas_format as fmt
 from .spec import SpecError, parse_spec
-from .sweep import AtlasError
+from .sweep import JOURNAL_SUFFIX, AtlasError
 
 
 class Atlas:
@@ -166,6 +166,7 @@ class Atlas:
         start, safe and coexistence points, version and spec digest."""
         status = self._f["status"][...]
         codes = self._f["regime"][...]
+        journal = self.path.with_name(self.path.name + JOURNAL_SUFFIX)
         regimes = {}
         for j, init in enumerate(self.initials):
             regimes[init] = {
@@ -187,6 +188,9 @@ class Atlas:
             "regimes": regimes,
             "safe_points": int(np.sum(self.safe_region())),
             "coexistence_points": int(np.sum(self._f["coexistence"][...] == 1)),
+            # A journal beside the atlas: a sweep is running, or was stopped; what it holds
+            # but the atlas does not yet is completed by --resume.
+            "journal": str(journal) if journal.exists() else None,
         }
 
     def sel(self, method: str | None = None, **coords: float):

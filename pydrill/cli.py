@@ -281,6 +281,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. piped into head: not an error of ours
         sys.stderr.close()
         return 0
+    except KeyboardInterrupt:  # Ctrl-C: the user knows why; a traceback would only hide it
+        sys.stderr.write(f"\npydrill {args.command}: interrupted\n")
+        return 130
     except ValueError as exc:
         sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
         return EXIT_USAGE

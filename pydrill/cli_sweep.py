@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import shlex
+import signal
 import sys
 from pathlib import Path
 
@@ -15,8 +17,9 @@ examples:
   pydrill sweep big.toml --out big.h5 --resume        # after Ctrl-C, kill -9, a lost worker
 
 Results stream into the atlas as they finish (through ATLAS.h5.journal), so an interrupted
-sweep loses nothing: --resume computes only the missing points. An atlas of a different spec
-is never overwritten.
+sweep loses nothing: --resume computes only the missing points. Ctrl-C or SIGTERM stops the
+sweep between batches with the atlas flushed (exit status 130 or 143). An atlas of a
+different spec is never overwritten.
 """
 
 
@@ -98,7 +101,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from .plot import save
     from .plot_atlas import atlas_figure
     from .spec import load_spec
-    from .sweep import run_sweep
+    from .sweep import SweepInterrupted, run_sweep
 
     spec = load_spec(args.spec)
     if args.workers is not None and not 1 <= args.workers <= 256:
@@ -117,15 +120,40 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             bar.update(n)
         done_before[0] += n
 
-    report = run_sweep(
-        spec,
-        args.out,
-        workers=args.workers,
-        scheduler=args.scheduler,
-        resume=args.resume,
-        progress=progress,
-        serial=args.serial,
-    )
+    try:
+        report = run_sweep(
+            spec,
+            args.out,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            resume=args.resume,
+            progress=progress,
+            serial=args.serial,
+            # kill, or a batch system's time limit: stop as on Ctrl-C, the atlas flushed.
+            stop_on=(signal.SIGINT, signal.SIGTERM),
+        )
+    except SweepInterrupted as exc:
+        if bar is not None:
+            bar.close()
+        again = " ".join(shlex.quote(a) for a in ("pydrill", "sweep", args.spec, "--out", args.out))
+        if args.json:
+            print(
+                json.dumps(
+                    {
+                        "atlas": str(exc.atlas),
+                        "interrupted": True,
+                        "points": exc.points,
+                        "done": exc.done,
+                        "resume": f"{again} --resume",
+                    }
+                )
+            )
+        sys.stderr.write(
+            f"pydrill sweep: interrupted; {exc.done} of {exc.points} points are saved in "
+            f"{exc.atlas}\n  to compute the other {exc.points - exc.done}: {again} --resume\n"
+        )
+        # The shell's convention for "ended by signal N": 128 + N.
+        return 128 + exc.signum
     if bar is not None:
         bar.close()
     if args.plot:
@@ -178,6 +206,11 @@ def _cmd_info(args: argparse.Namespace) -> int:
     print(
         f"  safe points {s['safe_points']}, rest/equilibrium disagree at {s['coexistence_points']}"
     )
+    if s["journal"]:
+        print(
+            f"  journal {s['journal']}: a sweep into this atlas is running or was stopped; "
+            "'pydrill sweep SPEC.toml --out ATLAS.h5 --resume' completes it"
+        )
     return 0
 
 

@@ -9,9 +9,11 @@ the atlas from it if the kill caught the HDF5 file mid-write — and computes on
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
+import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -21,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from . import atlas_format as fmt
+from .interrupt import stop_between_batches
 from .spec import SweepSpec, parse_spec
 
 JOURNAL_SUFFIX = ".journal"
@@ -29,6 +32,19 @@ FLUSH_SECONDS = 5.0
 
 class AtlasError(RuntimeError):
     """An atlas that cannot be used as asked (damaged, of another sweep, …)."""
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C (or another of ``run_sweep``'s ``stop_on`` signals, number ``signum``) during a
+    sweep. Everything finished is saved: in the journal, and flushed into the atlas on the way
+    out. A KeyboardInterrupt, so code that stops on Ctrl-C still does."""
+
+    def __init__(self, atlas: Path, points: int, done: int, signum: int = signal.SIGINT):
+        self.atlas, self.points, self.done, self.signum = atlas, points, done, signum
+        super().__init__(
+            f"sweep interrupted: {done} of {points} points are saved in {atlas}; resuming "
+            f"(resume=True, --resume) computes the other {points - done}"
+        )
 
 
 def _num(v: Any) -> Any:
@@ -148,23 +164,42 @@ def _journal(path: Path) -> Path:
 
 
 def _read_journal(path: Path, spec: SweepSpec) -> list[dict[str, Any]]:
+    """The records of ``path``'s journal. A last line cut by a kill (or Ctrl-C) mid-write is
+    dropped and cut off the file, so that the next append starts on a line of its own; its
+    points are simply computed again."""
     jp = _journal(path)
     if not jp.exists():
         return []
     records = []
-    with jp.open() as fh:
-        for n, line in enumerate(fh):
-            if not line.endswith("\n"):
-                break  # a line cut by a kill: its batch is recomputed
-            data = json.loads(line)
-            if n == 0:
-                if data.get("spec_digest") != spec.digest:
-                    raise AtlasError(
-                        f"{jp} belongs to another sweep (spec digest "
-                        f"{data.get('spec_digest')} != {spec.digest})"
-                    )
-                continue
-            records.append(data)
+    good = 0  # bytes up to the end of the last whole line
+    with jp.open("rb") as fh:
+        lines = fh.readlines()
+    for n, raw in enumerate(lines):
+        last = n == len(lines) - 1
+        try:
+            if not raw.endswith(b"\n"):
+                raise ValueError("no end of line")
+            data = json.loads(raw)
+        except ValueError as exc:
+            if last:
+                break
+            raise AtlasError(
+                f"{jp}, line {n + 1}, is damaged ({exc}); remove the journal "
+                "to start the sweep over"
+            ) from None
+        good += len(raw)
+        if n == 0:
+            if data.get("spec_digest") != spec.digest:
+                raise AtlasError(
+                    f"{jp} belongs to another sweep (spec digest "
+                    f"{data.get('spec_digest')} != {spec.digest})"
+                )
+            continue
+        records.append(data)
+    if good == 0:  # not even the header survived
+        jp.write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
+    elif good < jp.stat().st_size:
+        os.truncate(jp, good)
     return records
 
 
@@ -252,8 +287,12 @@ def run_sweep(
     resume: bool = False,
     progress: Callable[[int, int], None] | None = None,
     serial: bool = False,
+    stop_on: tuple[int, ...] = (signal.SIGINT,),
 ) -> SweepReport:
-    """Compute every missing point of ``spec`` into the atlas ``out``."""
+    """Compute every missing point of ``spec`` into the atlas ``out``.
+
+    Any of the signals ``stop_on`` (``pydrill sweep`` adds SIGTERM) stops the sweep between
+    batches with everything finished saved, raising ``SweepInterrupted``."""
     from . import __version__
 
     out = Path(out)
@@ -281,11 +320,12 @@ def run_sweep(
         nonlocal computed, failed, write_time, last_flush
         indices, block, lines = batch
         tw = time.perf_counter()
-        with jp.open("a") as fh:
-            fh.write(lines)
-            fh.flush()
-            os.fsync(fh.fileno())
-        table.put(indices, block)
+        with stop.hold():  # the journal and the table take a batch together, or neither
+            with jp.open("a") as fh:
+                fh.write(lines)
+                fh.flush()
+                os.fsync(fh.fileno())
+            table.put(indices, block)
         computed += len(indices)
         failed += int(np.count_nonzero(block["status"] == fmt.STATUS["failed"]))
         if time.perf_counter() - last_flush > FLUSH_SECONDS:
@@ -295,13 +335,23 @@ def run_sweep(
         if progress:
             progress(len(indices), len(todo))
 
-    if len(todo) and serial:
-        for batch in batches(todo, 1):
-            absorb(evaluate_batch(spec.text, batch, spec.tally_text))
-    elif len(todo):
-        from .sweep_dask import run_dask
+    with stop_between_batches(stop_on) as stop:
+        try:
+            if len(todo) and serial:
+                for batch in batches(todo, 1):
+                    absorb(evaluate_batch(spec.text, batch, spec.tally_text))
+            elif len(todo):
+                from .sweep_dask import run_dask
 
-        run_dask(spec, todo, workers, scheduler, absorb)
+                run_dask(spec, todo, workers, scheduler, absorb)
+        except KeyboardInterrupt:
+            # What was absorbed is in the journal already; the flush lets the atlas show it
+            # before --resume. A second Ctrl-C waits for the flush (the journal would
+            # rebuild a damaged atlas, but there is no need).
+            with contextlib.suppress(KeyboardInterrupt), stop.hold():
+                fmt.write(out, table)
+            done = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
+            raise SweepInterrupted(out, spec.size, done, stop.signum or signal.SIGINT) from None
     tw = time.perf_counter()
     fmt.write(out, table)
     left = int(np.count_nonzero(table.status == fmt.STATUS["missing"]))

@@ -4,6 +4,8 @@ The client only hands out batches and absorbs what comes back (``sweep.run_sweep
 writing). The cluster is started in the calling thread, before any point is computed: Dask's
 nanny forks the workers from this process, and a fork while another thread of it is busy
 (computing, writing) can copy a held lock into the child and hang it — tried, and seen.
+The workers inherit the client's signal handlers (``interrupt``): Ctrl-C stops the sweep
+through the client alone.
 """
 
 from __future__ import annotations

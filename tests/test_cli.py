@@ -153,3 +153,15 @@ def test_driller_units_on_the_command_line():
     assert klbf["inputs"]["wob"] == pytest.approx(100.0, rel=1e-3)
     bad = run("simulate", "--wob", "3 furlong", "--torque", "8.3", check=False)
     assert bad.returncode == 2 and "not a force unit" in bad.stderr
+
+
+def test_ctrl_c_in_any_command_ends_with_one_line_and_status_130(monkeypatch, capsys):
+    import pydrill
+    from pydrill import cli
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pydrill, "simulate", interrupted)
+    assert cli.main(["simulate", "--wob", "100", "--torque", "8.3"]) == 130
+    assert capsys.readouterr().err.strip() == "pydrill simulate: interrupted"

@@ -437,3 +437,118 @@ def test_a_sweep_beside_another_cluster_on_port_8787_stays_quiet(tmp_path):
         assert report.computed == 4 and report.failed == 0
     finally:
         holder.close()
+
+
+# Slow enough per point (5-6 ms) that a sweep is still running when the test interrupts it.
+LONGER = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = { start = 20.0, stop = 200.0, num = 32 }
+torque = { start = 4.0, stop = 14.0, num = 16 }
+[simulation]
+t_end = 3000.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+def _interrupt_mid_sweep(tmp_path, sig, *extra):
+    """Start ``pydrill sweep`` on LONGER, send ``sig`` to its whole process group (what Ctrl-C
+    in a terminal does) once its first batch is journaled; return (rc, stdout, stderr, atlas)."""
+    spec_file = tmp_path / "longer.toml"
+    spec_file.write_text(LONGER)
+    out = tmp_path / "stopped.h5"
+    journal = Path(str(out) + ".journal")
+    proc = subprocess.Popen(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), *extra],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        # A shell's background job ignores SIGINT; a terminal's foreground one does not.
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    deadline = time.time() + 120
+    while time.time() < deadline:
+        if journal.exists() and journal.read_text().count("\n") > 1:
+            break
+        time.sleep(0.02)
+    os.killpg(proc.pid, sig)
+    stdout, err = proc.communicate(timeout=60)
+    return proc.returncode, stdout, err, out
+
+
+def test_ctrl_c_stops_a_dask_sweep_quietly_and_keeps_every_finished_point(tmp_path):
+    rc, _, err, out = _interrupt_mid_sweep(tmp_path, signal.SIGINT, "--workers", "2")
+    assert rc == 130, err
+    assert "Traceback" not in err  # neither the client's nor the workers'
+    assert "interrupted" in err and "--resume" in err
+    journal = Path(str(out) + ".journal")
+    journaled = {json.loads(line)["i"] for line in journal.read_text().splitlines()[1:]}
+    total = 32 * 16
+    assert 0 < len(journaled) < total
+    with h5py.File(out, "r") as f:  # flushed on the way out: the atlas shows them already
+        done = np.flatnonzero(f["status"][...].ravel() != 0)
+    assert set(done.tolist()) == journaled
+    assert f"{len(journaled)} of {total} points are saved" in err
+    report = run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
+    assert report.resumed == len(journaled) and report.computed == total - len(journaled)
+    assert not journal.exists()
+
+
+def test_sigterm_stops_a_serial_sweep_like_ctrl_c(tmp_path):
+    rc, stdout, err, out = _interrupt_mid_sweep(tmp_path, signal.SIGTERM, "--serial", "--json")
+    assert rc == 128 + signal.SIGTERM, err
+    assert "Traceback" not in err and "--resume" in err
+    with Atlas(out) as atlas:
+        s = atlas.summary()
+    assert 0 < s["status"]["done"] < 32 * 16
+    assert s["journal"] == str(out) + ".journal"
+    data = json.loads(stdout)  # --json: scripts learn of the stop too
+    assert data["interrupted"] is True and data["done"] == s["status"]["done"]
+    assert data["resume"].endswith(f"--out {out} --resume")
+
+
+def test_a_journal_line_cut_mid_write_is_recomputed_and_cut_off(tmp_path):
+    """A kill while a batch was being appended leaves a last line without its end. Resuming
+    drops it, and must cut it off the file: the next batch appended after it would otherwise
+    share its line, and the journal could never be read again."""
+    spec = parse_spec(SMALL)
+    out = tmp_path / "cut.h5"
+    reference = tmp_path / "ref.h5"
+    run_sweep(spec, reference, serial=True)
+    journal = Path(str(out) + ".journal")
+    from pydrill.sweep import evaluate_point
+
+    header = json.dumps({"spec_digest": spec.digest}) + "\n"
+    whole = json.dumps(evaluate_point(spec, 0)) + "\n"
+    cut = json.dumps(evaluate_point(spec, 1))[:37]
+    journal.write_text(header + whole + cut)
+    report = run_sweep(spec, out, resume=True, serial=True)
+    assert report.resumed == 1 and report.computed == spec.size - 1
+    _same_atlas(out, reference)
+    # The same, interrupted again right after the resume appended: readable, nothing lost.
+    journal.write_text(header + whole + cut)
+    out.unlink()
+    from pydrill.sweep import _read_journal
+
+    assert [r["i"] for r in _read_journal(out, spec)] == [0]
+    with journal.open("a") as fh:
+        fh.write(json.dumps(evaluate_point(spec, 2)) + "\n")
+    assert [r["i"] for r in _read_journal(out, spec)] == [0, 2]
+
+
+def test_a_damaged_journal_line_is_named(tmp_path):
+    spec = parse_spec(SMALL)
+    out = tmp_path / "bad.h5"
+    from pydrill.sweep import evaluate_point
+
+    Path(str(out) + ".journal").write_text(
+        json.dumps({"spec_digest": spec.digest})
+        + "\n{not json\n"
+        + json.dumps(evaluate_point(spec, 0))
+        + "\n"
+    )
+    with pytest.raises(AtlasError, match=r"journal, line 2, is damaged"):
+        run_sweep(spec, out, resume=True, serial=True)
