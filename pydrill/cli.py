@@ -273,7 +273,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     from . import SolverError
-    from .sweep import AtlasError
+    from .sweep import AtlasError, SchedulerError
     from .tally import TallyError
 
     try:
@@ -290,7 +290,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except TallyError as exc:
         sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
         return EXIT_USAGE
-    except AtlasError as exc:
+    except (AtlasError, SchedulerError) as exc:
         sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
         return EXIT_USAGE
     except SolverError as exc:

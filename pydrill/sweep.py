@@ -34,6 +34,10 @@ class AtlasError(RuntimeError):
     """An atlas that cannot be used as asked (damaged, of another sweep, …)."""
 
 
+class SchedulerError(ConnectionError):
+    """The Dask scheduler given (``--scheduler``) could not be reached."""
+
+
 class SweepInterrupted(KeyboardInterrupt):
     """Ctrl-C (or another of ``run_sweep``'s ``stop_on`` signals, number ``signum``) during a
     sweep. Everything finished is saved: in the journal, and flushed into the atlas on the way
@@ -309,9 +313,10 @@ def run_sweep(
             "base": base.to_dict(),
         }
     )
+    jp = _journal(out)
+    fresh = not (out.exists() or jp.exists())
     table, resumed = prepare(spec, out, resume=resume, params_json=params_json, version=__version__)
     todo = table.missing()
-    jp = _journal(out)
     write_time = 0.0
     computed = failed = 0
     last_flush = time.perf_counter()
@@ -352,6 +357,11 @@ def run_sweep(
                 fmt.write(out, table)
             done = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
             raise SweepInterrupted(out, spec.size, done, stop.signum or signal.SIGINT) from None
+        except Exception:
+            if fresh and computed == 0:  # e.g. no scheduler at that address: leave no trace
+                out.unlink(missing_ok=True)
+                jp.unlink(missing_ok=True)
+            raise
     tw = time.perf_counter()
     fmt.write(out, table)
     left = int(np.count_nonzero(table.status == fmt.STATUS["missing"]))

@@ -46,12 +46,19 @@ def run_dask(
     """Compute the flat indices ``todo`` of ``spec``, handing each finished batch to ``absorb``."""
     from distributed import Client, LocalCluster, as_completed
 
-    from .sweep import batches, evaluate_batch
+    from .sweep import SchedulerError, batches, evaluate_batch
 
     with dask.config.set(QUIET):
         cluster = None
         if scheduler:
-            client = Client(scheduler, timeout="30s")
+            try:  # waits distributed.comm.timeouts.connect (30 s unless configured)
+                client = Client(scheduler)
+            except (OSError, ValueError) as exc:
+                raise SchedulerError(
+                    f"--scheduler {scheduler}: no Dask scheduler answered there ({exc}). "
+                    "Start one ('dask scheduler', then 'dask worker ADDRESS' on each machine), "
+                    "or leave --scheduler out to run on a local cluster"
+                ) from None
         else:
             cluster = LocalCluster(
                 n_workers=workers or os.cpu_count() or 1,

@@ -552,3 +552,30 @@ def test_a_damaged_journal_line_is_named(tmp_path):
     )
     with pytest.raises(AtlasError, match=r"journal, line 2, is damaged"):
         run_sweep(spec, out, resume=True, serial=True)
+
+
+def test_no_scheduler_at_the_address_is_one_clear_error_and_leaves_no_files(tmp_path):
+    out = tmp_path / "never.h5"
+    nobody = f"tcp://127.0.0.1:{_free_port()}"
+    proc = subprocess.run(
+        [
+            *CMD,
+            "sweep",
+            str(ROOT / "sweeps" / "minimal.toml"),
+            "--out",
+            str(out),
+            "--scheduler",
+            nobody,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"},
+    )
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+    assert "--scheduler tcp://127.0.0.1:" in proc.stderr and "dask scheduler" in proc.stderr
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+    # So the same command, once the address is right, needs no --resume nor any cleaning up.
+    report = run_sweep(load_spec(ROOT / "sweeps" / "minimal.toml"), out, serial=True)
+    assert report.computed == report.points
