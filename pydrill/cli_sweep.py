@@ -27,18 +27,23 @@ def register_sweep(sub, positive) -> None:
     sw = sub.add_parser(
         "sweep",
         help="run a parameter sweep (TOML spec) into an HDF5 atlas, with Dask",
-        description="Simulate every point of a sweep specification and analyse its steady "
-        "states, on a local Dask cluster (one process per core) or an existing one, writing an "
-        "HDF5 atlas of regimes, metrics and eigenvalues.",
+        description="Simulate every point of a sweep specification and analyse its steady\n"
+        "states, on a local Dask cluster (one process per core) or an existing one, writing\n"
+        "an HDF5 atlas of regimes, metrics and eigenvalues.",
         epilog=SWEEP_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sw.add_argument("spec", metavar="SPEC.toml", help="the sweep specification")
     sw.add_argument("--out", required=True, metavar="ATLAS.h5", help="the atlas to write")
-    sw.add_argument("--workers", type=int, help="local worker processes (default: all cores)")
-    sw.add_argument("--scheduler", metavar="ADDRESS", help="use an existing Dask scheduler")
+    where = sw.add_mutually_exclusive_group()  # where the points run: one of these, or cores
+    where.add_argument(
+        "--workers", type=int, metavar="N", help="local worker processes (default: one per core)"
+    )
+    where.add_argument(
+        "--scheduler", metavar="ADDRESS", help="run on an existing Dask cluster instead"
+    )
+    where.add_argument("--serial", action="store_true", help="no Dask: run in this process")
     sw.add_argument("--resume", action="store_true", help="complete an interrupted sweep")
-    sw.add_argument("--serial", action="store_true", help="no Dask: run in this process")
     sw.add_argument("--json", action="store_true", help="print one JSON object when done")
     sw.add_argument("--plot", metavar="FILE.png", help="draw the regime map when done")
     sw.set_defaults(handler=_cmd_sweep)

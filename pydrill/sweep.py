@@ -299,6 +299,8 @@ def run_sweep(
     batches with everything finished saved, raising ``SweepInterrupted``."""
     from . import __version__
 
+    if sum(x is not None and x is not False for x in (workers, scheduler, serial)) > 1:
+        raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
     out = Path(out)
     t0 = time.perf_counter()
     base = spec.params_at(spec.coords(0))

@@ -579,3 +579,26 @@ def test_no_scheduler_at_the_address_is_one_clear_error_and_leaves_no_files(tmp_
     # So the same command, once the address is right, needs no --resume nor any cleaning up.
     report = run_sweep(load_spec(ROOT / "sweeps" / "minimal.toml"), out, serial=True)
     assert report.computed == report.points
+
+
+def test_conflicting_places_to_run_are_refused_before_anything_is_written(tmp_path):
+    out = tmp_path / "never.h5"
+    with pytest.raises(ValueError, match="at most one of workers"):
+        run_sweep(parse_spec(SMALL), out, serial=True, workers=2)
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+    proc = subprocess.run(
+        [
+            *CMD,
+            "sweep",
+            str(ROOT / "sweeps" / "minimal.toml"),
+            "--out",
+            str(out),
+            "--serial",
+            "--scheduler",
+            "tcp://127.0.0.1:8786",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2 and "not allowed with argument --serial" in proc.stderr
+    assert not out.exists()
