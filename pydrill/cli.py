@@ -293,6 +293,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (AtlasError, SchedulerError) as exc:
         sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
         return EXIT_USAGE
+    except OSError as exc:  # a path that cannot be read or written, a full disk, ...
+        sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
+        return EXIT_USAGE
     except SolverError as exc:
         t = getattr(exc, "t_reached", None)
         where = f" (reached t = {t:g} s)" if t is not None else ""

@@ -317,6 +317,7 @@ def run_sweep(
     )
     jp = _journal(out)
     fresh = not (out.exists() or jp.exists())
+    out.parent.mkdir(parents=True, exist_ok=True)  # as for every other output of pydrill
     table, resumed = prepare(spec, out, resume=resume, params_json=params_json, version=__version__)
     todo = table.missing()
     write_time = 0.0

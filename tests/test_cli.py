@@ -3,6 +3,7 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -165,3 +166,18 @@ def test_ctrl_c_in_any_command_ends_with_one_line_and_status_130(monkeypatch, ca
     monkeypatch.setattr(pydrill, "simulate", interrupted)
     assert cli.main(["simulate", "--wob", "100", "--torque", "8.3"]) == 130
     assert capsys.readouterr().err.strip() == "pydrill simulate: interrupted"
+
+
+def test_an_output_that_cannot_be_written_is_one_line_not_a_traceback(tmp_path):
+    proc = run(
+        "simulate", "--wob", "100", "--torque", "8.3", "--plot", "/proc/pydrill/x.png", check=False
+    )
+    assert proc.returncode == 2
+    assert proc.stderr.startswith("pydrill simulate: error: ") and "Traceback" not in proc.stderr
+
+
+def test_an_atlas_in_a_new_directory_is_written_like_every_other_output(tmp_path):
+    out = tmp_path / "new" / "dir" / "m.h5"
+    spec = Path(__file__).resolve().parents[1] / "sweeps" / "minimal.toml"
+    run("sweep", str(spec), "--out", str(out), "--serial")
+    assert out.exists()
