@@ -87,9 +87,13 @@ def atlas_figure(atlas, initial: str | None = None) -> Figure:
         handles += ax.get_legend_handles_labels()[0]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9)
     s = atlas.spec
+    total = int(np.prod(atlas.shape))
+    missing = atlas.summary()["status"]["missing"]
+    # An interrupted sweep's atlas: say so, or the white cells read as a regime of their own.
+    count = f"{total - missing} of {total} points done" if missing else f"{total} points"
     ax.set_title(
         f"{s.preset}, dof {s.dof if s.dof else 'swept'}: regime from {init} "
-        f"after {s.simulation['t_end']:g} s ({int(np.prod(atlas.shape))} points)",
+        f"after {s.simulation['t_end']:g} s ({count})",
         fontsize=10,
     )
     return fig

@@ -501,10 +501,14 @@ def test_sigterm_stops_a_serial_sweep_like_ctrl_c(tmp_path):
     rc, stdout, err, out = _interrupt_mid_sweep(tmp_path, signal.SIGTERM, "--serial", "--json")
     assert rc == 128 + signal.SIGTERM, err
     assert "Traceback" not in err and "--resume" in err
+    from pydrill.plot_atlas import atlas_figure
+
     with Atlas(out) as atlas:
         s = atlas.summary()
+        title = atlas_figure(atlas).axes[0].get_title()
     assert 0 < s["status"]["done"] < 32 * 16
     assert s["journal"] == str(out) + ".journal"
+    assert f"({s['status']['done']} of 512 points done)" in title  # blank cells explained
     data = json.loads(stdout)  # --json: scripts learn of the stop too
     assert data["interrupted"] is True and data["done"] == s["status"]["done"]
     assert data["resume"].endswith(f"--out {out} --resume")
