@@ -315,10 +315,43 @@ def run_sweep(
             "base": base.to_dict(),
         }
     )
+    out.parent.mkdir(parents=True, exist_ok=True)  # as for every other output of pydrill
+    from .atlas_lock import writer_lock
+
+    with writer_lock(out):
+        return _sweep_locked(
+            spec,
+            out,
+            resume,
+            params_json,
+            __version__,
+            t0,
+            workers=workers,
+            scheduler=scheduler,
+            progress=progress,
+            serial=serial,
+            stop_on=stop_on,
+        )
+
+
+def _sweep_locked(
+    spec: SweepSpec,
+    out: Path,
+    resume: bool,
+    params_json: str,
+    version: str,
+    t0: float,
+    *,
+    workers: int | None,
+    scheduler: str | None,
+    progress: Callable[[int, int], None] | None,
+    serial: bool,
+    stop_on: tuple[int, ...],
+) -> SweepReport:
+    """``run_sweep`` once the atlas is this process's alone (``atlas_lock``)."""
     jp = _journal(out)
     fresh = not (out.exists() or jp.exists())
-    out.parent.mkdir(parents=True, exist_ok=True)  # as for every other output of pydrill
-    table, resumed = prepare(spec, out, resume=resume, params_json=params_json, version=__version__)
+    table, resumed = prepare(spec, out, resume=resume, params_json=params_json, version=version)
     todo = table.missing()
     write_time = 0.0
     computed = failed = 0

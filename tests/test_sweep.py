@@ -1,5 +1,6 @@
 """Sweeps into atlases: specs, streaming, resume after kill -9, a real Dask cluster."""
 
+import contextlib
 import json
 import os
 import shutil
@@ -606,3 +607,39 @@ def test_conflicting_places_to_run_are_refused_before_anything_is_written(tmp_pa
     )
     assert proc.returncode == 2 and "not allowed with argument --serial" in proc.stderr
     assert not out.exists()
+
+
+def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path):
+    """Before the lock, ``--resume`` from a second terminal ran beside the first sweep: two
+    writers appending to one journal and overwriting each other's atlas flushes."""
+    spec_file = tmp_path / "longer.toml"
+    spec_file.write_text(LONGER)
+    out = tmp_path / "busy.h5"
+    journal = Path(str(out) + ".journal")
+    first = subprocess.Popen(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), "--workers", "2"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        deadline = time.time() + 120
+        while not (journal.exists() and journal.read_text().count("\n") > 1):
+            assert time.time() < deadline and first.poll() is None
+            time.sleep(0.02)
+        before = journal.read_bytes()
+        with pytest.raises(
+            AtlasError, match=rf"being written by another sweep \(process {first.pid}\)"
+        ):
+            run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
+        assert journal.read_bytes()[: len(before)] == before  # untouched by the refused one
+        # kill -9 of the sweep alone: its lock file stays, but the kernel drops the lock
+        # with the process, though its workers may still be finishing their batches.
+        os.kill(first.pid, signal.SIGKILL)
+        first.wait()
+        report = run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(first.pid, signal.SIGKILL)
+    assert report.resumed + report.computed == 32 * 16
+    assert not Path(str(out) + ".lock").exists()
