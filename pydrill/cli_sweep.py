@@ -7,6 +7,7 @@ import json
 import shlex
 import signal
 import sys
+import time
 from pathlib import Path
 
 SWEEP_EPILOG = """\
@@ -45,6 +46,11 @@ def register_sweep(sub, positive) -> None:
     where.add_argument("--serial", action="store_true", help="no Dask: run in this process")
     sw.add_argument("--resume", action="store_true", help="complete an interrupted sweep")
     sw.add_argument("--json", action="store_true", help="print one JSON object when done")
+    sw.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress (a bar on a terminal, else a line every 30 s on stderr)",
+    )
     sw.add_argument("--plot", metavar="FILE.png", help="draw the regime map when done")
     sw.set_defaults(handler=_cmd_sweep)
 
@@ -97,6 +103,41 @@ def register_sweep(sub, positive) -> None:
     at.set_defaults(handler=lambda args: _atlas_usage(at))
 
 
+class _LogProgress:
+    """Progress for a log rather than a terminal: one line at most every ``every`` seconds,
+    none at all for a sweep shorter than that. Speaks tqdm's ``total``/``reset``/``update``/
+    ``close``, as ``_cmd_sweep`` uses them."""
+
+    def __init__(self, total: int, every: float = 30.0) -> None:
+        self.total, self.every, self.done = total, every, 0
+        self.start = self.last = time.monotonic()
+
+    def reset(self, total: int) -> None:
+        self.total, self.done = total, 0
+
+    def update(self, n: int) -> None:
+        self.done += n
+        now = time.monotonic()
+        if now - self.last >= self.every and self.done < self.total:
+            self.last = now
+            rate = self.done / (now - self.start)
+            left = (self.total - self.done) / rate
+            sys.stderr.write(
+                f"sweep: {self.done}/{self.total} points ({100 * self.done / self.total:.0f} %), "
+                f"{rate:.0f} points/s, about {_duration(left)} left\n"
+            )
+            sys.stderr.flush()
+
+    def close(self) -> None:
+        pass
+
+
+def _duration(seconds: float) -> str:
+    m, s = divmod(round(seconds), 60)
+    h, m = divmod(m, 60)
+    return f"{h} h {m:02d} min" if h else f"{m} min {s:02d} s" if m else f"{s} s"
+
+
 def _atlas_usage(parser) -> int:
     parser.print_help(sys.stderr)
     return 2
@@ -112,10 +153,14 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise ValueError(f"--workers = {args.workers} is not allowed: 1 ... 256")
     bar = None
-    if not args.json and sys.stderr.isatty():
+    if args.no_progress:
+        pass
+    elif sys.stderr.isatty() and not args.json:
         from tqdm import tqdm
 
         bar = tqdm(total=spec.size, unit="pt", desc="sweep", file=sys.stderr)
+    else:  # a log file (nohup, a batch job): a plain line now and then
+        bar = _LogProgress(spec.size)
     done_before = [0]
 
     def progress(n: int, total: int) -> None:

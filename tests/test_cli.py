@@ -181,3 +181,18 @@ def test_an_atlas_in_a_new_directory_is_written_like_every_other_output(tmp_path
     spec = Path(__file__).resolve().parents[1] / "sweeps" / "minimal.toml"
     run("sweep", str(spec), "--out", str(out), "--serial")
     assert out.exists()
+
+
+def test_sweep_progress_in_a_log_is_a_plain_line_now_and_then(capsys):
+    from pydrill.cli_sweep import _duration, _LogProgress
+
+    log = _LogProgress(1000, every=0.0)
+    log.update(250)
+    log.update(750)  # finished: the summary line says the rest
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("sweep: 250/1000 points (25 %), ")
+    assert lines[0].endswith(" left") and "\r" not in lines[0]
+    quiet = _LogProgress(1000)  # every 30 s: a short sweep prints nothing
+    quiet.update(999)
+    assert capsys.readouterr().err == ""
+    assert [_duration(x) for x in (7.4, 75, 3725)] == ["7 s", "1 min 15 s", "1 h 02 min"]
