@@ -284,16 +284,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:  # Ctrl-C: the user knows why; a traceback would only hide it
         sys.stderr.write(f"\npydrill {args.command}: interrupted\n")
         return 130
-    except ValueError as exc:
-        sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
-        return EXIT_USAGE
-    except TallyError as exc:
-        sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
-        return EXIT_USAGE
-    except (AtlasError, SchedulerError) as exc:
-        sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
-        return EXIT_USAGE
-    except OSError as exc:  # a path that cannot be read or written, a full disk, ...
+    # Bad input of every kind, including paths that cannot be read or written (OSError).
+    except (ValueError, TallyError, AtlasError, SchedulerError, OSError) as exc:
         sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
         return EXIT_USAGE
     except SolverError as exc:

@@ -176,30 +176,28 @@ def _read_journal(path: Path, spec: SweepSpec) -> list[dict[str, Any]]:
         return []
     records = []
     good = 0  # bytes up to the end of the last whole line
-    with jp.open("rb") as fh:
-        lines = fh.readlines()
-    for n, raw in enumerate(lines):
-        last = n == len(lines) - 1
-        try:
-            if not raw.endswith(b"\n"):
-                raise ValueError("no end of line")
-            data = json.loads(raw)
-        except ValueError as exc:
-            if last:
-                break
-            raise AtlasError(
-                f"{jp}, line {n + 1}, is damaged ({exc}); remove the journal "
-                "to start the sweep over"
-            ) from None
-        good += len(raw)
-        if n == 0:
-            if data.get("spec_digest") != spec.digest:
+    with jp.open("rb") as fh:  # line by line: a journal may hold millions of points
+        for n, raw in enumerate(fh):
+            try:
+                if not raw.endswith(b"\n"):
+                    raise ValueError("no end of line")
+                data = json.loads(raw)
+            except ValueError as exc:
+                if not fh.read(1):  # the last line
+                    break
                 raise AtlasError(
-                    f"{jp} belongs to another sweep (spec digest "
-                    f"{data.get('spec_digest')} != {spec.digest})"
-                )
-            continue
-        records.append(data)
+                    f"{jp}, line {n + 1}, is damaged ({exc}); remove the journal "
+                    "to start the sweep over"
+                ) from None
+            good += len(raw)
+            if n == 0:
+                if data.get("spec_digest") != spec.digest:
+                    raise AtlasError(
+                        f"{jp} belongs to another sweep (spec digest "
+                        f"{data.get('spec_digest')} != {spec.digest})"
+                    )
+                continue
+            records.append(data)
     if good == 0:  # not even the header survived
         jp.write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
     elif good < jp.stat().st_size:
@@ -299,7 +297,7 @@ def run_sweep(
     batches with everything finished saved, raising ``SweepInterrupted``."""
     from . import __version__
 
-    if sum(x is not None and x is not False for x in (workers, scheduler, serial)) > 1:
+    if (workers is not None) + bool(scheduler) + bool(serial) > 1:
         raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
     out = Path(out)
     t0 = time.perf_counter()
