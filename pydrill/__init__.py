@@ -9,6 +9,8 @@ from ._core import SolverError
 from .atlas import Atlas
 from .model import PRESETS, Params, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
+from .spec import SpecError, SweepSpec, load_spec, parse_spec
+from .sweep import AtlasError, SweepInterrupted, SweepReport, run_sweep
 from .tally import Tally, load_tally
 
 __version__: str = _core.__version__
@@ -35,17 +37,25 @@ __all__ = [
     "PRESETS",
     "REGIMES",
     "Atlas",
+    "AtlasError",
     "Params",
     "SimulationResult",
     "SolverError",
     "SolverStats",
+    "SpecError",
     "Summary",
+    "SweepInterrupted",
+    "SweepReport",
+    "SweepSpec",
     "Switch",
     "Tally",
     "equilibrium_torque",
     "equilibrium_velocities",
+    "load_spec",
     "load_tally",
+    "parse_spec",
     "preset",
+    "run_sweep",
     "simulate",
     "stability",
     "units",

@@ -52,27 +52,34 @@ class SpecError(ValueError):
 
 @dataclass(frozen=True)
 class SweepSpec:
+    """A validated sweep specification (from :func:`load_spec` or :func:`parse_spec`): the
+    model, the grid of axes, the simulation settings and what to record. Points are numbered
+    in C order over ``axes``."""
+
     text: str  #: the TOML as given (stored in the atlas)
-    preset: str
-    dof: int | None
-    overrides: dict[str, Any]
+    preset: str  #: the parameter set (``pydrill.PRESETS``)
+    dof: int | None  #: lumped elements, or None when an axis sets the size
+    overrides: dict[str, Any]  #: model parameters changed from the preset
     axes: dict[str, np.ndarray]  #: name -> values, in grid order
-    simulation: dict[str, Any]
-    record: dict[str, Any]
+    simulation: dict[str, Any]  #: t_end, initial, friction, method, tolerances, window
+    record: dict[str, Any]  #: stability (bool), eigenvalues (how many kept)
     fixed: dict[str, float] = field(default_factory=dict)  #: wob/torque held fixed, if any
     tally_text: str | None = None  #: the tally the string is built from, if any
     lump: int = 1  #: drill-pipe joints per element (tally strings)
 
     @property
     def shape(self) -> tuple[int, ...]:
+        """Points along each axis, in the order of ``axes``."""
         return tuple(len(v) for v in self.axes.values())
 
     @property
     def size(self) -> int:
+        """Points in the grid."""
         return math.prod(self.shape)
 
     @property
     def initials(self) -> list[str]:
+        """The starts simulated at each point (``"rest"``, ``"equilibrium"``)."""
         return list(self.simulation["initial"])
 
     @property
@@ -92,6 +99,7 @@ class SweepSpec:
         return hashlib.sha256(canon.encode()).hexdigest()[:16]
 
     def coords(self, flat_index: int) -> dict[str, float]:
+        """The axis values of point number ``flat_index``."""
         idx = np.unravel_index(flat_index, self.shape)
         return {k: float(v[i]) for (k, v), i in zip(self.axes.items(), idx, strict=True)}
 
@@ -117,6 +125,7 @@ class SweepSpec:
         return preset(self.preset, dof=dof, **over)
 
     def operating_point(self, coords: dict[str, float]) -> tuple[float, float]:
+        """(W_ob in N, surface torque in N·m) at a point: swept, or held fixed."""
         get = {**self.fixed, **coords}
         return float(get["wob"]), float(get["torque"])
 
@@ -336,6 +345,9 @@ def _corners(spec: SweepSpec) -> list[dict[str, float]]:
 
 
 def load_spec(path: str | Path) -> SweepSpec:
+    """Read and validate a sweep specification (TOML) from ``path``; a tally it names is
+    resolved next to it. Raises :class:`SpecError` naming the key at fault, before anything
+    runs."""
     path = Path(path)
     try:
         text = path.read_text()

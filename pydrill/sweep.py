@@ -154,13 +154,17 @@ def evaluate_batch(
 
 @dataclass
 class SweepReport:
-    atlas: Path
-    points: int
-    computed: int
-    failed: int
-    resumed: int
-    wall_time: float
-    write_time: float
+    """What :func:`run_sweep` did: the atlas, its size, the points computed in this run (and
+    how many of them failed), those found already done (``resumed``), and the wall time with
+    the part of it spent writing (journal and HDF5), in seconds."""
+
+    atlas: Path  #: the atlas written
+    points: int  #: points in the grid
+    computed: int  #: computed in this run
+    failed: int  #: of those, stored as failed (with their messages)
+    resumed: int  #: found already done (``resume``)
+    wall_time: float  #: s, the whole run
+    write_time: float  #: s, of it spent writing the journal and the atlas
 
 
 def _journal(path: Path) -> Path:
@@ -285,13 +289,16 @@ def run_sweep(
     out: str | Path,
     *,
     workers: int | None = None,
-    scheduler: str | None = None,
+    scheduler: Any = None,
     resume: bool = False,
     progress: Callable[[int, int], None] | None = None,
     serial: bool = False,
     stop_on: tuple[int, ...] = (signal.SIGINT,),
 ) -> SweepReport:
-    """Compute every missing point of ``spec`` into the atlas ``out``.
+    """Compute every missing point of ``spec`` into the atlas ``out``: on a LocalCluster of
+    ``workers`` processes (default: one per core), started for this sweep; on an existing Dask
+    cluster, given as ``scheduler`` (its address, or a ``distributed.Client``, left open); or
+    ``serial``-ly in this process.
 
     Any of the signals ``stop_on`` (``pydrill sweep`` adds SIGTERM) stops the sweep between
     batches with everything finished saved, raising ``SweepInterrupted``."""
@@ -341,7 +348,7 @@ def _sweep_locked(
     t0: float,
     *,
     workers: int | None,
-    scheduler: str | None,
+    scheduler: Any,
     progress: Callable[[int, int], None] | None,
     serial: bool,
     stop_on: tuple[int, ...],

@@ -40,17 +40,22 @@ def run_dask(
     spec: SweepSpec,
     todo: np.ndarray,
     workers: int | None,
-    scheduler: str | None,
+    scheduler: Any,
     absorb: Callable[[Any], None],
 ) -> None:
-    """Compute the flat indices ``todo`` of ``spec``, handing each finished batch to ``absorb``."""
+    """Compute the flat indices ``todo`` of ``spec``, handing each finished batch to ``absorb``.
+    ``scheduler``: None (a LocalCluster of ``workers`` processes, for this sweep alone), an
+    address, or a ``distributed.Client`` of the caller's, which stays open."""
     from distributed import Client, LocalCluster, as_completed
 
     from .sweep import SchedulerError, batches, evaluate_batch
 
     with dask.config.set(QUIET):
         cluster = None
-        if scheduler:
+        own = not hasattr(scheduler, "submit")
+        if not own:
+            client = scheduler
+        elif scheduler:
             try:  # waits distributed.comm.timeouts.connect (30 s unless configured)
                 client = Client(scheduler)
             except (OSError, ValueError) as exc:
@@ -74,6 +79,7 @@ def run_dask(
                 silence_logs=logging.CRITICAL,
             )
             client = Client(cluster)
+        futures = []
         try:
             n = max(1, len(client.scheduler_info().get("workers", {})))
             futures = [
@@ -83,6 +89,13 @@ def run_dask(
             for fut in as_completed(futures):
                 absorb(fut.result())
         finally:
-            client.close()
+            if own:
+                client.close()
+            else:  # the caller's client: take back only what this sweep asked of it
+                client.cancel([f for f in futures if not f.done()])
+                # An exception's traceback keeps this frame alive, and with it any future
+                # it names, and their results on the workers.
+                futures.clear()
+                fut = None
             if cluster is not None:
                 cluster.close()

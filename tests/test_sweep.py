@@ -18,7 +18,7 @@ import pytest
 import pydrill
 from pydrill.atlas import Atlas
 from pydrill.spec import SpecError, load_spec, parse_spec
-from pydrill.sweep import AtlasError, run_sweep
+from pydrill.sweep import AtlasError, SweepInterrupted, run_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 CMD = [sys.executable, "-m", "pydrill"]
@@ -643,3 +643,34 @@ def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path):
             os.killpg(first.pid, signal.SIGKILL)
     assert report.resumed + report.computed == 32 * 16
     assert not Path(str(out) + ".lock").exists()
+
+
+def test_a_dask_client_of_the_callers_runs_the_sweep_and_stays_open(tmp_path):
+    """In a notebook the Dask cluster already exists: pass its Client, as Dask users do."""
+    from distributed import Client, LocalCluster
+
+    reference = tmp_path / "ref.h5"
+    run_sweep(parse_spec(SMALL), reference, serial=True)
+    with (
+        LocalCluster(n_workers=1, processes=False, dashboard_address=":0") as cluster,
+        Client(cluster) as client,
+    ):
+        report = run_sweep(parse_spec(SMALL), tmp_path / "client.h5", scheduler=client)
+        assert report.computed == 6
+        assert not client.futures  # nothing of the sweep's left behind on it
+        assert client.submit(sum, [1, 2], pure=False).result() == 3  # still the caller's
+
+        def stop_after_the_first_batch(n, total):
+            raise KeyboardInterrupt
+
+        with pytest.raises(SweepInterrupted) as stopped:
+            run_sweep(
+                parse_spec(MEDIUM),
+                tmp_path / "stopped.h5",
+                scheduler=client,
+                progress=stop_after_the_first_batch,
+            )
+        assert 0 < stopped.value.done < 16 * 12
+        assert not client.futures  # the batches not yet done were cancelled, not left running
+        assert client.submit(sum, [3, 4], pure=False).result() == 7
+    _same_atlas(tmp_path / "client.h5", reference)

@@ -51,9 +51,22 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         ["stability"],
     ),
     (
+        "Sweeps",
+        "The guide: [Sweeps and atlases](guide/sweeps.md).",
+        [
+            "load_spec",
+            "parse_spec",
+            "SweepSpec",
+            "SpecError",
+            "run_sweep",
+            "SweepReport",
+            "SweepInterrupted",
+        ],
+    ),
+    (
         "Atlases",
         "The guide: [Sweeps and atlases](guide/sweeps.md).",
-        ["Atlas"],
+        ["Atlas", "AtlasError"],
     ),
     (
         "Units",
@@ -167,7 +180,14 @@ def render_class(qual: str, cls: type, level: int) -> list[str]:
     lines: list[str] = []
     if issubclass(cls, BaseException):
         bases = ", ".join(b.__name__ for b in cls.__bases__)
-        lines += [f"{h} `{qual}`", "", f"```text\nexception {qual}({bases})\n```", "", _doc(cls)]
+        lines += [
+            f"{h} `{qual}`",
+            "",
+            f"```text\nexception {qual}({bases})\n```",
+            "",
+            _doc(cls),
+            "",
+        ]
         return lines
     init_sig = signature(cls, qual).removesuffix(" -> None")
     lines += [f"{h} `{qual}`", "", f"```text\nclass {init_sig}\n```", "", _doc(cls), ""]

@@ -12,7 +12,11 @@ from scipy.integrate._ivp import dop853_coefficients as c
 
 
 def arr(name, v):
-    return f"inline constexpr double {name}[{len(v)}] = {{" + ", ".join(repr(float(x)) for x in v) + "};\n"
+    return (
+        f"inline constexpr double {name}[{len(v)}] = {{"
+        + ", ".join(repr(float(x)) for x in v)
+        + "};\n"
+    )
 
 
 def mat(name, m):
@@ -35,4 +39,6 @@ out = [
     mat("D", c.D),
     "\n}  // namespace pydrill::detail::dop853\n",
 ]
-Path(__file__).resolve().parents[1].joinpath("cpp/src/dop853_coefficients.hpp").write_text("".join(out))
+Path(__file__).resolve().parents[1].joinpath("cpp/src/dop853_coefficients.hpp").write_text(
+    "".join(out)
+)
