@@ -62,6 +62,7 @@ def register_sweep(sub, positive) -> None:
         "  pydrill atlas query paper.h5 --wob 100 --torque 8 --json\n"
         "  pydrill atlas query paper.h5 --wob 97 --torque 8.2 --nearest\n"
         "  pydrill atlas plot paper.h5 --out map.png --initial rest\n"
+        "  pydrill atlas plot sizes.h5 --out map8.png --x wob --y torque --set dof=8\n"
         "  pydrill atlas export paper.h5 --out paper.nc",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -95,6 +96,15 @@ def register_sweep(sub, positive) -> None:
     plot.add_argument("atlas", metavar="ATLAS.h5")
     plot.add_argument("--out", required=True, metavar="FILE.png")
     plot.add_argument("--initial", help="which start to draw (default: the first)")
+    plot.add_argument("--x", metavar="AXIS", help="horizontal axis (default: the first swept)")
+    plot.add_argument("--y", metavar="AXIS", help="vertical axis (default: the next swept)")
+    plot.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="AXIS=VALUE",
+        help="hold another axis at its grid value nearest VALUE (default: its first value)",
+    )
     plot.set_defaults(handler=_cmd_plot)
     export = asub.add_parser("export", help="write the atlas as netCDF (.nc) or CSV (.csv)")
     export.add_argument("atlas", metavar="ATLAS.h5")
@@ -264,6 +274,18 @@ def _cmd_info(args: argparse.Namespace) -> int:
     return 0
 
 
+def _axis_values(items: list[str]) -> dict[str, float]:
+    """``--set AXIS=VALUE`` options as a dict."""
+    out = {}
+    for item in items:
+        name, _, value = item.partition("=")
+        try:
+            out[name.strip()] = float(value)
+        except ValueError:
+            raise ValueError(f"--set {item!r}: expected AXIS=NUMBER") from None
+    return out
+
+
 def _cmd_query(args: argparse.Namespace) -> int:
     from .atlas import Atlas
 
@@ -272,12 +294,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
         for k in ("wob", "torque", "depth", "dof", "pipes")
         if getattr(args, k) is not None
     }
-    for item in args.set:
-        name, _, value = item.partition("=")
-        try:
-            coords[name.strip()] = float(value)
-        except ValueError:
-            raise ValueError(f"--set {item!r}: expected AXIS=NUMBER") from None
+    coords.update(_axis_values(args.set))
     with Atlas(args.atlas) as atlas:
         try:
             v = atlas.value("nearest" if args.nearest else "exact", **coords)
@@ -331,8 +348,9 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from .plot import save
     from .plot_atlas import atlas_figure
 
+    at = _axis_values(args.set)
     with Atlas(args.atlas) as atlas:
-        save(atlas_figure(atlas, initial=args.initial), args.out)
+        save(atlas_figure(atlas, initial=args.initial, x=args.x, y=args.y, at=at), args.out)
     print(f"figure: {args.out}")
     return 0
 

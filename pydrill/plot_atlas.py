@@ -10,9 +10,17 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-def atlas_figure(atlas, initial: str | None = None) -> Figure:
-    """Regime map of an atlas on its two first non-trivial axes, with the stuck boundary
-    u = μ_sb W_ob R_b and the first Hopf curve when the axes are (W_ob, u) (Figs. 6b, 12)."""
+def atlas_figure(
+    atlas,
+    initial: str | None = None,
+    x: str | None = None,
+    y: str | None = None,
+    at: dict[str, float] | None = None,
+) -> Figure:
+    """Regime map of an atlas on the axes ``x`` and ``y`` (default: its first two swept ones),
+    every other axis held at the grid value nearest ``at[name]`` (default: its first value).
+    On (W_ob, u) the stuck boundary u = μ_sb W_ob R_b and the first Hopf curve of the string
+    at those values are drawn on top (the paper's Figs. 6b and 12)."""
     import numpy as np
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
@@ -23,17 +31,34 @@ def atlas_figure(atlas, initial: str | None = None) -> Figure:
     j = atlas.initials.index(init) if init in atlas.initials else None
     if j is None:
         raise ValueError(f"initial = {init!r} is not in this atlas: {atlas.initials}")
-    names = [n for n, v in atlas.axes.items() if len(v) > 1]
-    if len(names) < 2:
-        names = list(atlas.axes)[:2]
-    if len(names) < 2:
-        raise ValueError("the atlas has one axis: a map needs two")
-    xname, yname = names[0], names[1]
-    codes = atlas._f["regime"][..., j]
-    # Collapse any other axis by taking its first value.
     order = list(atlas.axes)
-    sl = tuple(slice(None) if n in (xname, yname) else 0 for n in order)
-    grid = codes[sl]
+    if len(order) < 2:
+        raise ValueError("the atlas has one axis: a map needs two")
+    at = dict(at or {})
+    for what, name in [("x", x), ("y", y)] + [("a held axis", n) for n in at]:
+        if name is not None and name not in order:
+            raise ValueError(f"{what} = {name!r} is not an axis of this atlas; axes: {order}")
+    if x is not None and x == y:
+        raise ValueError(f"x and y are both {x!r}: a map needs two different axes")
+    if {x, y} & set(at):
+        raise ValueError(f"{sorted({x, y} & set(at))[0]!r} is drawn; it cannot also be held")
+    swept_first = sorted(order, key=lambda n: len(atlas.axes[n]) <= 1)
+    free = [n for n in swept_first if n not in (x, y) and n not in at]
+    if len(free) < (x is None) + (y is None):
+        raise ValueError(f"no axis left to draw: {order} are all given as x, y or held")
+    xname = x or free.pop(0)
+    yname = y or free.pop(0)
+    held: dict[str, float] = {}
+    index: list[int | slice] = []
+    for name in order:
+        values = atlas.axes[name]
+        if name in (xname, yname):
+            index.append(slice(None))
+            continue
+        k = int(np.argmin(np.abs(values - at[name]))) if name in at else 0
+        held[name] = float(values[k])
+        index.append(k)
+    grid = atlas._f["regime"][..., j][tuple(index)]
     if order.index(xname) > order.index(yname):
         grid = grid.T
     # grid is (x, y); plot y vertical.
@@ -58,14 +83,20 @@ def atlas_figure(atlas, initial: str | None = None) -> Figure:
         "dof": "degrees of freedom",
         "pipes": "drill pipes",
     }
-    ax.set_xlabel(f"{label.get(xname, xname)} ({units.get(xname, 'SI')})")
-    ax.set_ylabel(f"{label.get(yname, yname)} ({units.get(yname, 'SI')})")
+    for name, values, set_label, set_ticks in (
+        (xname, x, ax.set_xlabel, ax.set_xticks),
+        (yname, y, ax.set_ylabel, ax.set_yticks),
+    ):
+        unit = units.get(name, "SI")
+        set_label(label.get(name, name) + (f" ({unit})" if unit else ""))
+        if len(values) <= 12 and np.all(values == np.round(values)):
+            set_ticks(values)  # a few whole numbers (dof, pipes): a tick on each
     present = sorted({int(c) for c in np.unique(grid)}, key=lambda c: lut[c])
     handles = [Patch(color=colors[lut[c]], label=fmt.REGIME_NAMES[c]) for c in present]
-    if {xname, yname} == {"wob", "torque"} and len(atlas.axes) == 2:
+    if {xname, yname} == {"wob", "torque"}:
         from .stability import critical_deltas
 
-        params = atlas.spec.params_at({})
+        params = atlas.spec.params_at(held)  # the string at the held values (dof, depth, ...)
         wob = np.linspace(
             x.min() if xname == "wob" else y.min(), x.max() if xname == "wob" else y.max(), 200
         )
@@ -91,9 +122,17 @@ def atlas_figure(atlas, initial: str | None = None) -> Figure:
     missing = atlas.summary()["status"]["missing"]
     # An interrupted sweep's atlas: say so, or the white cells read as a regime of their own.
     count = f"{total - missing} of {total} points done" if missing else f"{total} points"
+    # Everything a map holds constant: the held axes, and what the spec fixes (e.g. torque).
+    where = "".join(f", {n} = {v:.4g}" for n, v in {**s.fixed, **held}.items())
+    size = f", dof {s.dof}" if s.dof and "dof" not in atlas.axes else ""
+    if s.tally_text:
+        from .tally import parse_tally
+
+        string = f"string {parse_tally(s.tally_text).name}"
+    else:
+        string = s.preset
     ax.set_title(
-        f"{s.preset}, dof {s.dof if s.dof else 'swept'}: regime from {init} "
-        f"after {s.simulation['t_end']:g} s ({count})",
+        f"{string}{size}{where}: regime from {init} after {s.simulation['t_end']:g} s ({count})",
         fontsize=10,
     )
     return fig

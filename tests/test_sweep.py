@@ -674,3 +674,52 @@ def test_a_dask_client_of_the_callers_runs_the_sweep_and_stays_open(tmp_path):
         assert not client.futures  # the batches not yet done were cancelled, not left running
         assert client.submit(sum, [3, 4], pure=False).result() == 7
     _same_atlas(tmp_path / "client.h5", reference)
+
+
+SIZES = """
+[model]
+preset = "reduced-scale"
+[axes]
+dof = [4, 8]
+wob = [40.0, 100.0, 160.0, 220.0]
+torque = [6.0, 8.3, 12.0]
+[simulation]
+t_end = 200.0
+initial = ["rest"]
+"""
+
+
+def test_atlas_plot_draws_the_chosen_axes_at_the_held_values(tmp_path):
+    from pydrill.plot_atlas import atlas_figure
+
+    out = tmp_path / "sizes.h5"
+    run_sweep(parse_spec(SIZES), out, serial=True)
+    shown = ["steady", "stick-slip", "stuck", "oscillation", "failed", "missing", "no-steady-state"]
+    with Atlas(out) as atlas:
+        names = atlas.regimes("rest")  # (dof, wob, torque)
+        fig = atlas_figure(atlas, x="torque", y="wob", at={"dof": 7.2})  # nearest: dof 8
+        ax = fig.axes[0]
+        image = np.asarray(ax.collections[0].get_array()).reshape(4, 3)  # rows: wob
+        assert (np.array(shown)[image] == names[1]).all()
+        assert "dof = 8" in ax.get_title()
+        assert ax.get_xlabel() == "surface torque $u$ (N·m)"
+        # (W_ob, u) with the string held: the stuck boundary and the Hopf curve on top
+        assert [line.get_label()[:5] for line in ax.get_lines()] == ["stuck", "first"]
+        default = atlas_figure(atlas).axes[0]  # the first two swept axes, dof and wob
+        assert default.get_xlabel() == "degrees of freedom" and "torque = 6" in default.get_title()
+        assert list(default.get_xticks()) == [4, 8]
+        for bad, message in [
+            (dict(x="wob", y="wob"), "two different axes"),
+            (dict(x="depth"), "x = 'depth' is not an axis"),
+            (dict(x="wob", at={"wob": 100.0}), "'wob' is drawn"),
+            (dict(at={"dof": 4, "torque": 6, "wob": 40}), "no axis left"),
+        ]:
+            with pytest.raises(ValueError, match=message):
+                atlas_figure(atlas, **bad)
+    chosen = ["--x", "wob", "--y", "torque", "--set", "dof=8"]
+    proc = subprocess.run(
+        [*CMD, "atlas", "plot", str(out), "--out", str(tmp_path / "m.png"), *chosen],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0 and (tmp_path / "m.png").stat().st_size > 10_000
