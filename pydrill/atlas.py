@@ -92,8 +92,18 @@ class Atlas:
             if method == "exact" and not math.isclose(values[i], v, rel_tol=1e-9, abs_tol=1e-12):
                 raise KeyError(
                     f"{name} = {v:g} is not on the grid (nearest {values[i]:g}); "
-                    "use method='nearest'"
+                    "use method='nearest' (--nearest)"
                 )
+            if method == "nearest" and len(values) > 1:
+                # Beyond half a grid step past either end, the "nearest" point would answer
+                # for a place the sweep never went.
+                ends = np.sort(values)
+                lo = ends[0] - 0.5 * (ends[1] - ends[0])
+                hi = ends[-1] + 0.5 * (ends[-1] - ends[-2])
+                if not lo <= v <= hi:
+                    raise KeyError(
+                        f"{name} = {v:g} is outside the atlas ({ends[0]:g} ... {ends[-1]:g})"
+                    )
             idx.append(i)
         return tuple(idx)
 

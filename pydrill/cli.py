@@ -276,22 +276,24 @@ def main(argv: Sequence[str] | None = None) -> int:
     from .sweep import AtlasError, SchedulerError
     from .tally import TallyError
 
+    # "pydrill atlas query: error: ...", not just "pydrill atlas: ...".
+    command = " ".join(filter(None, [args.command, getattr(args, "atlas_command", None)]))
     try:
         return int(args.handler(args))
     except BrokenPipeError:  # e.g. piped into head: not an error of ours
         sys.stderr.close()
         return 0
     except KeyboardInterrupt:  # Ctrl-C: the user knows why; a traceback would only hide it
-        sys.stderr.write(f"\npydrill {args.command}: interrupted\n")
+        sys.stderr.write(f"\npydrill {command}: interrupted\n")
         return 130
     # Bad input of every kind, including paths that cannot be read or written (OSError).
     except (ValueError, TallyError, AtlasError, SchedulerError, OSError) as exc:
-        sys.stderr.write(f"pydrill {args.command}: error: {exc}\n")
+        sys.stderr.write(f"pydrill {command}: error: {exc}\n")
         return EXIT_USAGE
     except SolverError as exc:
         t = getattr(exc, "t_reached", None)
         where = f" (reached t = {t:g} s)" if t is not None else ""
-        sys.stderr.write(f"pydrill {args.command}: solver failed{where}: {exc}\n")
+        sys.stderr.write(f"pydrill {command}: solver failed{where}: {exc}\n")
         return EXIT_SOLVER
 
 
