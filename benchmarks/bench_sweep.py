@@ -2,6 +2,7 @@
 """Sweep throughput, writing overhead and atlas query time, measured in one run.
 
     python benchmarks/bench_sweep.py            # about a minute on two cores
+    python benchmarks/bench_sweep.py --large    # and (d): two more minutes
 
 (a) a 2000-point dof-4 sweep on a Dask LocalCluster of 2 worker processes, against a serial
     in-process loop over the same points. The points are those of the main job's
@@ -14,13 +15,16 @@
         sweep's batches, with no scheduler, no transfer of results and no writing. It is about
         the most any parallel run can get out of this machine's two cores at that moment;
 (b) the share of the sweep's wall time spent writing (journal + HDF5);
-(c) a point query on a 10^6-point atlas (1000 x 1000).
+(c) a point query on a 10^6-point atlas (1000 x 1000);
+(d) with --large, one bracketed round on ten times the points (20000): Dask's start and stop
+    cost the same whatever the sweep's size, so there the speed-up nears the ceiling.
 Goals (issue 4): speed-up >= 1.8x, writing < 5 %, query < 10 ms.
 """
 
 from __future__ import annotations
 
 import os
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -165,5 +169,19 @@ def main() -> None:
         )
 
 
+def large(tmp: Path) -> None:
+    spec = parse_spec(SPEC.replace("num = 50", "num = 200").replace("num = 40", "num = 100"))
+    before = serial_loop(spec)
+    report = run_sweep(spec, tmp / "large.h5", workers=2)
+    after = serial_loop(spec)
+    print(
+        f"(d) {spec.size} points: serial {before:.1f} s | Dask {report.wall_time:.1f} s | serial "
+        f"{after:.1f} s -> {0.5 * (before + after) / report.wall_time:.2f}x"
+    )
+
+
 if __name__ == "__main__":
     main()
+    if "--large" in sys.argv[1:]:
+        with tempfile.TemporaryDirectory() as tmp:
+            large(Path(tmp))

