@@ -200,6 +200,15 @@ def _same_atlas(a, b):
             np.testing.assert_array_equal(x[name], y[name], err_msg=name)
 
 
+def _wait_for_journal(journal: Path, more_than: int, proc: subprocess.Popen) -> None:
+    """Until ``journal`` holds more than ``more_than`` lines, while the sweep ``proc`` runs."""
+    deadline = time.time() + 120
+    while not (journal.exists() and journal.read_text().count("\n") > more_than):
+        assert proc.poll() is None, "the sweep ended before the test could interrupt it"
+        assert time.time() < deadline, "the sweep journaled nothing in 120 s"
+        time.sleep(0.02)
+
+
 MEDIUM = """
 [model]
 preset = "reduced-scale"
@@ -227,11 +236,7 @@ def test_kill_minus_9_then_resume_gives_the_same_atlas(tmp_path):
         stderr=subprocess.DEVNULL,
         start_new_session=True,
     )
-    deadline = time.time() + 120
-    while time.time() < deadline:  # wait until some, not all, points are journaled
-        if journal.exists() and journal.read_text().count("\n") > 40:
-            break
-        time.sleep(0.05)
+    _wait_for_journal(journal, 40, proc)  # some, not all, points are journaled
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
     assert journal.exists()
@@ -475,11 +480,7 @@ def _interrupt_mid_sweep(tmp_path, sig, *extra):
         # A shell's background job ignores SIGINT; a terminal's foreground one does not.
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
-    deadline = time.time() + 120
-    while time.time() < deadline:
-        if journal.exists() and journal.read_text().count("\n") > 1:
-            break
-        time.sleep(0.02)
+    _wait_for_journal(journal, 1, proc)
     os.killpg(proc.pid, sig)
     stdout, err = proc.communicate(timeout=60)
     return proc.returncode, stdout, err, out
@@ -628,10 +629,7 @@ def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path):
         start_new_session=True,
     )
     try:
-        deadline = time.time() + 120
-        while not (journal.exists() and journal.read_text().count("\n") > 1):
-            assert time.time() < deadline and first.poll() is None
-            time.sleep(0.02)
+        _wait_for_journal(journal, 1, first)
         before = journal.read_bytes()
         with pytest.raises(
             AtlasError, match=rf"being written by another sweep \(process {first.pid}\)"
