@@ -18,8 +18,8 @@ import h5py
 import numpy as np
 
 from . import atlas_format as fmt
+from .journal import JOURNAL_SUFFIX, AtlasError
 from .spec import SpecError, parse_spec
-from .sweep import JOURNAL_SUFFIX, AtlasError
 
 
 class Atlas:

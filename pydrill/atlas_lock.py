@@ -17,7 +17,7 @@ import os
 from collections.abc import Iterator
 from pathlib import Path
 
-from .sweep import AtlasError
+from .journal import AtlasError
 
 LOCK_SUFFIX = ".lock"
 _held: list[int] = []  # this process's lock descriptors

@@ -542,12 +542,12 @@ def test_a_journal_line_cut_mid_write_is_recomputed_and_cut_off(tmp_path):
     # The same, interrupted again right after the resume appended: readable, nothing lost.
     journal.write_text(header + whole + cut)
     out.unlink()
-    from pydrill.sweep import _read_journal
+    from pydrill.journal import read_journal
 
-    assert [r["i"] for r in _read_journal(out, spec)] == [0]
+    assert [r["i"] for r in read_journal(out, spec)] == [0]
     with journal.open("a") as fh:
         fh.write(json.dumps(evaluate_point(spec, 2)) + "\n")
-    assert [r["i"] for r in _read_journal(out, spec)] == [0, 2]
+    assert [r["i"] for r in read_journal(out, spec)] == [0, 2]
 
 
 def test_a_damaged_journal_line_is_named(tmp_path):

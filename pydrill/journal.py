@@ -1,0 +1,124 @@
+"""An atlas's journal, and the atlas's creation or reopening for a sweep.
+
+The journal (``ATLAS.h5.journal``) is what makes a sweep safe to kill: its first line names
+the sweep (the spec's digest), then one JSON line per finished point, appended and flushed to
+disk a batch at a time by the client, before the point reaches the HDF5 file. ``prepare``
+refuses an atlas of another sweep, and on ``--resume`` replays the journal into the atlas,
+rebuilding the atlas from it if a kill caught the HDF5 file mid-write.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import atlas_format as fmt
+from .spec import SweepSpec
+
+JOURNAL_SUFFIX = ".journal"
+
+
+class AtlasError(RuntimeError):
+    """An atlas that cannot be used as asked (damaged, of another sweep, …)."""
+
+
+def journal_path(path: Path) -> Path:
+    """The journal of the atlas ``path``: ``ATLAS.h5.journal``."""
+    return path.with_name(path.name + JOURNAL_SUFFIX)
+
+
+def read_journal(path: Path, spec: SweepSpec) -> list[dict[str, Any]]:
+    """The records of ``path``'s journal. A last line cut by a kill (or Ctrl-C) mid-write is
+    dropped and cut off the file, so that the next append starts on a line of its own; its
+    points are simply computed again."""
+    jp = journal_path(path)
+    if not jp.exists():
+        return []
+    records = []
+    good = 0  # bytes up to the end of the last whole line
+    with jp.open("rb") as fh:  # line by line: a journal may hold millions of points
+        for n, raw in enumerate(fh):
+            try:
+                if not raw.endswith(b"\n"):
+                    raise ValueError("no end of line")
+                data = json.loads(raw)
+            except ValueError as exc:
+                if not fh.read(1):  # the last line
+                    break
+                raise AtlasError(
+                    f"{jp}, line {n + 1}, is damaged ({exc}); remove the journal "
+                    "to start the sweep over"
+                ) from None
+            good += len(raw)
+            if n == 0:
+                if data.get("spec_digest") != spec.digest:
+                    raise AtlasError(
+                        f"{jp} belongs to another sweep (spec digest "
+                        f"{data.get('spec_digest')} != {spec.digest})"
+                    )
+                continue
+            records.append(data)
+    if good == 0:  # not even the header survived
+        jp.write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
+    elif good < jp.stat().st_size:
+        os.truncate(jp, good)
+    return records
+
+
+def prepare(
+    spec: SweepSpec, out: Path, *, resume: bool, params_json: str, version: str
+) -> tuple[fmt.AtlasTable, int]:
+    """Open or create the atlas for ``spec``; returns its table and how many points were done."""
+    jp = journal_path(out)
+    if out.exists() or jp.exists():
+        existing_digest = None
+        table = None
+        if out.exists():
+            try:
+                import h5py
+
+                with h5py.File(out, "r") as f:
+                    if f.attrs.get("format") != fmt.FORMAT:
+                        raise AtlasError(
+                            f"{out} exists and is not a pydrill atlas; not touching it"
+                        )
+                    existing_digest = f.attrs.get("spec_digest")
+                if existing_digest == spec.digest:
+                    table = fmt.read_table(out, spec)
+            except AtlasError:
+                raise
+            except (OSError, KeyError, ValueError):
+                if not jp.exists():
+                    raise AtlasError(
+                        f"{out} is damaged (not a readable HDF5 atlas) and has no "
+                        "journal to rebuild it from"
+                    ) from None
+                table = None  # rebuilt from the journal below
+        if existing_digest is not None and existing_digest != spec.digest:
+            raise AtlasError(
+                f"{out} holds a different sweep (spec digest {existing_digest}, "
+                f"this spec {spec.digest}); choose another --out or remove it"
+            )
+        if not resume:
+            raise AtlasError(
+                f"{out} already exists for this sweep; use --resume to complete it "
+                "or remove it to start over"
+            )
+        if table is None:
+            fmt.create(out, spec, params_json, version)
+            table = fmt.AtlasTable(spec)
+        for rec in read_journal(out, spec):
+            table.apply(rec)
+        fmt.write(out, table)
+        done = int(np.sum(table.status != fmt.STATUS["missing"]))
+        return table, done
+    fmt.create(out, spec, params_json, version)
+    with jp.open("w") as fh:
+        fh.write(json.dumps({"spec_digest": spec.digest}) + "\n")
+        fh.flush()
+        os.fsync(fh.fileno())
+    return fmt.AtlasTable(spec), 0
