@@ -34,7 +34,6 @@ QUIET = {
     "distributed.worker.memory.monitor-interval": "1s",
     "distributed.admin.system-monitor.interval": "5s",
 }
-STARTUP_TIMEOUT = 60.0  # s, for the first local worker to start
 
 
 def run_dask(
@@ -66,44 +65,36 @@ def run_dask(
                     "or leave --scheduler out to run on a local cluster"
                 ) from None
         else:
-            n_local = workers or os.cpu_count() or 1
-            # The scheduler alone (10 ms), so that the batches are queued on it while the
-            # workers start: each worker takes its first batch the moment it registers,
-            # rather than after the last worker is up and the client has connected and
-            # submitted (measured: the first point starts ~40 ms sooner, 2 % of a
-            # 2000-point sweep). Workers are added by scale() below.
-            cluster = LocalCluster(
-                n_workers=0,
-                threads_per_worker=1,
-                processes=True,
-                # The scheduler serves HTTP (health, metrics) even without a dashboard; on
-                # port 8787 by default, which warns when another cluster holds it. Any free
-                # port will do, and no dashboard: it is gone with the sweep.
-                dashboard_address=":0",
-                scheduler_kwargs={"dashboard": False},
-                # A worker's heartbeat racing the shutdown logs an error; failures that
-                # matter reach the client through the futures.
-                silence_logs=logging.CRITICAL,
-            )
+            try:
+                cluster = LocalCluster(
+                    n_workers=workers or os.cpu_count() or 1,
+                    threads_per_worker=1,
+                    processes=True,
+                    # The scheduler serves HTTP (health, metrics) even without a dashboard; on
+                    # port 8787 by default, which warns when another cluster holds it. Any free
+                    # port will do, and no dashboard: it is gone with the sweep.
+                    dashboard_address=":0",
+                    scheduler_kwargs={"dashboard": False},
+                    # A worker's heartbeat racing the shutdown logs an error; failures that
+                    # matter reach the client through the futures.
+                    silence_logs=logging.CRITICAL,
+                )
+            except RuntimeError as exc:  # "Nanny failed to start", its reason in the chain
+                root = exc
+                while root.__cause__ is not None:
+                    root = root.__cause__
+                raise SchedulerError(
+                    f"the local Dask workers did not start ({type(root).__name__}: {root}); "
+                    "run with --serial, or start a cluster and give --scheduler"
+                ) from exc
             client = Client(cluster)
         futures = []
         try:
-            n = n_local if cluster is not None else len(client.scheduler_info().get("workers", {}))
+            n = max(1, len(client.scheduler_info().get("workers", {})))
             futures = [
                 client.submit(evaluate_batch, spec.text, b, spec.tally_text, pure=False, retries=3)
-                for b in batches(todo, max(1, n))
+                for b in batches(todo, n)
             ]
-            if cluster is not None:
-                cluster.scale(n_local)
-                # A worker that cannot start would leave the batches queued for ever:
-                # fail instead. Returns as soon as one is up, computing already.
-                try:
-                    client.wait_for_workers(1, timeout=STARTUP_TIMEOUT)
-                except TimeoutError:
-                    raise SchedulerError(
-                        f"no local Dask worker started within {STARTUP_TIMEOUT:g} s; "
-                        "run with --serial, or start a cluster and give --scheduler"
-                    ) from None
             for fut in as_completed(futures):
                 absorb(fut.result())
         finally:

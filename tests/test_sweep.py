@@ -592,25 +592,19 @@ def test_no_scheduler_at_the_address_is_one_clear_error_and_leaves_no_files(tmp_
     assert report.computed == report.points
 
 
-def test_local_workers_that_do_not_start_are_one_clear_error_not_a_hang(tmp_path, monkeypatch):
-    # The batches are queued before the local workers start; if none comes up, the sweep must
-    # fail (naming a way out) rather than wait for ever, and leave nothing behind.
+def test_local_workers_that_cannot_start_are_one_clear_error(tmp_path):
     import dask
 
-    from pydrill import sweep_dask
     from pydrill.sweep import SchedulerError
 
-    monkeypatch.setattr(sweep_dask, "STARTUP_TIMEOUT", 2.0)
     out = tmp_path / "never.h5"
-    # A worker preloads this module before it registers; there is none, so none registers.
+    # A worker preloads this module before it registers; there is none, so none starts.
     broken = {"distributed.worker.preload": ["pydrill_test_no_such_module"]}
-    t0 = time.perf_counter()
     with (
         dask.config.set(broken),
-        pytest.raises(SchedulerError, match=r"no local Dask worker started within 2 s.*--serial"),
+        pytest.raises(SchedulerError, match=r"workers did not start \(.*pydrill_test_no_such"),
     ):
         run_sweep(parse_spec(SMALL), out, workers=1)
-    assert time.perf_counter() - t0 < 30
     assert not out.exists() and not Path(str(out) + ".journal").exists()
 
 
