@@ -37,7 +37,9 @@ FLUSH_SPACING = 50.0
 
 
 class SchedulerError(ConnectionError):
-    """The Dask scheduler given (``--scheduler``) could not be reached."""
+    """No Dask cluster to run on: the scheduler given (``--scheduler``) did not answer, or the
+    local workers did not start. Nothing is written (an atlas and journal that this sweep
+    created are removed)."""
 
 
 class SweepInterrupted(KeyboardInterrupt):
@@ -206,7 +208,10 @@ def run_sweep(
     ``serial``-ly in this process.
 
     Any of the signals ``stop_on`` (``pydrill sweep`` adds SIGTERM) stops the sweep between
-    batches with everything finished saved, raising ``SweepInterrupted``."""
+    batches with everything finished saved, raising ``SweepInterrupted``. Raises
+    ``AtlasError`` for an atlas it may not write (another sweep's, one being written, one
+    that exists without ``resume``), and ``SchedulerError`` when there is no cluster to run
+    on."""
     from . import __version__
 
     if (workers is not None) + bool(scheduler) + bool(serial) > 1:

@@ -61,6 +61,7 @@ GROUPS: list[tuple[str, str, list[str]]] = [
             "run_sweep",
             "SweepReport",
             "SweepInterrupted",
+            "SchedulerError",
         ],
     ),
     (
