@@ -13,11 +13,14 @@
         without Dask's start and stop;
       - ceiling: two already-running plain processes (a multiprocessing pool) computing the
         sweep's batches, with no scheduler, no transfer of results and no writing. It is about
-        the most any parallel run can get out of this machine's two cores at that moment;
+        the most any parallel run can get out of this machine's two cores at that moment; the
+        CPU time its processes take, against the serial loops', shows how much slower each of
+        two busy processes runs than one alone;
 (b) the share of the sweep's wall time spent writing (journal + HDF5);
 (c) a point query on a 10^6-point atlas (1000 x 1000);
-(d) with --large, one bracketed round on ten times the points (20000): Dask's start and stop
-    cost the same whatever the sweep's size, so there the speed-up nears the ceiling.
+(d) with --large, one bracketed round on ten times the points (20000), with its ceiling:
+    Dask's start and stop cost the same whatever the sweep's size, so there the speed-up
+    nears the ceiling.
 Goals (issue 4): speed-up >= 1.8x, writing < 5 %, query < 10 ms.
 """
 
@@ -68,27 +71,43 @@ initial = ["rest"]
 """
 
 
-def serial_loop(spec) -> float:
-    t0 = time.perf_counter()
+def serial_loop(spec, cpu: list[float] | None = None) -> float:
+    """Wall time of the serial loop; its CPU time is appended to ``cpu``."""
+    t0, c0 = time.perf_counter(), time.process_time()
     for i in range(spec.size):
         evaluate_point(spec, i)
+    if cpu is not None:
+        cpu.append(time.process_time() - c0)
     return time.perf_counter() - t0
 
 
 _POOL_SPEC = None
 
 
-def _batch(indices: list[int]) -> None:
+def _batch(indices: list[int]) -> float:
+    """A batch in a pool process; returns the CPU time it took."""
+    c0 = time.thread_time()
     evaluate_batch(_POOL_SPEC.text, indices, _POOL_SPEC.tally_text)
+    return time.thread_time() - c0
 
 
-def ceiling_run(pool, spec) -> float:
-    """The sweep's batches, handed out as workers free up, on two running processes."""
+def ceiling_run(pool, spec, cpu: list[float] | None = None) -> float:
+    """The sweep's batches, handed out as workers free up, on two running processes. Wall
+    time; the two processes' CPU time is appended to ``cpu``."""
     todo = batches(np.arange(spec.size), 2)
     t0 = time.perf_counter()
-    for _ in pool.imap_unordered(_batch, todo, chunksize=1):
-        pass
+    used = sum(pool.imap_unordered(_batch, todo, chunksize=1))
+    if cpu is not None:
+        cpu.append(used)
     return time.perf_counter() - t0
+
+
+def _penalty(serial_cpu: list[float], pool_cpu: list[float]) -> str:
+    """How much more CPU the pool's two processes needed than the serial loops either side."""
+    extra = [
+        pool_cpu[k] / (0.5 * (serial_cpu[k] + serial_cpu[k + 1])) - 1 for k in range(len(pool_cpu))
+    ]
+    return f"{100 * float(np.median(extra)):+.0f} %"
 
 
 def main() -> None:
@@ -109,13 +128,14 @@ def main() -> None:
         # This machine's speed drifts by up to 50 % within a minute (the same serial loop has
         # taken 2.2 s and 3.4 s in one run). So each round's parallel runs are bracketed by
         # serial loops and compared with their mean: S (D W C) S (D W C) ... S.
-        serial = [serial_loop(spec)]
+        serial_cpu, pool_cpu = [], []
+        serial = [serial_loop(spec, serial_cpu)]
         reports, ratios, warm_ratios, ceilings = [], [], [], []
         for k in range(ROUNDS):
             reports.append(run_sweep(spec, tmp / f"dask{k}.h5", workers=2))
             w = run_sweep(spec, tmp / f"warm{k}.h5", scheduler=warm.scheduler_address)
-            c = ceiling_run(pool, spec)
-            serial.append(serial_loop(spec))
+            c = ceiling_run(pool, spec, pool_cpu)
+            serial.append(serial_loop(spec, serial_cpu))
             s = 0.5 * (serial[k] + serial[k + 1])
             ratios.append(s / reports[k].wall_time)
             warm_ratios.append(s / w.wall_time)
@@ -146,6 +166,11 @@ def main() -> None:
             f"{float(np.median(ceilings)):.2f}x; Dask reaches "
             f"{100 * float(np.median(np.array(ratios) / np.array(ceilings))):.0f} % of it"
         )
+        print(
+            "    why the ceiling is below 2x: the same points took "
+            f"{_penalty(serial_cpu, pool_cpu)} more CPU time in two processes running side by "
+            "side than in one alone (median over the rounds)"
+        )
         shares = [r.write_time / r.wall_time for r in reports]
         print(
             f"(b) writing (journal + HDF5): median {100 * float(np.median(shares)):.2f} % of the "
@@ -170,13 +195,24 @@ def main() -> None:
 
 
 def large(tmp: Path) -> None:
-    spec = parse_spec(SPEC.replace("num = 50", "num = 200").replace("num = 40", "num = 100"))
-    before = serial_loop(spec)
+    global _POOL_SPEC
+    spec = _POOL_SPEC = parse_spec(
+        SPEC.replace("num = 50", "num = 200").replace("num = 40", "num = 100")
+    )
+    pool = multiprocessing.get_context("fork").Pool(2)
+    pool.map(_batch, [[0], [1]])
+    serial_cpu, pool_cpu = [], []
+    before = serial_loop(spec, serial_cpu)
     report = run_sweep(spec, tmp / "large.h5", workers=2)
-    after = serial_loop(spec)
+    ceiling = ceiling_run(pool, spec, pool_cpu)
+    after = serial_loop(spec, serial_cpu)
+    pool.close()
+    s = 0.5 * (before + after)
     print(
-        f"(d) {spec.size} points: serial {before:.1f} s | Dask {report.wall_time:.1f} s | serial "
-        f"{after:.1f} s -> {0.5 * (before + after) / report.wall_time:.2f}x"
+        f"(d) {spec.size} points: serial {before:.1f} s | Dask {report.wall_time:.1f} s "
+        f"{s / report.wall_time:.2f}x, ceiling {ceiling:.1f} s {s / ceiling:.2f}x | serial "
+        f"{after:.1f} s; two processes side by side took {_penalty(serial_cpu, pool_cpu)} "
+        "more CPU time than one"
     )
 
 
