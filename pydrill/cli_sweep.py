@@ -38,7 +38,10 @@ def register_sweep(sub, positive) -> None:
     sw.add_argument("--out", required=True, metavar="ATLAS.h5", help="the atlas to write")
     where = sw.add_mutually_exclusive_group()  # where the points run: one of these, or cores
     where.add_argument(
-        "--workers", type=int, metavar="N", help="local worker processes (default: one per core)"
+        "--workers",
+        type=int,
+        metavar="N",
+        help="local worker processes (default: one per core this process may use)",
     )
     where.add_argument(
         "--scheduler", metavar="ADDRESS", help="run on an existing Dask cluster instead"

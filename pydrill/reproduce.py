@@ -267,7 +267,9 @@ def register_reproduce(sub) -> None:
         "--quick", action="store_true", help="coarser atlases and no 100/500-pipe strings"
     )
     rep.add_argument("--force", action="store_true", help="ignore what DIR already holds")
-    rep.add_argument("--workers", type=int, help="Dask worker processes (default: one per core)")
+    rep.add_argument(
+        "--workers", type=int, help="Dask worker processes (default: one per core it may use)"
+    )
     rep.add_argument("--scheduler", metavar="ADDRESS", help="use an existing Dask scheduler")
     rep.add_argument("--json", action="store_true", help="print one JSON summary for scripts")
     rep.add_argument(

@@ -11,11 +11,11 @@ through the client alone.
 from __future__ import annotations
 
 import logging
-import os
 from collections.abc import Callable
 from typing import Any
 
 import dask
+import dask.system
 import numpy as np
 
 from .spec import SweepSpec
@@ -67,7 +67,9 @@ def run_dask(
         else:
             try:
                 cluster = LocalCluster(
-                    n_workers=workers or os.cpu_count() or 1,
+                    # Cores this process may use: affinity and cgroup limits (a container's
+                    # --cpus, a batch job's allocation) count, not the host's cores.
+                    n_workers=workers or dask.system.CPU_COUNT,
                     threads_per_worker=1,
                     processes=True,
                     # The scheduler serves HTTP (health, metrics) even without a dashboard; on

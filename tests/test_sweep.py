@@ -608,6 +608,34 @@ def test_local_workers_that_cannot_start_are_one_clear_error(tmp_path):
     assert not out.exists() and not Path(str(out) + ".journal").exists()
 
 
+@pytest.mark.skipif(len(os.sched_getaffinity(0)) < 2, reason="needs two cores to pin to one")
+def test_default_workers_are_the_cores_this_process_may_use(tmp_path):
+    # Pinned to one core (as a container's --cpus or a batch job's allocation would), the local
+    # cluster gets one worker, not one per core of the host.
+    script = f"""
+import distributed
+from pydrill.spec import parse_spec
+from pydrill.sweep import run_sweep
+asked = []
+class Recording(distributed.LocalCluster):
+    def __init__(self, *args, **kwargs):
+        asked.append(kwargs["n_workers"])
+        super().__init__(*args, **kwargs)
+distributed.LocalCluster = Recording
+run_sweep(parse_spec({SMALL!r}), {str(tmp_path / "pinned.h5")!r})
+print(asked)
+"""
+    proc = subprocess.run(
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=lambda: os.sched_setaffinity(0, {min(os.sched_getaffinity(0))}),
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[1]"
+
+
 def test_conflicting_places_to_run_are_refused_before_anything_is_written(tmp_path):
     out = tmp_path / "never.h5"
     with pytest.raises(ValueError, match="at most one of workers"):
