@@ -44,7 +44,10 @@ def register_sweep(sub, positive) -> None:
         help="local worker processes (default: one per core this process may use)",
     )
     where.add_argument(
-        "--scheduler", metavar="ADDRESS", help="run on an existing Dask cluster instead"
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run on an existing Dask cluster instead: its scheduler's address "
+        "(tcp://host:8786) or scheduler file (FILE.json, from dask scheduler --scheduler-file)",
     )
     where.add_argument("--serial", action="store_true", help="no Dask: run in this process")
     sw.add_argument("--resume", action="store_true", help="complete an interrupted sweep")

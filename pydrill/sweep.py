@@ -205,7 +205,7 @@ def run_sweep(
     """Compute every missing point of ``spec`` into the atlas ``out``: on a LocalCluster of
     ``workers`` processes (default: one per core it may use: affinity and cgroup limits
     count), started for this sweep; on an existing Dask cluster, given as ``scheduler`` (its
-    address, or a ``distributed.Client``, left open); or
+    address, its scheduler file ``*.json``, or a ``distributed.Client``, left open); or
     ``serial``-ly in this process.
 
     Any of the signals ``stop_on`` (``pydrill sweep`` adds SIGTERM) stops the sweep between

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import dask
@@ -45,7 +46,8 @@ def run_dask(
 ) -> None:
     """Compute the flat indices ``todo`` of ``spec``, handing each finished batch to ``absorb``.
     ``scheduler``: None (a LocalCluster of ``workers`` processes, for this sweep alone), an
-    address, or a ``distributed.Client`` of the caller's, which stays open."""
+    address, a scheduler file (``*.json``), or a ``distributed.Client`` of the caller's, which
+    stays open."""
     from distributed import Client, LocalCluster, as_completed
 
     from .sweep import SchedulerError, batches, evaluate_batch
@@ -56,8 +58,16 @@ def run_dask(
         if not own:
             client = scheduler
         elif scheduler:
+            # A scheduler file (dask scheduler --scheduler-file, dask-mpi, batch systems)
+            # names the address and how to connect: HPC clusters share it, not an address.
+            file = Path(scheduler) if str(scheduler).endswith(".json") else None
+            if file is not None and not file.is_file():
+                raise SchedulerError(
+                    f"--scheduler {scheduler}: no such scheduler file (it is written by "
+                    "'dask scheduler --scheduler-file FILE.json')"
+                )
             try:  # waits distributed.comm.timeouts.connect (30 s unless configured)
-                client = Client(scheduler)
+                client = Client(scheduler_file=str(file)) if file else Client(scheduler)
             except (OSError, ValueError) as exc:
                 raise SchedulerError(
                     f"--scheduler {scheduler}: no Dask scheduler answered there ({exc}). "

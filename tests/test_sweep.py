@@ -273,6 +273,8 @@ def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
                 str(port),
                 "--dashboard-address",
                 ":0",
+                "--scheduler-file",
+                str(tmp_path / "scheduler.json"),
             ],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
@@ -328,6 +330,18 @@ def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
         reference = tmp_path / "ref.h5"
         run_sweep(parse_spec(MEDIUM), reference, serial=True)
         _same_atlas(out, reference)
+        # The same cluster found through its scheduler file, as on a batch system.
+        small = tmp_path / "small.toml"
+        small.write_text(SMALL)
+        args = ["sweep", str(small), "--out", str(tmp_path / "file.h5"), "--json"]
+        via_file = subprocess.run(
+            [*CMD, *args, "--scheduler", str(tmp_path / "scheduler.json")],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert via_file.returncode == 0, via_file.stderr
+        assert json.loads(via_file.stdout)["computed"] == parse_spec(SMALL).size
     finally:
         for p in procs:
             try:
@@ -605,6 +619,15 @@ def test_local_workers_that_cannot_start_are_one_clear_error(tmp_path):
         pytest.raises(SchedulerError, match=r"workers did not start \(.*pydrill_test_no_such"),
     ):
         run_sweep(parse_spec(SMALL), out, workers=1)
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+def test_a_missing_scheduler_file_is_named_and_nothing_is_written(tmp_path):
+    from pydrill.sweep import SchedulerError
+
+    out = tmp_path / "never.h5"
+    with pytest.raises(SchedulerError, match=r"no such scheduler file.*--scheduler-file"):
+        run_sweep(parse_spec(SMALL), out, scheduler=str(tmp_path / "gone.json"))
     assert not out.exists() and not Path(str(out) + ".journal").exists()
 
 
