@@ -168,7 +168,7 @@ def main() -> None:
         )
         print(
             "    why the ceiling is below 2x: the same points took "
-            f"{_penalty(serial_cpu, pool_cpu)} more CPU time in two processes running side by "
+            f"{_penalty(serial_cpu, pool_cpu)} CPU time in two processes running side by "
             "side than in one alone (median over the rounds)"
         )
         shares = [r.write_time / r.wall_time for r in reports]
@@ -211,8 +211,8 @@ def large(tmp: Path) -> None:
     print(
         f"(d) {spec.size} points: serial {before:.1f} s | Dask {report.wall_time:.1f} s "
         f"{s / report.wall_time:.2f}x, ceiling {ceiling:.1f} s {s / ceiling:.2f}x | serial "
-        f"{after:.1f} s; two processes side by side took {_penalty(serial_cpu, pool_cpu)} "
-        "more CPU time than one"
+        f"{after:.1f} s; two processes side by side took {_penalty(serial_cpu, pool_cpu)} CPU "
+        "time against one"
     )
 
 
