@@ -10,7 +10,7 @@ from .atlas import Atlas
 from .model import PRESETS, Params, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
 from .spec import SpecError, SweepSpec, load_spec, parse_spec
-from .sweep import AtlasError, SchedulerError, SweepInterrupted, SweepReport, run_sweep
+from .sweep import AtlasError, ClusterInfo, SchedulerError, SweepInterrupted, SweepReport, run_sweep
 from .tally import Tally, load_tally
 
 __version__: str = _core.__version__
@@ -38,6 +38,7 @@ __all__ = [
     "REGIMES",
     "Atlas",
     "AtlasError",
+    "ClusterInfo",
     "Params",
     "SchedulerError",
     "SimulationResult",

@@ -15,6 +15,7 @@ examples:
   pydrill sweep sweeps/minimal.toml --out minimal.h5
   pydrill sweep sweeps/paper-wob-torque.toml --out paper.h5 --workers 2 --plot paper.png
   pydrill sweep big.toml --out big.h5 --scheduler tcp://10.0.0.5:8786
+  pydrill sweep big.toml --out big.h5 --dashboard     # watch it: the link is printed
   pydrill sweep big.toml --out big.h5 --resume        # after Ctrl-C, kill -9, a lost worker
 
 Results stream into the atlas as they finish (through ATLAS.h5.journal), so an interrupted
@@ -50,6 +51,19 @@ def register_sweep(sub, positive) -> None:
         "(tcp://host:8786) or scheduler file (FILE.json, from dask scheduler --scheduler-file)",
     )
     where.add_argument("--serial", action="store_true", help="no Dask: run in this process")
+    sw.add_argument(
+        "--dashboard",
+        action="store_true",
+        help="serve Dask's dashboard (task stream, workers' CPU and memory) from the local "
+        "cluster while the sweep runs, on 127.0.0.1:8787 or the next free port; its link is "
+        "printed. Needs bokeh. An existing cluster (--scheduler) serves its own",
+    )
+    sw.add_argument(
+        "--dashboard-address",
+        metavar="HOST:PORT",
+        help="serve the dashboard there instead (implies --dashboard), e.g. :8787 on every "
+        "interface, to open it from another machine",
+    )
     sw.add_argument("--resume", action="store_true", help="complete an interrupted sweep")
     sw.add_argument("--json", action="store_true", help="print one JSON object when done")
     sw.add_argument(
@@ -168,6 +182,22 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     spec = load_spec(args.spec)
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise ValueError(f"--workers = {args.workers} is not allowed: 1 ... 256")
+    dashboard = args.dashboard_address or ("127.0.0.1:8787" if args.dashboard else None)
+    if dashboard and (args.serial or args.scheduler):
+        raise ValueError(
+            "--dashboard serves the local cluster's dashboard: "
+            + (
+                "an existing cluster (--scheduler) serves its own, and its link is printed"
+                if args.scheduler
+                else "a --serial sweep has no Dask to watch"
+            )
+        )
+    if dashboard:
+        from .sweep_dask import check_dashboard
+
+        check_dashboard(
+            dashboard, "--dashboard-address" if args.dashboard_address else "--dashboard"
+        )
     bar = None
     if args.no_progress:
         pass
@@ -186,6 +216,20 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             bar.update(n)
         done_before[0] += n
 
+    def on_cluster(info) -> None:
+        if bar is None:
+            return
+        line = f"sweep: {info.workers} Dask workers, scheduler {info.scheduler}"
+        if info.dashboard:
+            line += f", dashboard {info.dashboard}"
+            asked = dashboard and dashboard.rpartition(":")[2]
+            if asked not in (None, "0") and f":{asked}/" not in info.dashboard:
+                line += f" (port {asked} is taken)"
+        if hasattr(bar, "write"):  # tqdm: above the bar, which stays whole
+            bar.write(line, file=sys.stderr)
+        else:
+            sys.stderr.write(line + "\n")
+
     try:
         report = run_sweep(
             spec,
@@ -197,6 +241,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             serial=args.serial,
             # kill, or a batch system's time limit: stop as on Ctrl-C, the atlas flushed.
             stop_on=(signal.SIGINT, signal.SIGTERM),
+            dashboard=dashboard,
+            on_cluster=on_cluster,
         )
     except SweepInterrupted as exc:
         if bar is not None:

@@ -42,6 +42,16 @@ class SchedulerError(ConnectionError):
     created are removed)."""
 
 
+@dataclass(frozen=True)
+class ClusterInfo:
+    """Where a Dask sweep runs, handed to ``run_sweep``'s ``on_cluster`` once its points are
+    submitted: what to open to watch them (``dashboard``) or to reach the cluster again."""
+
+    scheduler: str  #: the scheduler's address, e.g. ``tcp://127.0.0.1:40321``
+    workers: int  #: workers connected when the sweep started
+    dashboard: str | None  #: link to Dask's dashboard (task stream, workers' CPU), if it has one
+
+
 class SweepInterrupted(KeyboardInterrupt):
     """Ctrl-C (or another of ``run_sweep``'s ``stop_on`` signals, number ``signum``) during a
     sweep. Everything finished is saved: in the journal, and flushed into the atlas on the way
@@ -201,6 +211,8 @@ def run_sweep(
     progress: Callable[[int, int], None] | None = None,
     serial: bool = False,
     stop_on: tuple[int, ...] = (signal.SIGINT,),
+    dashboard: str | None = None,
+    on_cluster: Callable[[ClusterInfo], None] | None = None,
 ) -> SweepReport:
     """Compute every missing point of ``spec`` into the atlas ``out``: on a LocalCluster of
     ``workers`` processes (default: one per core it may use: affinity and cgroup limits
@@ -212,11 +224,25 @@ def run_sweep(
     batches with everything finished saved, raising ``SweepInterrupted``. Raises
     ``AtlasError`` for an atlas it may not write (another sweep's, one being written, one
     that exists without ``resume``), and ``SchedulerError`` when there is no cluster to run
-    on."""
+    on.
+
+    ``dashboard`` (``"HOST:PORT"``, e.g. ``"127.0.0.1:8787"``; port 0 for any free one) serves
+    Dask's dashboard from the local cluster while the sweep runs; it needs bokeh >= 3.1. An
+    existing cluster serves its own. ``on_cluster`` is called with a :class:`ClusterInfo`
+    (scheduler, workers, dashboard link) once a Dask sweep's points are submitted."""
     from . import __version__
 
     if (workers is not None) + bool(scheduler) + bool(serial) > 1:
         raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
+    if dashboard is not None:
+        if scheduler or serial:
+            raise ValueError(
+                "dashboard: only a local cluster's dashboard is started by the sweep; "
+                + ("an existing cluster serves its own" if scheduler else "serial runs use no Dask")
+            )
+        from .sweep_dask import check_dashboard
+
+        check_dashboard(dashboard)
     out = Path(out)
     t0 = time.perf_counter()
     base = spec.params_at(spec.coords(0))
@@ -247,6 +273,8 @@ def run_sweep(
             progress=progress,
             serial=serial,
             stop_on=stop_on,
+            dashboard=dashboard,
+            on_cluster=on_cluster,
         )
 
 
@@ -263,6 +291,8 @@ def _sweep_locked(
     progress: Callable[[int, int], None] | None,
     serial: bool,
     stop_on: tuple[int, ...],
+    dashboard: str | None,
+    on_cluster: Callable[[ClusterInfo], None] | None,
 ) -> SweepReport:
     """``run_sweep`` once the atlas is this process's alone (``atlas_lock``)."""
     jp = journal_path(out)
@@ -303,7 +333,7 @@ def _sweep_locked(
             elif len(todo):
                 from .sweep_dask import run_dask
 
-                run_dask(spec, todo, workers, scheduler, absorb)
+                run_dask(spec, todo, workers, scheduler, absorb, dashboard, on_cluster)
         except KeyboardInterrupt:
             # What was absorbed is in the journal already; the flush lets the atlas show it
             # before --resume. A second Ctrl-C waits for the flush (the journal would

@@ -10,7 +10,9 @@ through the client alone.
 
 from __future__ import annotations
 
+import importlib.metadata
 import logging
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -37,20 +39,47 @@ QUIET = {
 }
 
 
+def check_dashboard(address: str, name: str = "dashboard") -> None:
+    """Refuse, before anything runs, a dashboard address that is not ``HOST:PORT`` (or
+    ``:PORT``), or a dashboard that cannot be served: Dask needs bokeh for it, and without
+    bokeh would only log a warning and serve nothing."""
+    _host, sep, port = str(address).rpartition(":")
+    if not sep or not port.isdigit() or not 0 <= int(port) <= 65535:
+        raise ValueError(
+            f"{name} = {address!r} is not allowed: HOST:PORT or :PORT, the port 0 ... 65535 "
+            "(0: any free port), e.g. 127.0.0.1:8787"
+        )
+    try:
+        version = importlib.metadata.version("bokeh")
+    except importlib.metadata.PackageNotFoundError:
+        version = None
+    from packaging.version import Version  # a dependency of dask's
+
+    if version is None or Version(version) < Version("3.1"):
+        found = "it is not installed" if version is None else f"found {version}"
+        raise ValueError(
+            f"{name}: Dask's dashboard needs bokeh >= 3.1 ({found}): "
+            "pip install 'pydrill[dashboard]'"
+        )
+
+
 def run_dask(
     spec: SweepSpec,
     todo: np.ndarray,
     workers: int | None,
     scheduler: Any,
     absorb: Callable[[Any], None],
+    dashboard: str | None = None,
+    on_cluster: Callable[[Any], None] | None = None,
 ) -> None:
     """Compute the flat indices ``todo`` of ``spec``, handing each finished batch to ``absorb``.
     ``scheduler``: None (a LocalCluster of ``workers`` processes, for this sweep alone), an
     address, a scheduler file (``*.json``), or a ``distributed.Client`` of the caller's, which
-    stays open."""
+    stays open. ``dashboard``: where the LocalCluster serves Dask's dashboard (None: nowhere).
+    ``on_cluster`` gets a ``ClusterInfo`` once the batches are submitted."""
     from distributed import Client, LocalCluster, as_completed
 
-    from .sweep import SchedulerError, batches, evaluate_batch
+    from .sweep import ClusterInfo, SchedulerError, batches, evaluate_batch
 
     with dask.config.set(QUIET):
         cluster = None
@@ -76,21 +105,26 @@ def run_dask(
                 ) from None
         else:
             try:
-                cluster = LocalCluster(
-                    # Cores this process may use: affinity and cgroup limits (a container's
-                    # --cpus, a batch job's allocation) count, not the host's cores.
-                    n_workers=workers or dask.system.CPU_COUNT,
-                    threads_per_worker=1,
-                    processes=True,
-                    # The scheduler serves HTTP (health, metrics) even without a dashboard; on
-                    # port 8787 by default, which warns when another cluster holds it. Any free
-                    # port will do, and no dashboard: it is gone with the sweep.
-                    dashboard_address=":0",
-                    scheduler_kwargs={"dashboard": False},
-                    # A worker's heartbeat racing the shutdown logs an error; failures that
-                    # matter reach the client through the futures.
-                    silence_logs=logging.CRITICAL,
-                )
+                with warnings.catch_warnings():
+                    # "Port 8787 is already in use ...": the link names the port taken instead.
+                    warnings.filterwarnings("ignore", "Port .* is already in use", UserWarning)
+                    cluster = LocalCluster(
+                        # Cores this process may use: affinity and cgroup limits (a container's
+                        # --cpus, a batch job's allocation) count, not the host's cores.
+                        n_workers=workers or dask.system.CPU_COUNT,
+                        threads_per_worker=1,
+                        processes=True,
+                        # The scheduler serves HTTP (health, metrics) even without a dashboard; on
+                        # port 8787 by default, which warns when another cluster holds it. Unless
+                        # asked for a dashboard: any free port, and none (bokeh's pages cost the
+                        # scheduler, which shares the cores, CPU whenever a browser watches).
+                        # A dashboard port that is taken: Dask takes a free one, in the link.
+                        dashboard_address=dashboard or ":0",
+                        scheduler_kwargs={"dashboard": dashboard is not None},
+                        # A worker's heartbeat racing the shutdown logs an error; failures that
+                        # matter reach the client through the futures.
+                        silence_logs=logging.CRITICAL,
+                    )
             except RuntimeError as exc:  # "Nanny failed to start", its reason in the chain
                 root = exc
                 while root.__cause__ is not None:
@@ -114,6 +148,10 @@ def run_dask(
                 pure=False,
                 retries=3,
             )
+            if on_cluster is not None:
+                # Without a dashboard, the local scheduler's HTTP server still makes a link.
+                link = client.dashboard_link if cluster is None or dashboard else None
+                on_cluster(ClusterInfo(client.scheduler.address, n, link or None))
             for fut in as_completed(futures):
                 absorb(fut.result())
         finally:

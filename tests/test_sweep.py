@@ -3,12 +3,14 @@
 import contextlib
 import json
 import os
+import re
 import shutil
 import signal
 import socket
 import subprocess
 import sys
 import time
+import urllib.request
 from pathlib import Path
 
 import h5py
@@ -342,6 +344,11 @@ def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
         )
         assert via_file.returncode == 0, via_file.stderr
         assert json.loads(via_file.stdout)["computed"] == parse_spec(SMALL).size
+        # The cluster's own dashboard, its link printed for the user, answers.
+        link = re.search(rf"scheduler {address}, dashboard (\S+)", via_file.stderr)
+        assert link, via_file.stderr
+        with urllib.request.urlopen(link[1], timeout=30) as page:
+            assert page.status == 200 and b"Dask" in page.read()
     finally:
         for p in procs:
             try:

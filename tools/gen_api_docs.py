@@ -62,6 +62,7 @@ GROUPS: list[tuple[str, str, list[str]]] = [
             "SweepReport",
             "SweepInterrupted",
             "SchedulerError",
+            "ClusterInfo",
         ],
     ),
     (

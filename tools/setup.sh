@@ -66,7 +66,7 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$deps_hash" ]; then
 import tomllib
 meta = tomllib.load(open("pyproject.toml", "rb"))["project"]
 reqs = list(meta["dependencies"])
-for extra in ("test", "sweep"):
+for extra in ("test", "dashboard"):
     reqs += [r for r in meta.get("optional-dependencies", {}).get(extra, []) if not r.startswith("pydrill")]
 reqs.append("ruff>=0.5")
 print("\n".join(reqs))

@@ -1,0 +1,142 @@
+"""Watching a sweep: Dask's dashboard served from the local cluster, and where it runs."""
+
+import importlib.metadata
+import re
+import socket
+import subprocess
+import sys
+import urllib.request
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from pydrill.spec import parse_spec
+from pydrill.sweep import ClusterInfo, run_sweep
+
+ROOT = Path(__file__).resolve().parents[1]
+CMD = [sys.executable, "-m", "pydrill"]
+
+TINY = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [40.0, 100.0, 160.0]
+torque = [6.0, 8.3]
+[simulation]
+t_end = 100.0
+initial = ["rest"]
+"""
+
+
+def _get(url: str) -> tuple[int, str]:
+    with urllib.request.urlopen(url, timeout=30) as page:
+        return page.status, page.read().decode("utf-8", "replace")
+
+
+def test_the_dashboard_is_served_while_the_sweep_runs(tmp_path):
+    """The link handed to on_cluster answers with Dask's dashboard during the sweep, and the
+    sweep's atlas is the serial one's."""
+    seen: list[tuple[ClusterInfo, int, str]] = []
+
+    def watch(info: ClusterInfo) -> None:
+        seen.append((info, *_get(info.dashboard)))
+
+    spec = parse_spec(TINY)
+    report = run_sweep(spec, tmp_path / "watched.h5", dashboard="127.0.0.1:0", on_cluster=watch)
+    assert report.computed == spec.size and report.failed == 0
+    [(info, status, page)] = seen
+    assert info.workers >= 1 and info.scheduler.startswith("tcp://127.0.0.1:")
+    assert re.fullmatch(r"http://127\.0\.0\.1:\d+/status", info.dashboard)
+    assert status == 200 and "Dask" in page
+    # Gone with the sweep's cluster.
+    with pytest.raises(OSError):
+        _get(info.dashboard)
+    run_sweep(spec, tmp_path / "serial.h5", serial=True)
+    with h5py.File(tmp_path / "watched.h5") as a, h5py.File(tmp_path / "serial.h5") as b:
+        np.testing.assert_array_equal(a["regime"][()], b["regime"][()])
+
+
+def test_without_a_dashboard_there_is_no_link(tmp_path):
+    seen: list[ClusterInfo] = []
+    run_sweep(parse_spec(TINY), tmp_path / "plain.h5", workers=1, on_cluster=seen.append)
+    assert [(i.workers, i.dashboard) for i in seen] == [(1, None)]
+
+
+@pytest.mark.parametrize("address", ["8787", "host:port", ":70000", ""])
+def test_a_bad_dashboard_address_is_refused_and_nothing_is_written(tmp_path, address):
+    out = tmp_path / "never.h5"
+    with pytest.raises(ValueError, match=r"dashboard = .* is not allowed: HOST:PORT"):
+        run_sweep(parse_spec(TINY), out, dashboard=address)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("installed", "said"), [(None, "it is not installed"), ("2.4.3", "found 2.4.3")]
+)
+def test_no_bokeh_for_the_dashboard_is_one_clear_error(tmp_path, monkeypatch, installed, said):
+    real = importlib.metadata.version
+
+    def version(name: str) -> str:
+        if name != "bokeh":
+            return real(name)
+        if installed is None:
+            raise importlib.metadata.PackageNotFoundError(name)
+        return installed
+
+    monkeypatch.setattr(importlib.metadata, "version", version)
+    with pytest.raises(ValueError, match=rf"bokeh >= 3.1 \({said}\): pip install 'pydrill\["):
+        run_sweep(parse_spec(TINY), tmp_path / "never.h5", dashboard="127.0.0.1:0")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_dashboard_beside_a_scheduler_or_serial_is_refused(tmp_path):
+    with pytest.raises(ValueError, match="an existing cluster serves its own"):
+        run_sweep(
+            parse_spec(TINY), tmp_path / "x.h5", scheduler="tcp://127.0.0.1:1", dashboard=":0"
+        )
+    with pytest.raises(ValueError, match="serial runs use no Dask"):
+        run_sweep(parse_spec(TINY), tmp_path / "x.h5", serial=True, dashboard=":0")
+    assert list(tmp_path.iterdir()) == []
+
+
+def _sweep_cli(tmp_path, *extra) -> subprocess.CompletedProcess:
+    spec = tmp_path / "tiny.toml"
+    spec.write_text(TINY)
+    return subprocess.run(
+        [*CMD, "sweep", str(spec), "--out", str(tmp_path / "cli.h5"), *extra],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+def test_cli_prints_the_link_and_says_when_the_port_was_taken(tmp_path):
+    with socket.socket() as holder:
+        holder.bind(("127.0.0.1", 0))
+        holder.listen()
+        taken = holder.getsockname()[1]
+        run = _sweep_cli(tmp_path, "--dashboard-address", f"127.0.0.1:{taken}", "--workers", "1")
+    assert run.returncode == 0, run.stderr
+    line = re.search(r"sweep: 1 Dask workers, scheduler tcp://\S+, dashboard (\S+)(.*)", run.stderr)
+    assert line, run.stderr
+    link, note = line.groups()
+    assert re.fullmatch(r"http://127\.0\.0\.1:\d+/status", link) and f":{taken}/" not in link
+    assert note == f" (port {taken} is taken)"
+    assert "Warning" not in run.stderr  # Dask's "Port ... is already in use" is not shown
+
+
+@pytest.mark.parametrize(
+    ("extra", "said"),
+    [
+        (["--dashboard", "--serial"], "a --serial sweep has no Dask to watch"),
+        (["--dashboard", "--scheduler", "tcp://127.0.0.1:1"], "serves its own"),
+        (["--dashboard-address", "8787"], "--dashboard-address = '8787' is not allowed"),
+    ],
+)
+def test_cli_refuses_a_dashboard_it_cannot_serve(tmp_path, extra, said):
+    run = _sweep_cli(tmp_path, *extra)
+    assert run.returncode == 2 and said in run.stderr, run.stderr
+    assert not (tmp_path / "cli.h5").exists()
