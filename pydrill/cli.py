@@ -107,6 +107,7 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
 def build_parser() -> argparse.ArgumentParser:
     from . import PRESETS, __version__
     from .cli_analysis import register_analysis
+    from .cli_atlas import register_atlas
     from .cli_sweep import register_sweep
     from .reproduce import register_reproduce
 
@@ -200,6 +201,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     register_analysis(sub, PRESETS)
     register_sweep(sub, _positive)
+    register_atlas(sub)
     register_reproduce(sub)
     return parser
 
