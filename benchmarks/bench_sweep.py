@@ -167,9 +167,9 @@ def main() -> None:
             f"{100 * float(np.median(np.array(ratios) / np.array(ceilings))):.0f} % of it"
         )
         print(
-            "    why the ceiling is below 2x: the same points took "
-            f"{_penalty(serial_cpu, pool_cpu)} CPU time in two processes running side by "
-            "side than in one alone (median over the rounds)"
+            "    CPU time of the same points in two processes side by side, against one alone: "
+            f"{_penalty(serial_cpu, pool_cpu)} (median over the rounds; more CPU keeps the "
+            "ceiling below 2x)"
         )
         shares = [r.write_time / r.wall_time for r in reports]
         print(
