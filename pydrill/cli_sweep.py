@@ -47,7 +47,9 @@ def register_sweep(sub, positive) -> None:
         "--scheduler",
         metavar="ADDRESS",
         help="run on an existing Dask cluster instead: its scheduler's address "
-        "(tcp://host:8786) or scheduler file (FILE.json, from dask scheduler --scheduler-file)",
+        "(tcp://host:8786) or scheduler file (FILE.json, from dask scheduler --scheduler-file). "
+        "Without --workers, --scheduler or --serial, a DASK_SCHEDULER_ADDRESS in the "
+        "environment (or Dask's config) is used, as by any Dask client",
     )
     where.add_argument("--serial", action="store_true", help="no Dask: run in this process")
     sw.add_argument(
@@ -153,10 +155,19 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             bar.update(n)
         done_before[0] += n
 
+    configured = None
+    if args.scheduler is None and args.workers is None and not args.serial:
+        from .sweep_dask import configured_scheduler
+
+        configured = configured_scheduler()
+
     def on_cluster(info) -> None:
         if bar is None:
             return
-        line = f"sweep: {info.workers} Dask workers, scheduler {info.scheduler}"
+        plural = "s" if info.workers != 1 else ""
+        line = f"sweep: {info.workers} Dask worker{plural}, scheduler {info.scheduler}"
+        if configured is not None:
+            line += f" (from {configured.source})"
         if info.dashboard:
             line += f", dashboard {info.dashboard}"
             asked = dashboard and dashboard.rpartition(":")[2]

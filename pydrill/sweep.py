@@ -218,7 +218,9 @@ def run_sweep(
     ``workers`` processes (default: one per core it may use: affinity and cgroup limits
     count), started for this sweep; on an existing Dask cluster, given as ``scheduler`` (its
     address, its scheduler file ``*.json``, or a ``distributed.Client``, left open); or
-    ``serial``-ly in this process.
+    ``serial``-ly in this process. Given none of these, a cluster named in the Dask config's
+    ``scheduler-address`` (e.g. ``DASK_SCHEDULER_ADDRESS``) is used, as ``distributed.Client()``
+    would.
 
     Any of the signals ``stop_on`` (``pydrill sweep`` adds SIGTERM) stops the sweep between
     batches with everything finished saved, raising ``SweepInterrupted``. Raises
@@ -234,11 +236,22 @@ def run_sweep(
 
     if (workers is not None) + bool(scheduler) + bool(serial) > 1:
         raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
+    if scheduler is None and workers is None and not serial:
+        from .sweep_dask import configured_scheduler
+
+        scheduler = configured_scheduler()
     if dashboard is not None:
         if scheduler or serial:
             raise ValueError(
                 "dashboard: only a local cluster's dashboard is started by the sweep; "
-                + ("an existing cluster serves its own" if scheduler else "serial runs use no Dask")
+                + (
+                    f"{scheduler.source} names a cluster, which serves its own (--workers N, "
+                    "or workers=N, runs on a local cluster instead)"
+                    if hasattr(scheduler, "source")
+                    else "an existing cluster serves its own"
+                    if scheduler
+                    else "serial runs use no Dask"
+                )
             )
         from .sweep_dask import check_dashboard
 

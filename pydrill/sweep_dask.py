@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import importlib.metadata
 import logging
+import os
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -37,6 +38,25 @@ QUIET = {
     "distributed.worker.memory.monitor-interval": "1s",
     "distributed.admin.system-monitor.interval": "5s",
 }
+
+
+class ConfiguredAddress(str):
+    """A scheduler address from the Dask config rather than from the caller: messages name
+    where it came from (``source``), as the user may not remember setting it."""
+
+    source = "Dask's config (scheduler-address)"
+
+
+def configured_scheduler() -> ConfiguredAddress | None:
+    """The cluster a Dask user has named for all their work, as ``distributed.Client()`` finds
+    it: the config's ``scheduler-address``, from ``DASK_SCHEDULER_ADDRESS`` or a YAML file."""
+    address = dask.config.get("scheduler-address", None)
+    if not address:
+        return None
+    found = ConfiguredAddress(address)
+    if os.environ.get("DASK_SCHEDULER_ADDRESS") == address:
+        found.source = "DASK_SCHEDULER_ADDRESS"
+    return found
 
 
 def check_dashboard(address: str, name: str = "dashboard") -> None:
@@ -98,6 +118,12 @@ def run_dask(
             try:  # waits distributed.comm.timeouts.connect (30 s unless configured)
                 client = Client(scheduler_file=str(file)) if file else Client(scheduler)
             except (OSError, ValueError) as exc:
+                if isinstance(scheduler, ConfiguredAddress):
+                    raise SchedulerError(
+                        f"{scheduler.source} is {scheduler}, but no Dask scheduler answered "
+                        f"there ({exc}). Start it, unset it, or give --workers N (workers=N) to "
+                        "run on a local cluster"
+                    ) from None
                 raise SchedulerError(
                     f"--scheduler {scheduler}: no Dask scheduler answered there ({exc}). "
                     "Start one ('dask scheduler', then 'dask worker ADDRESS' on each machine), "

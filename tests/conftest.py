@@ -5,6 +5,9 @@ import pytest
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+# A tester's own cluster (sweeps go where DASK_SCHEDULER_ADDRESS points, as any Dask client's
+# work does) is not the one these tests start; the tests that want it set it themselves.
+os.environ.pop("DASK_SCHEDULER_ADDRESS", None)
 
 
 @pytest.fixture(scope="session")

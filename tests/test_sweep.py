@@ -349,6 +349,17 @@ def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
         assert link, via_file.stderr
         with urllib.request.urlopen(link[1], timeout=30) as page:
             assert page.status == 200 and b"Dask" in page.read()
+        # Named in the environment, as a Dask user names their cluster for every client.
+        via_env = subprocess.run(
+            [*CMD, "sweep", str(small), "--out", str(tmp_path / "env.h5"), "--json"],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            env={**os.environ, "DASK_SCHEDULER_ADDRESS": address},
+        )
+        assert via_env.returncode == 0, via_env.stderr
+        assert json.loads(via_env.stdout)["computed"] == parse_spec(SMALL).size
+        assert f"scheduler {address} (from DASK_SCHEDULER_ADDRESS" in via_env.stderr
     finally:
         for p in procs:
             try:

@@ -1,6 +1,8 @@
-"""Watching a sweep: Dask's dashboard served from the local cluster, and where it runs."""
+"""Watching a sweep: Dask's dashboard served from the local cluster, and where it runs
+(including a cluster named in DASK_SCHEDULER_ADDRESS, as any Dask client finds it)."""
 
 import importlib.metadata
+import os
 import re
 import socket
 import subprocess
@@ -102,7 +104,7 @@ def test_dashboard_beside_a_scheduler_or_serial_is_refused(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def _sweep_cli(tmp_path, *extra) -> subprocess.CompletedProcess:
+def _sweep_cli(tmp_path, *extra, env=None) -> subprocess.CompletedProcess:
     spec = tmp_path / "tiny.toml"
     spec.write_text(TINY)
     return subprocess.run(
@@ -110,6 +112,7 @@ def _sweep_cli(tmp_path, *extra) -> subprocess.CompletedProcess:
         capture_output=True,
         text=True,
         timeout=120,
+        env=env,
     )
 
 
@@ -120,7 +123,7 @@ def test_cli_prints_the_link_and_says_when_the_port_was_taken(tmp_path):
         taken = holder.getsockname()[1]
         run = _sweep_cli(tmp_path, "--dashboard-address", f"127.0.0.1:{taken}", "--workers", "1")
     assert run.returncode == 0, run.stderr
-    line = re.search(r"sweep: 1 Dask workers, scheduler tcp://\S+, dashboard (\S+)(.*)", run.stderr)
+    line = re.search(r"sweep: 1 Dask worker, scheduler tcp://\S+, dashboard (\S+)(.*)", run.stderr)
     assert line, run.stderr
     link, note = line.groups()
     assert re.fullmatch(r"http://127\.0\.0\.1:\d+/status", link) and f":{taken}/" not in link
@@ -140,3 +143,39 @@ def test_cli_refuses_a_dashboard_it_cannot_serve(tmp_path, extra, said):
     run = _sweep_cli(tmp_path, *extra)
     assert run.returncode == 2 and said in run.stderr, run.stderr
     assert not (tmp_path / "cli.h5").exists()
+
+
+def test_a_configured_scheduler_that_does_not_answer_is_named_and_nothing_is_written(tmp_path):
+    """DASK_SCHEDULER_ADDRESS is where a Dask user's work goes, so the sweep goes there too;
+    when nothing answers, the error names the variable (the user may have forgotten it) and
+    how to run locally instead, which works with the variable still set."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        nobody = f"tcp://127.0.0.1:{s.getsockname()[1]}"
+    env = {
+        **os.environ,
+        "DASK_SCHEDULER_ADDRESS": nobody,
+        "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s",
+    }
+    run = _sweep_cli(tmp_path, env=env)
+    assert run.returncode == 2 and "Traceback" not in run.stderr
+    assert f"DASK_SCHEDULER_ADDRESS is {nobody}, but no Dask scheduler answered" in run.stderr
+    assert "--workers N" in run.stderr
+    assert list(tmp_path.iterdir()) == [tmp_path / "tiny.toml"]
+    run = _sweep_cli(tmp_path, "--dashboard", env=env)
+    assert run.returncode == 2 and "names a cluster, which serves its own" in run.stderr
+    run = _sweep_cli(tmp_path, "--workers", "1", env=env)
+    assert run.returncode == 0, run.stderr
+    assert "sweep: 1 Dask worker, scheduler tcp://127.0.0.1:" in run.stderr
+    assert "from DASK_SCHEDULER_ADDRESS" not in run.stderr
+
+
+def test_a_scheduler_address_in_the_dask_config_is_named_as_such(tmp_path):
+    import dask
+
+    with (
+        dask.config.set({"scheduler-address": "tcp://127.0.0.1:1"}),
+        pytest.raises(ValueError, match=r"Dask's config \(scheduler-address\) names a cluster"),
+    ):
+        run_sweep(parse_spec(TINY), tmp_path / "never.h5", dashboard="127.0.0.1:0")
+    assert list(tmp_path.iterdir()) == []
