@@ -218,9 +218,9 @@ def run_sweep(
     ``workers`` processes (default: one per core it may use: affinity and cgroup limits
     count), started for this sweep; on an existing Dask cluster, given as ``scheduler`` (its
     address, its scheduler file ``*.json``, or a ``distributed.Client``, left open); or
-    ``serial``-ly in this process. Given none of these, a cluster named in the Dask config's
-    ``scheduler-address`` (e.g. ``DASK_SCHEDULER_ADDRESS``) is used, as ``distributed.Client()``
-    would.
+    ``serial``-ly in this process. Given none of these, it runs where Dask's own work would:
+    on the caller's default ``distributed.Client`` (left open), else on the cluster named in
+    the Dask config's ``scheduler-address`` (e.g. ``DASK_SCHEDULER_ADDRESS``), else locally.
 
     Any of the signals ``stop_on`` (``pydrill sweep`` adds SIGTERM) stops the sweep between
     batches with everything finished saved, raising ``SweepInterrupted``. Raises
@@ -236,18 +236,24 @@ def run_sweep(
 
     if (workers is not None) + bool(scheduler) + bool(serial) > 1:
         raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
+    implicit = None  # where the sweep goes when told nowhere, as Dask's own work would
     if scheduler is None and workers is None and not serial:
-        from .sweep_dask import configured_scheduler
+        from .sweep_dask import configured_scheduler, default_dask_client
 
-        scheduler = configured_scheduler()
+        client = default_dask_client()
+        if client is not None:
+            scheduler, implicit = client, "your default Dask client"
+        else:
+            scheduler = configured_scheduler()
+            implicit = scheduler.source if scheduler else None
     if dashboard is not None:
-        if scheduler or serial:
+        if scheduler is not None or serial:
             raise ValueError(
                 "dashboard: only a local cluster's dashboard is started by the sweep; "
                 + (
-                    f"{scheduler.source} names a cluster, which serves its own (--workers N, "
-                    "or workers=N, runs on a local cluster instead)"
-                    if hasattr(scheduler, "source")
+                    f"this one runs on the cluster of {implicit}, which serves its own "
+                    "(--workers N, or workers=N, runs on a local cluster instead)"
+                    if implicit
                     else "an existing cluster serves its own"
                     if scheduler
                     else "serial runs use no Dask"

@@ -13,6 +13,7 @@ from __future__ import annotations
 import importlib.metadata
 import logging
 import os
+import sys
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -57,6 +58,20 @@ def configured_scheduler() -> ConfiguredAddress | None:
     if os.environ.get("DASK_SCHEDULER_ADDRESS") == address:
         found.source = "DASK_SCHEDULER_ADDRESS"
     return found
+
+
+def default_dask_client() -> Any:
+    """The caller's default ``distributed.Client`` (the last one made, unless told
+    otherwise), which ``dask.compute`` would use; None without one. Without distributed
+    imported there can be none, and this does not import it."""
+    if "distributed" not in sys.modules:
+        return None
+    from distributed import default_client
+
+    try:
+        return default_client()
+    except ValueError:
+        return None
 
 
 def check_dashboard(address: str, name: str = "dashboard") -> None:

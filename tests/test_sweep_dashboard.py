@@ -163,7 +163,10 @@ def test_a_configured_scheduler_that_does_not_answer_is_named_and_nothing_is_wri
     assert "--workers N" in run.stderr
     assert list(tmp_path.iterdir()) == [tmp_path / "tiny.toml"]
     run = _sweep_cli(tmp_path, "--dashboard", env=env)
-    assert run.returncode == 2 and "names a cluster, which serves its own" in run.stderr
+    assert (
+        run.returncode == 2
+        and "runs on the cluster of DASK_SCHEDULER_ADDRESS, which serves its own" in run.stderr
+    )
     run = _sweep_cli(tmp_path, "--workers", "1", env=env)
     assert run.returncode == 0, run.stderr
     assert "sweep: 1 Dask worker, scheduler tcp://127.0.0.1:" in run.stderr
@@ -175,7 +178,32 @@ def test_a_scheduler_address_in_the_dask_config_is_named_as_such(tmp_path):
 
     with (
         dask.config.set({"scheduler-address": "tcp://127.0.0.1:1"}),
-        pytest.raises(ValueError, match=r"Dask's config \(scheduler-address\) names a cluster"),
+        pytest.raises(
+            ValueError, match=r"the cluster of Dask's config \(scheduler-address\), which"
+        ),
     ):
         run_sweep(parse_spec(TINY), tmp_path / "never.h5", dashboard="127.0.0.1:0")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_callers_default_dask_client_runs_the_sweep_and_stays_open(tmp_path):
+    """As dask.compute would: a sweep told nowhere runs on the caller's client, not on a
+    second cluster beside it; told where, it goes there."""
+    from distributed import Client, LocalCluster
+
+    spec = parse_spec(TINY)
+    seen: list[ClusterInfo] = []
+    with (
+        LocalCluster(n_workers=1, processes=False, dashboard_address=":0") as cluster,
+        Client(cluster) as client,
+    ):
+        report = run_sweep(spec, tmp_path / "default.h5", on_cluster=seen.append)
+        assert report.computed == spec.size and client.status == "running"
+        assert [i.scheduler for i in seen] == [cluster.scheduler_address]
+        with pytest.raises(ValueError, match="the cluster of your default Dask client"):
+            run_sweep(spec, tmp_path / "never.h5", dashboard="127.0.0.1:0")
+        run_sweep(spec, tmp_path / "local.h5", workers=1, on_cluster=seen.append)
+        assert seen[1].scheduler != cluster.scheduler_address
+    run_sweep(spec, tmp_path / "after.h5", on_cluster=seen.append)  # its own cluster again
+    assert seen[2].scheduler not in (seen[0].scheduler, seen[1].scheduler)
+    assert not (tmp_path / "never.h5").exists()
