@@ -247,17 +247,19 @@ def run_sweep(
             scheduler = configured_scheduler()
             implicit = scheduler.source if scheduler else None
     if dashboard is not None:
-        if scheduler is not None or serial:
+        elsewhere = (
+            "serial runs use no Dask"
+            if serial
+            else f"this one runs on the cluster of {implicit}, which serves its own "
+            "(--workers N, or workers=N, runs on a local cluster instead)"
+            if implicit
+            else "an existing cluster serves its own"
+            if scheduler
+            else None
+        )
+        if elsewhere:
             raise ValueError(
-                "dashboard: only a local cluster's dashboard is started by the sweep; "
-                + (
-                    f"this one runs on the cluster of {implicit}, which serves its own "
-                    "(--workers N, or workers=N, runs on a local cluster instead)"
-                    if implicit
-                    else "an existing cluster serves its own"
-                    if scheduler
-                    else "serial runs use no Dask"
-                )
+                f"dashboard: only a local cluster's dashboard is started by the sweep; {elsewhere}"
             )
         from .sweep_dask import check_dashboard
 
