@@ -11,6 +11,7 @@ import json
 import math
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 EXIT_USAGE = 2
@@ -76,6 +77,20 @@ def _finite(name: str, kind: str | None = None):
         return value
 
     return parse
+
+
+# What matplotlib writes with what it installs, chosen by the file's suffix. Checked when the
+# command line is read, so that a long computation does not end in "format not supported".
+FIGURE_SUFFIXES = tuple(".png .pdf .svg .svgz .eps .ps .jpg .jpeg .tif .tiff .webp".split())
+
+
+def figure_path(text: str) -> str:
+    """An argparse type for ``--plot FILE``: a suffix matplotlib can write."""
+    if Path(text).suffix.lower() not in FIGURE_SUFFIXES:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: a figure's format is its suffix, one of " + ", ".join(FIGURE_SUFFIXES)
+        )
+    return text
 
 
 def _list(name: str):
@@ -196,7 +211,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     out = sim.add_argument_group("output")
     out.add_argument("--json", action="store_true", help="print one JSON object for scripts")
-    out.add_argument("--plot", metavar="FILE.png", help="draw velocities and bit torque")
+    out.add_argument(
+        "--plot", metavar="FILE.png", type=figure_path, help="draw velocities and bit torque"
+    )
     sim.set_defaults(handler=_cmd_simulate)
 
     register_analysis(sub, PRESETS)
@@ -208,7 +225,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from . import simulate
-    from .plot import save, simulation_figure
 
     overrides: dict[str, Any] = {}
     for key in ("inertias", "stiffnesses", "dampings"):
@@ -231,6 +247,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         **overrides,
     )
     if args.plot:
+        from .plot import save, simulation_figure
+
         save(simulation_figure(result), args.plot)
     if args.json:
         data = result.to_dict()

@@ -7,7 +7,7 @@ import argparse
 import json
 from collections.abc import Sequence
 
-from .cli import _finite, _positive, _string_options
+from .cli import _finite, _positive, _string_options, figure_path
 from .cli_window import register_tally
 
 
@@ -32,7 +32,9 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         help="largest steady velocity on the plot (rad/s, default 20)",
     )
     hopf.add_argument("--json", action="store_true", help="print one JSON object for scripts")
-    hopf.add_argument("--plot", metavar="FILE.png", help="draw the boundaries W_ob(Omega)")
+    hopf.add_argument(
+        "--plot", metavar="FILE.png", type=figure_path, help="draw the boundaries W_ob(Omega)"
+    )
     hopf.set_defaults(handler=_cmd_hopf)
 
     stab = sub.add_parser(
@@ -59,7 +61,7 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         "--torque", type=_finite("--torque", "torque"), help="surface torque u (N m, or 12kN*m)"
     )
     stab.add_argument("--json", action="store_true", help="print one JSON object for scripts")
-    stab.add_argument("--plot", metavar="FILE.png", help="draw the eigenvalues")
+    stab.add_argument("--plot", metavar="FILE.png", type=figure_path, help="draw the eigenvalues")
     stab.set_defaults(handler=_cmd_stability)
 
     bif = sub.add_parser(
@@ -96,7 +98,9 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         help="largest Omega on the branch (rad/s)",
     )
     bif.add_argument("--json", action="store_true", help="print one JSON object for scripts")
-    bif.add_argument("--plot", metavar="FILE.png", help="draw the bifurcation diagram")
+    bif.add_argument(
+        "--plot", metavar="FILE.png", type=figure_path, help="draw the bifurcation diagram"
+    )
     bif.set_defaults(handler=_cmd_bifurcation)
 
     register_tally(sub)
@@ -138,19 +142,20 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         help="simulated time of each check (s, default 300)",
     )
     omap.add_argument("--json", action="store_true", help="print one JSON object for scripts")
-    omap.add_argument("--plot", metavar="FILE.png", help="draw the map")
+    omap.add_argument("--plot", metavar="FILE.png", type=figure_path, help="draw the map")
     omap.set_defaults(handler=_cmd_map)
 
 
 def _cmd_hopf(args: argparse.Namespace) -> int:
     from . import preset
-    from .plot import save
-    from .plot_analysis import hopf_figure
     from .stability import critical_deltas
 
     params = preset(args.preset, dof=args.dof, pipes=args.pipes)
     crossings = critical_deltas(params)
     if args.plot:
+        from .plot import save
+        from .plot_analysis import hopf_figure
+
         save(hopf_figure(params, crossings, omega_max=args.omega_max), args.plot)
     if args.json:
         data = {
@@ -192,13 +197,14 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
 
 def _cmd_stability(args: argparse.Namespace) -> int:
     from . import preset
-    from .plot import save
-    from .plot_analysis import eigenvalue_figure
     from .stability import stability
 
     params = preset(args.preset, dof=args.dof, pipes=args.pipes)
     points = stability(params, args.wob, omega=args.omega, torque=args.torque)
     if args.plot:
+        from .plot import save
+        from .plot_analysis import eigenvalue_figure
+
         save(eigenvalue_figure(params, points), args.plot)
     if args.json:
         data = {
@@ -247,8 +253,6 @@ def _cmd_stability(args: argparse.Namespace) -> int:
 def _cmd_bifurcation(args: argparse.Namespace) -> int:
     from . import preset
     from .bifurcation import branch
-    from .plot import save
-    from .plot_analysis import bifurcation_figure
 
     if args.vary == "wob" and args.torque is None:
         raise ValueError("--vary wob needs --torque (the surface torque held fixed, N m)")
@@ -257,6 +261,9 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
     params = preset(args.preset, dof=args.dof, pipes=args.pipes)
     b = branch(params, vary=args.vary, torque=args.torque, wob=args.wob, omega_max=args.omega_max)
     if args.plot:
+        from .plot import save
+        from .plot_analysis import bifurcation_figure
+
         save(bifurcation_figure(params, b), args.plot)
     if args.json:
         data = {
@@ -301,8 +308,6 @@ def _cmd_map(args: argparse.Namespace) -> int:
 
     from . import preset, simulate
     from .operating import CATEGORIES, operating_map
-    from .plot import save
-    from .plot_analysis import operating_figure
     from .stability import critical_deltas
 
     if args.check < 0 or args.check > 40:
@@ -321,6 +326,9 @@ def _cmd_map(args: argparse.Namespace) -> int:
                 r = simulate(params, wob=w, torque=u, t_end=args.t_end, n_out=301)
                 checks.append((float(w), float(u), r.regime))
     if args.plot:
+        from .plot import save
+        from .plot_analysis import operating_figure
+
         save(operating_figure(params, omap, crossings, checks), args.plot)
     if args.json:
         data = {

@@ -7,6 +7,8 @@ import json
 import sys
 from pathlib import Path
 
+from .cli import figure_path
+
 
 def register_atlas(sub) -> None:
     at = sub.add_parser(
@@ -49,7 +51,7 @@ def register_atlas(sub) -> None:
     query.set_defaults(handler=_cmd_query)
     plot = asub.add_parser("plot", help="regime map on two axes with the analytic boundaries")
     plot.add_argument("atlas", metavar="ATLAS.h5")
-    plot.add_argument("--out", required=True, metavar="FILE.png")
+    plot.add_argument("--out", required=True, metavar="FILE.png", type=figure_path)
     plot.add_argument("--initial", help="which start to draw (default: the first)")
     plot.add_argument("--x", metavar="AXIS", help="horizontal axis (default: the first swept)")
     plot.add_argument("--y", metavar="AXIS", help="vertical axis (default: the next swept)")

@@ -9,6 +9,8 @@ import signal
 import sys
 import time
 
+from .cli import figure_path
+
 SWEEP_EPILOG = """\
 examples:
   pydrill sweep sweeps/minimal.toml --out minimal.h5
@@ -73,7 +75,9 @@ def register_sweep(sub, positive) -> None:
         action="store_true",
         help="no progress (a bar on a terminal, else a line every 30 s on stderr)",
     )
-    sw.add_argument("--plot", metavar="FILE.png", help="draw the regime map when done")
+    sw.add_argument(
+        "--plot", metavar="FILE.png", type=figure_path, help="draw the regime map when done"
+    )
     sw.set_defaults(handler=_cmd_sweep)
 
 
@@ -113,8 +117,6 @@ def _duration(seconds: float) -> str:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .plot import save
-    from .plot_atlas import atlas_figure
     from .spec import load_spec
     from .sweep import SweepInterrupted, run_sweep
 
@@ -218,6 +220,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         bar.close()
     if args.plot:
         from .atlas import Atlas
+        from .plot import save
+        from .plot_atlas import atlas_figure
 
         with Atlas(args.out) as atlas:
             save(atlas_figure(atlas), args.plot)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from .cli import _positive
+from .cli import _positive, figure_path
 
 WINDOW_EPILOG = """\
 examples:
@@ -99,7 +99,9 @@ def register_tally(sub) -> None:
         "--t-end", type=_positive("--t-end"), default=120.0, help="simulated s per check"
     )
     win.add_argument("--json", action="store_true", help="print one JSON object")
-    win.add_argument("--plot", metavar="FILE.png", help="draw the window (or against depth)")
+    win.add_argument(
+        "--plot", metavar="FILE.png", type=figure_path, help="draw the window (or against depth)"
+    )
     win.set_defaults(handler=_cmd_window)
 
 
