@@ -163,7 +163,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
         configured = configured_scheduler()
 
+    cluster: dict[str, object] | None = None  # where it ran, for --json (None: not on Dask)
+
     def on_cluster(info) -> None:
+        nonlocal cluster
+        cluster = {"scheduler": info.scheduler, "workers": info.workers}
+        cluster["dashboard"] = info.dashboard
         if bar is None:
             return
         plural = "s" if info.workers != 1 else ""
@@ -233,6 +238,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         "already_done": report.resumed,
         "wall_time": report.wall_time,
         "write_time": report.write_time,
+        "cluster": cluster,
         "units": {"wall_time": "s", "write_time": "s"},
     }
     if args.plot:

@@ -2,6 +2,7 @@
 (including a cluster named in DASK_SCHEDULER_ADDRESS, as any Dask client finds it)."""
 
 import importlib.metadata
+import json
 import os
 import re
 import socket
@@ -167,10 +168,15 @@ def test_a_configured_scheduler_that_does_not_answer_is_named_and_nothing_is_wri
         run.returncode == 2
         and "runs on the cluster of DASK_SCHEDULER_ADDRESS, which serves its own" in run.stderr
     )
-    run = _sweep_cli(tmp_path, "--workers", "1", env=env)
+    run = _sweep_cli(tmp_path, "--workers", "1", "--json", env=env)
     assert run.returncode == 0, run.stderr
     assert "sweep: 1 Dask worker, scheduler tcp://127.0.0.1:" in run.stderr
     assert "from DASK_SCHEDULER_ADDRESS" not in run.stderr
+    cluster = json.loads(run.stdout)["cluster"]  # where it ran, for scripts
+    assert cluster["workers"] == 1 and cluster["dashboard"] is None
+    assert cluster["scheduler"].startswith("tcp://127.0.0.1:") and cluster["scheduler"] != nobody
+    run = _sweep_cli(tmp_path, "--serial", "--json", "--resume", env=env)
+    assert run.returncode == 0 and json.loads(run.stdout)["cluster"] is None
 
 
 def test_a_scheduler_address_in_the_dask_config_is_named_as_such(tmp_path):
