@@ -24,11 +24,40 @@ def register_atlas(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     asub = at.add_subparsers(dest="atlas_command", metavar="ACTION", parser_class=type(at))
-    info = asub.add_parser("info", help="axes, status and regime counts")
+    raw = argparse.RawDescriptionHelpFormatter
+    info = asub.add_parser(
+        "info",
+        help="axes, status and regime counts",
+        description="What an atlas holds: its axes (size and range), how many points are "
+        "done, failed or still missing, the regimes counted for each initial condition, the "
+        "safe points (steady from rest, stable steady state) and where rest and equilibrium "
+        "starts disagree. A journal beside the atlas means a sweep into it is running or was "
+        "stopped.",
+        formatter_class=raw,
+        epilog="JSON fields: path, pydrill_version, spec_digest, points, axes {NAME: {size, "
+        "min, max}},\n  initial, status {missing, done, failed}, regimes {INITIAL: {REGIME: "
+        "count}},\n  safe_points, coexistence_points, journal (its path, or null)",
+    )
     info.add_argument("atlas", metavar="ATLAS.h5")
-    info.add_argument("--json", action="store_true")
+    info.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     info.set_defaults(handler=_cmd_info)
-    query = asub.add_parser("query", help="everything recorded at one point")
+    query = asub.add_parser(
+        "query",
+        help="everything recorded at one point",
+        description="Everything recorded at one point of the grid: its regime and metrics "
+        "from each initial condition, its steady states with their eigenvalues and Hopf "
+        "margin, and whether rest and equilibrium starts disagree. Give a value for every "
+        "axis of the atlas; without --nearest each must be on the grid.",
+        formatter_class=raw,
+        epilog="examples:\n  pydrill atlas query paper.h5 --wob 100 --torque 8.5\n"
+        "  pydrill atlas query paper.h5 --wob '0.1 kN' --torque 8.4 --nearest\n"
+        "  pydrill atlas query damping.h5 --wob 100 --torque 8.5 --set bit_damping=50 --json\n\n"
+        "JSON fields: regime and the metrics (bit_min, bit_max, bit_mean, top_mean, severity,\n"
+        "  stuck_fraction, period, stick_events, wall_time) from the first initial condition;\n"
+        "  coords, status, by_initial {regime, metrics}, stability {omega_eq, delta,\n"
+        "  spectral_abscissa, hopf_margin, unstable, eigenvalues}, coexistence, units;\n"
+        "  message for a failed point",
+    )
     query.add_argument("atlas", metavar="ATLAS.h5")
     from .cli import _finite
 
@@ -47,9 +76,16 @@ def register_atlas(sub) -> None:
         help="the point's value on any other axis",
     )
     query.add_argument("--nearest", action="store_true", help="nearest grid point, not exact")
-    query.add_argument("--json", action="store_true")
+    query.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     query.set_defaults(handler=_cmd_query)
-    plot = asub.add_parser("plot", help="regime map on two axes with the analytic boundaries")
+    plot = asub.add_parser(
+        "plot",
+        help="regime map on two axes with the analytic boundaries",
+        description="The regime map of one initial condition on two axes of the atlas, with "
+        "the Hopf boundary (where steady drilling loses stability) and the stuck boundary "
+        "overlaid, as in the paper's Figs. 6b and 12. Other axes are held at one grid value "
+        "each (--set). The format is the suffix of --out.",
+    )
     plot.add_argument("atlas", metavar="ATLAS.h5")
     plot.add_argument("--out", required=True, metavar="FILE.png", type=figure_path)
     plot.add_argument("--initial", help="which start to draw (default: the first)")
@@ -63,11 +99,34 @@ def register_atlas(sub) -> None:
         help="hold another axis at its grid value nearest VALUE (default: its first value)",
     )
     plot.set_defaults(handler=_cmd_plot)
-    export = asub.add_parser("export", help="write the atlas as netCDF (.nc) or CSV (.csv)")
+    export = asub.add_parser(
+        "export",
+        help="write the atlas as netCDF (.nc) or CSV (.csv)",
+        description="Write the atlas for other tools. netCDF (.nc, through h5netcdf): "
+        "every variable, eigenvalues included, with the axes as coordinates and the regime "
+        "names as CF flag meanings; it opens with xarray.open_dataset. CSV (.csv): one row "
+        "per point and initial condition: the axes, the regime (its code and name), the "
+        "metrics, the status, a failed point's message and whether rest and equilibrium "
+        "starts disagree; no steady states or eigenvalues (they are netCDF's). An existing "
+        "file at --out is replaced.",
+    )
     export.add_argument("atlas", metavar="ATLAS.h5")
-    export.add_argument("--out", required=True, metavar="FILE.nc|FILE.csv")
+    export.add_argument(
+        "--out",
+        required=True,
+        metavar="FILE.nc|FILE.csv",
+        type=_export_path,
+        help="the file to write",
+    )
     export.set_defaults(handler=_cmd_export)
     at.set_defaults(handler=lambda args: _atlas_usage(at))
+
+
+def _export_path(text: str) -> str:
+    """An argparse type for ``atlas export --out``: the format is the suffix."""
+    if Path(text).suffix.lower() not in (".nc", ".csv"):
+        raise argparse.ArgumentTypeError(f"{text!r}: the suffix must be .nc (netCDF) or .csv")
+    return text
 
 
 def _atlas_usage(parser) -> int:
@@ -190,9 +249,9 @@ def _cmd_export(args: argparse.Namespace) -> int:
     out = Path(args.out)
     with Atlas(args.atlas) as atlas:
         ds = atlas.to_xarray()
-        if out.suffix == ".nc":
+        if out.suffix.lower() == ".nc":
             ds.load().to_netcdf(out, engine="h5netcdf")
-        elif out.suffix == ".csv":
+        else:  # .csv, as _export_path allows
             from .atlas import with_regime_names
 
             ds = with_regime_names(ds.load())
@@ -204,8 +263,6 @@ def _cmd_export(args: argparse.Namespace) -> int:
                 and (ds[v].dtype.kind != "O" or v == "regime_name")
             ]
             ds[keep].to_dataframe().to_csv(out)
-        else:
-            raise ValueError(f"--out {out}: the suffix must be .nc or .csv")
         ds.close()
     print(f"wrote {out}")
     return 0

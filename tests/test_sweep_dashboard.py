@@ -7,31 +7,15 @@ import os
 import re
 import socket
 import subprocess
-import sys
 import urllib.request
-from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
+from sweeping import CMD, TINY
 
 from pydrill.spec import parse_spec
 from pydrill.sweep import ClusterInfo, run_sweep
-
-ROOT = Path(__file__).resolve().parents[1]
-CMD = [sys.executable, "-m", "pydrill"]
-
-TINY = """
-[model]
-preset = "reduced-scale"
-dof = 4
-[axes]
-wob = [40.0, 100.0, 160.0]
-torque = [6.0, 8.3]
-[simulation]
-t_end = 100.0
-initial = ["rest"]
-"""
 
 
 def _get(url: str) -> tuple[int, str]:

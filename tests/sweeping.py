@@ -1,0 +1,123 @@
+"""What the sweep tests share: small specs, atlas comparison, waiting for a running sweep.
+
+Not a test module: imported by them (``pythonpath = ["tests"]`` in pyproject.toml)."""
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+CMD = [sys.executable, "-m", "pydrill"]
+
+SMALL = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [40.0, 100.0, 160.0]
+torque = [6.0, 8.3]
+[simulation]
+t_end = 200.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+MEDIUM = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = { start = 20.0, stop = 200.0, num = 16 }
+torque = { start = 4.0, stop = 14.0, num = 12 }
+[simulation]
+t_end = 300.0
+initial = ["rest"]
+"""
+
+
+# Slow enough per point (5-6 ms) that a sweep is still running when the test interrupts it.
+LONGER = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = { start = 20.0, stop = 200.0, num = 32 }
+torque = { start = 4.0, stop = 14.0, num = 16 }
+[simulation]
+t_end = 3000.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+def atlas_arrays(path):
+    with h5py.File(path, "r") as f:
+        return {name: f[name][...] for name in f if name not in ("wall_time",)}
+
+
+def same_atlas(a, b):
+    x, y = atlas_arrays(a), atlas_arrays(b)
+    assert x.keys() == y.keys()
+    for name in x:
+        if x[name].dtype.kind == "f":
+            np.testing.assert_array_equal(
+                np.nan_to_num(x[name], nan=-7.0), np.nan_to_num(y[name], nan=-7.0), err_msg=name
+            )
+        else:
+            np.testing.assert_array_equal(x[name], y[name], err_msg=name)
+
+
+def wait_for_journal(journal: Path, more_than: int, proc: subprocess.Popen) -> None:
+    """Until ``journal`` holds more than ``more_than`` lines, while the sweep ``proc`` runs."""
+    deadline = time.time() + 120
+    while not (journal.exists() and journal.read_text().count("\n") > more_than):
+        assert proc.poll() is None, "the sweep ended before the test could interrupt it"
+        assert time.time() < deadline, "the sweep journaled nothing in 120 s"
+        time.sleep(0.02)
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def interrupt_mid_sweep(tmp_path, sig, *extra):
+    """Start ``pydrill sweep`` on LONGER, send ``sig`` to its whole process group (what Ctrl-C
+    in a terminal does) once its first batch is journaled; return (rc, stdout, stderr, atlas)."""
+    spec_file = tmp_path / "longer.toml"
+    spec_file.write_text(LONGER)
+    out = tmp_path / "stopped.h5"
+    journal = Path(str(out) + ".journal")
+    proc = subprocess.Popen(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), *extra],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        # A shell's background job ignores SIGINT; a terminal's foreground one does not.
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    wait_for_journal(journal, 1, proc)
+    os.killpg(proc.pid, sig)
+    stdout, err = proc.communicate(timeout=60)
+    return proc.returncode, stdout, err, out
+
+
+TINY = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [40.0, 100.0, 160.0]
+torque = [6.0, 8.3]
+[simulation]
+t_end = 100.0
+initial = ["rest"]
+"""

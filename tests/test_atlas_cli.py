@@ -1,0 +1,177 @@
+"""The atlas commands and figures: query, plot, info, export."""
+
+import csv
+import json
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+from sweeping import CMD, SMALL
+
+from pydrill.atlas import Atlas
+from pydrill.spec import parse_spec
+from pydrill.sweep import run_sweep
+
+
+def test_query_command_json(tmp_path):
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    proc = subprocess.run(
+        [*CMD, "atlas", "query", str(out), "--wob", "100", "--torque", "8.3", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    data = json.loads(proc.stdout)
+    assert data["regime"] == "stick-slip"
+    assert data["period"] > 0 and data["units"]["period"] == "s"
+    kn = subprocess.run(
+        [*CMD, "atlas", "query", str(out), "--wob", "0.1kN", "--torque", "0.0083 kN·m", "--json"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert json.loads(kn.stdout)["regime"] == "stick-slip"
+    miss = subprocess.run(
+        [*CMD, "atlas", "query", str(out), "--wob", "99", "--torque", "8.3"],
+        capture_output=True,
+        text=True,
+    )
+    assert miss.returncode == 2 and "not on the grid" in miss.stderr
+    assert miss.stderr.startswith("pydrill atlas query: error: ") and "--nearest" in miss.stderr
+    with Atlas(out) as atlas:  # SMALL's wob: 40, 100, 160 (steps of 60)
+        assert atlas.value("nearest", wob=189.0, torque=8.3)["coords"]["wob"] == 160.0
+        with pytest.raises(KeyError, match=r"wob = 191 is outside the atlas \(40 \.\.\. 160\)"):
+            atlas.value("nearest", wob=191.0, torque=8.3)  # more than half a step beyond
+
+
+SIZES = """
+[model]
+preset = "reduced-scale"
+[axes]
+dof = [4, 8]
+wob = [40.0, 100.0, 160.0, 220.0]
+torque = [6.0, 8.3, 12.0]
+[simulation]
+t_end = 200.0
+initial = ["rest"]
+"""
+
+
+def test_atlas_plot_draws_the_chosen_axes_at_the_held_values(tmp_path):
+    from pydrill.plot_atlas import atlas_figure
+
+    out = tmp_path / "sizes.h5"
+    run_sweep(parse_spec(SIZES), out, serial=True)
+    shown = ["steady", "stick-slip", "stuck", "oscillation", "failed", "missing", "no-steady-state"]
+    with Atlas(out) as atlas:
+        names = atlas.regimes("rest")  # (dof, wob, torque)
+        fig = atlas_figure(atlas, x="torque", y="wob", at={"dof": 7.2})  # nearest: dof 8
+        ax = fig.axes[0]
+        image = np.asarray(ax.collections[0].get_array()).reshape(4, 3)  # rows: wob
+        assert (np.array(shown)[image] == names[1]).all()
+        assert "dof = 8" in ax.get_title()
+        assert ax.get_xlabel() == "surface torque $u$ (N·m)"
+        # (W_ob, u) with the string held: the stuck boundary and the Hopf curve on top
+        assert [line.get_label()[:5] for line in ax.get_lines()] == ["stuck", "first"]
+        default = atlas_figure(atlas).axes[0]  # the first two swept axes, dof and wob
+        assert default.get_xlabel() == "degrees of freedom" and "torque = 6" in default.get_title()
+        assert list(default.get_xticks()) == [4, 8]
+        for bad, message in [
+            (dict(x="wob", y="wob"), "two different axes"),
+            (dict(x="depth"), "x = 'depth' is not an axis"),
+            (dict(x="wob", at={"wob": 100.0}), "'wob' is drawn"),
+            (dict(at={"dof": 4, "torque": 6, "wob": 40}), "no axis left"),
+        ]:
+            with pytest.raises(ValueError, match=message):
+                atlas_figure(atlas, **bad)
+    chosen = ["--x", "wob", "--y", "torque", "--set", "dof=8"]
+    proc = subprocess.run(
+        [*CMD, "atlas", "plot", str(out), "--out", str(tmp_path / "m.png"), *chosen],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0 and (tmp_path / "m.png").stat().st_size > 10_000
+
+
+@pytest.fixture(scope="module")
+def small_atlas(tmp_path_factory):
+    out = tmp_path_factory.mktemp("atlas") / "small.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    return out
+
+
+def _raw(atlas):
+    """Regime names, bit means and status straight from HDF5, not through pydrill."""
+    with h5py.File(atlas, "r") as f:
+        codes = {v: k for k, v in h5py.check_enum_dtype(f["regime"].dtype).items()}
+        names = np.vectorize(codes.get, otypes=[object])(f["regime"][...])
+        axes = {k: f[k][...] for k in ("wob", "torque")}
+        initials = [x.decode() if isinstance(x, bytes) else x for x in f["initial"][...]]
+        return names, f["bit_mean"][...], f["status"][...], axes, initials
+
+
+def test_info_json_counts_what_the_file_holds(small_atlas):
+    proc = subprocess.run(
+        [*CMD, "atlas", "info", str(small_atlas), "--json"], capture_output=True, text=True
+    )
+    assert proc.returncode == 0, proc.stderr
+    info = json.loads(proc.stdout)
+    names, _, status, axes, initials = _raw(small_atlas)
+    assert info["points"] == status.size == 6 and info["status"]["done"] == 6
+    assert info["initial"] == initials == ["rest", "equilibrium"]
+    for name, values in axes.items():
+        assert info["axes"][name] == {"size": len(values), "min": values[0], "max": values[-1]}
+    for j, init in enumerate(initials):
+        found, counts = np.unique(names[..., j], return_counts=True)
+        assert info["regimes"][init] == dict(zip(found.tolist(), counts.tolist(), strict=True))
+    assert info["journal"] is None
+
+
+def test_export_writes_netcdf_and_csv_with_what_the_atlas_holds(small_atlas, tmp_path):
+    import xarray as xr
+
+    names, bit_mean, _, axes, initials = _raw(small_atlas)
+    nc, table = tmp_path / "small.nc", tmp_path / "small.csv"
+    for out in (nc, table):
+        proc = subprocess.run(
+            [*CMD, "atlas", "export", str(small_atlas), "--out", str(out)],
+            capture_output=True,
+            text=True,
+        )
+        assert proc.returncode == 0 and proc.stdout == f"wrote {out}\n", proc.stderr
+    with xr.open_dataset(nc) as ds:  # a plain netCDF reader, no pydrill
+        assert list(ds.regime.dims) == ["wob", "torque", "initial"]
+        np.testing.assert_array_equal(ds.wob.values, axes["wob"])
+        np.testing.assert_array_equal(ds.bit_mean.values, bit_mean)
+        assert "eigenvalues_real" in ds and "omega_eq" in ds
+        flags = ds.regime.attrs
+        meanings = dict(
+            zip(flags["flag_values"].tolist(), flags["flag_meanings"].split(), strict=True)
+        )
+        spelled = np.vectorize(lambda c: meanings[int(c)].replace("_", "-"))(ds.regime.values)
+        assert (spelled == names).all()
+    with table.open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == names.size == 12  # one row per point and initial condition
+    assert not any("eigen" in column for column in rows[0])
+    for row in rows:
+        i = axes["wob"].tolist().index(float(row["wob"]))
+        k = axes["torque"].tolist().index(float(row["torque"]))
+        j = initials.index(row["initial"])
+        assert row["regime_name"] == names[i, k, j]
+        mean = float(row["bit_mean"] or "nan")  # no simulation (no steady state): empty
+        assert mean == pytest.approx(bit_mean[i, k, j], rel=1e-12, nan_ok=True)
+
+
+def test_export_to_an_unknown_format_is_refused_before_the_atlas_is_read(tmp_path):
+    out = tmp_path / "small.txt"
+    proc = subprocess.run(
+        [*CMD, "atlas", "export", str(tmp_path / "no-such.h5"), "--out", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "argument --out" in proc.stderr and ".nc (netCDF) or .csv" in proc.stderr
+    assert not out.exists()

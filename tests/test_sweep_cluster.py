@@ -1,0 +1,292 @@
+"""Where a sweep runs: a real Dask cluster (a worker killed mid-sweep), local workers,
+schedulers that are not there, the caller's own client."""
+
+import json
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+from sweeping import (
+    CMD,
+    MEDIUM,
+    ROOT,
+    SMALL,
+    free_port,
+    same_atlas,
+)
+
+from pydrill.spec import load_spec, parse_spec
+from pydrill.sweep import SweepInterrupted, run_sweep
+
+
+@pytest.mark.slow
+def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
+    dask_bin = Path(sys.executable).parent / "dask"
+    if not dask_bin.exists():
+        dask_bin = shutil.which("dask")
+    port = free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    procs = [
+        subprocess.Popen(
+            [
+                str(dask_bin),
+                "scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                str(port),
+                "--dashboard-address",
+                ":0",
+                "--scheduler-file",
+                str(tmp_path / "scheduler.json"),
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            env=env,
+            start_new_session=True,
+        )
+    ]
+    try:
+        time.sleep(2.0)
+        for _ in range(2):
+            procs.append(
+                subprocess.Popen(
+                    [
+                        str(dask_bin),
+                        "worker",
+                        address,
+                        "--nthreads",
+                        "1",
+                        "--no-nanny",
+                        "--host",
+                        "127.0.0.1",
+                    ],
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                    env=env,
+                    start_new_session=True,
+                )
+            )
+        from distributed import Client
+
+        with Client(address, timeout="30s") as client:
+            client.wait_for_workers(2, timeout=60)
+        spec_file = tmp_path / "m.toml"
+        spec_file.write_text(MEDIUM)
+        out = tmp_path / "cluster.h5"
+        journal = Path(str(out) + ".journal")
+        sweep = subprocess.Popen(
+            [*CMD, "sweep", str(spec_file), "--out", str(out), "--scheduler", address, "--json"],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            if journal.exists() and journal.read_text().count("\n") > 20:
+                break
+            time.sleep(0.05)
+        os.killpg(procs[1].pid, signal.SIGKILL)  # a worker dies mid-sweep
+        stdout, stderr = sweep.communicate(timeout=300)
+        assert sweep.returncode == 0, stderr
+        report = json.loads(stdout)
+        assert report["computed"] == 16 * 12 and report["failed"] == 0
+        reference = tmp_path / "ref.h5"
+        run_sweep(parse_spec(MEDIUM), reference, serial=True)
+        same_atlas(out, reference)
+        # The same cluster found through its scheduler file, as on a batch system.
+        small = tmp_path / "small.toml"
+        small.write_text(SMALL)
+        args = ["sweep", str(small), "--out", str(tmp_path / "file.h5"), "--json"]
+        via_file = subprocess.run(
+            [*CMD, *args, "--scheduler", str(tmp_path / "scheduler.json")],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert via_file.returncode == 0, via_file.stderr
+        assert json.loads(via_file.stdout)["computed"] == parse_spec(SMALL).size
+        # The cluster's own dashboard, its link printed for the user, answers.
+        link = re.search(rf"scheduler {address}, dashboard (\S+)", via_file.stderr)
+        assert link, via_file.stderr
+        with urllib.request.urlopen(link[1], timeout=30) as page:
+            assert page.status == 200 and b"Dask" in page.read()
+        # Named in the environment, as a Dask user names their cluster for every client.
+        via_env = subprocess.run(
+            [*CMD, "sweep", str(small), "--out", str(tmp_path / "env.h5"), "--json"],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            env={**os.environ, "DASK_SCHEDULER_ADDRESS": address},
+        )
+        assert via_env.returncode == 0, via_env.stderr
+        assert json.loads(via_env.stdout)["computed"] == parse_spec(SMALL).size
+        assert f"scheduler {address} (from DASK_SCHEDULER_ADDRESS" in via_env.stderr
+    finally:
+        for p in procs:
+            try:
+                os.killpg(p.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            p.wait()
+
+
+def test_a_sweep_beside_another_cluster_on_port_8787_stays_quiet(tmp_path):
+    """Dask's HTTP port 8787 is often held by a user's own cluster (or its dashboard). The
+    sweep's throwaway cluster then used to warn "Port 8787 is already in use"; with pytest's
+    warnings-as-errors this test failed before the sweep asked for any free port."""
+    holder = socket.socket()
+    try:
+        holder.bind(("", 8787))
+        holder.listen()
+    except OSError:
+        pass  # somebody else holds it already: the same situation
+    try:
+        spec = parse_spec(SMALL.replace("[40.0, 100.0, 160.0]", "[40.0, 160.0]"))
+        report = run_sweep(spec, tmp_path / "beside.h5", workers=2)
+        assert report.computed == 4 and report.failed == 0
+    finally:
+        holder.close()
+
+
+def test_no_scheduler_at_the_address_is_one_clear_error_and_leaves_no_files(tmp_path):
+    out = tmp_path / "never.h5"
+    nobody = f"tcp://127.0.0.1:{free_port()}"
+    proc = subprocess.run(
+        [
+            *CMD,
+            "sweep",
+            str(ROOT / "sweeps" / "minimal.toml"),
+            "--out",
+            str(out),
+            "--scheduler",
+            nobody,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"},
+    )
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+    assert "--scheduler tcp://127.0.0.1:" in proc.stderr and "dask scheduler" in proc.stderr
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+    # So the same command, once the address is right, needs no --resume nor any cleaning up.
+    report = run_sweep(load_spec(ROOT / "sweeps" / "minimal.toml"), out, serial=True)
+    assert report.computed == report.points
+
+
+def test_local_workers_that_cannot_start_are_one_clear_error(tmp_path):
+    import dask
+
+    from pydrill.sweep import SchedulerError
+
+    out = tmp_path / "never.h5"
+    # A worker preloads this module before it registers; there is none, so none starts.
+    broken = {"distributed.worker.preload": ["pydrill_test_no_such_module"]}
+    with (
+        dask.config.set(broken),
+        pytest.raises(SchedulerError, match=r"workers did not start \(.*pydrill_test_no_such"),
+    ):
+        run_sweep(parse_spec(SMALL), out, workers=1)
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+def test_a_missing_scheduler_file_is_named_and_nothing_is_written(tmp_path):
+    from pydrill.sweep import SchedulerError
+
+    out = tmp_path / "never.h5"
+    with pytest.raises(SchedulerError, match=r"no such scheduler file.*--scheduler-file"):
+        run_sweep(parse_spec(SMALL), out, scheduler=str(tmp_path / "gone.json"))
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+@pytest.mark.skipif(len(os.sched_getaffinity(0)) < 2, reason="needs two cores to pin to one")
+def test_default_workers_are_the_cores_this_process_may_use(tmp_path):
+    # Pinned to one core (as a container's --cpus or a batch job's allocation would), the local
+    # cluster gets one worker, not one per core of the host.
+    script = f"""
+import distributed
+from pydrill.spec import parse_spec
+from pydrill.sweep import run_sweep
+asked = []
+class Recording(distributed.LocalCluster):
+    def __init__(self, *args, **kwargs):
+        asked.append(kwargs["n_workers"])
+        super().__init__(*args, **kwargs)
+distributed.LocalCluster = Recording
+run_sweep(parse_spec({SMALL!r}), {str(tmp_path / "pinned.h5")!r})
+print(asked)
+"""
+    proc = subprocess.run(
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=lambda: os.sched_setaffinity(0, {min(os.sched_getaffinity(0))}),
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[1]"
+
+
+def test_conflicting_places_to_run_are_refused_before_anything_is_written(tmp_path):
+    out = tmp_path / "never.h5"
+    with pytest.raises(ValueError, match="at most one of workers"):
+        run_sweep(parse_spec(SMALL), out, serial=True, workers=2)
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+    proc = subprocess.run(
+        [
+            *CMD,
+            "sweep",
+            str(ROOT / "sweeps" / "minimal.toml"),
+            "--out",
+            str(out),
+            "--serial",
+            "--scheduler",
+            "tcp://127.0.0.1:8786",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2 and "not allowed with argument --serial" in proc.stderr
+    assert not out.exists()
+
+
+def test_a_dask_client_of_the_callers_runs_the_sweep_and_stays_open(tmp_path):
+    """In a notebook the Dask cluster already exists: pass its Client, as Dask users do."""
+    from distributed import Client, LocalCluster
+
+    reference = tmp_path / "ref.h5"
+    run_sweep(parse_spec(SMALL), reference, serial=True)
+    with (
+        LocalCluster(n_workers=1, processes=False, dashboard_address=":0") as cluster,
+        Client(cluster) as client,
+    ):
+        report = run_sweep(parse_spec(SMALL), tmp_path / "client.h5", scheduler=client)
+        assert report.computed == 6
+        assert not client.futures  # nothing of the sweep's left behind on it
+        assert client.submit(sum, [1, 2], pure=False).result() == 3  # still the caller's
+
+        def stop_after_the_first_batch(n, total):
+            raise KeyboardInterrupt
+
+        with pytest.raises(SweepInterrupted) as stopped:
+            run_sweep(
+                parse_spec(MEDIUM),
+                tmp_path / "stopped.h5",
+                scheduler=client,
+                progress=stop_after_the_first_batch,
+            )
+        assert 0 < stopped.value.done < 16 * 12
+        assert not client.futures  # the batches not yet done were cancelled, not left running
+        assert client.submit(sum, [3, 4], pure=False).result() == 7
+    same_atlas(tmp_path / "client.h5", reference)

@@ -1,0 +1,163 @@
+"""Interrupted sweeps lose nothing: kill -9, Ctrl-C, SIGTERM, cut journals, then --resume."""
+
+import contextlib
+import json
+import os
+import signal
+import subprocess
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from sweeping import (
+    CMD,
+    LONGER,
+    MEDIUM,
+    SMALL,
+    interrupt_mid_sweep,
+    same_atlas,
+    wait_for_journal,
+)
+
+from pydrill.atlas import Atlas
+from pydrill.spec import parse_spec
+from pydrill.sweep import AtlasError, run_sweep
+
+
+@pytest.mark.slow
+def test_kill_minus_9_then_resume_gives_the_same_atlas(tmp_path):
+    spec_file = tmp_path / "m.toml"
+    spec_file.write_text(MEDIUM)
+    reference = tmp_path / "ref.h5"
+    run_sweep(parse_spec(MEDIUM), reference, serial=True)
+    out = tmp_path / "killed.h5"
+    journal = Path(str(out) + ".journal")
+    proc = subprocess.Popen(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), "--workers", "2"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    wait_for_journal(journal, 40, proc)  # some, not all, points are journaled
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    assert journal.exists()
+    done_before = journal.read_text().count("\n") - 1
+    assert 0 < done_before < 16 * 12
+    report = run_sweep(parse_spec(MEDIUM), out, resume=True, serial=True)
+    assert report.resumed >= done_before
+    assert report.resumed + report.computed == 16 * 12
+    same_atlas(out, reference)
+
+
+def test_ctrl_c_stops_a_dask_sweep_quietly_and_keeps_every_finished_point(tmp_path):
+    rc, _, err, out = interrupt_mid_sweep(tmp_path, signal.SIGINT, "--workers", "2")
+    assert rc == 130, err
+    assert "Traceback" not in err  # neither the client's nor the workers'
+    assert "interrupted" in err and "--resume" in err
+    journal = Path(str(out) + ".journal")
+    journaled = {json.loads(line)["i"] for line in journal.read_text().splitlines()[1:]}
+    total = 32 * 16
+    assert 0 < len(journaled) < total
+    with h5py.File(out, "r") as f:  # flushed on the way out: the atlas shows them already
+        done = np.flatnonzero(f["status"][...].ravel() != 0)
+    assert set(done.tolist()) == journaled
+    assert f"{len(journaled)} of {total} points are saved" in err
+    report = run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
+    assert report.resumed == len(journaled) and report.computed == total - len(journaled)
+    assert not journal.exists()
+
+
+def test_sigterm_stops_a_serial_sweep_like_ctrl_c(tmp_path):
+    rc, stdout, err, out = interrupt_mid_sweep(tmp_path, signal.SIGTERM, "--serial", "--json")
+    assert rc == 128 + signal.SIGTERM, err
+    assert "Traceback" not in err and "--resume" in err
+    from pydrill.plot_atlas import atlas_figure
+
+    with Atlas(out) as atlas:
+        s = atlas.summary()
+        title = atlas_figure(atlas).axes[0].get_title()
+    assert 0 < s["status"]["done"] < 32 * 16
+    assert s["journal"] == str(out) + ".journal"
+    assert f"({s['status']['done']} of 512 points done)" in title  # blank cells explained
+    data = json.loads(stdout)  # --json: scripts learn of the stop too
+    assert data["interrupted"] is True and data["done"] == s["status"]["done"]
+    assert data["resume"].endswith(f"--out {out} --resume")
+
+
+def test_a_journal_line_cut_mid_write_is_recomputed_and_cut_off(tmp_path):
+    """A kill while a batch was being appended leaves a last line without its end. Resuming
+    drops it, and must cut it off the file: the next batch appended after it would otherwise
+    share its line, and the journal could never be read again."""
+    spec = parse_spec(SMALL)
+    out = tmp_path / "cut.h5"
+    reference = tmp_path / "ref.h5"
+    run_sweep(spec, reference, serial=True)
+    journal = Path(str(out) + ".journal")
+    from pydrill.sweep import evaluate_point
+
+    header = json.dumps({"spec_digest": spec.digest}) + "\n"
+    whole = json.dumps(evaluate_point(spec, 0)) + "\n"
+    cut = json.dumps(evaluate_point(spec, 1))[:37]
+    journal.write_text(header + whole + cut)
+    report = run_sweep(spec, out, resume=True, serial=True)
+    assert report.resumed == 1 and report.computed == spec.size - 1
+    same_atlas(out, reference)
+    # The same, interrupted again right after the resume appended: readable, nothing lost.
+    journal.write_text(header + whole + cut)
+    out.unlink()
+    from pydrill.journal import read_journal
+
+    assert [r["i"] for r in read_journal(out, spec)] == [0]
+    with journal.open("a") as fh:
+        fh.write(json.dumps(evaluate_point(spec, 2)) + "\n")
+    assert [r["i"] for r in read_journal(out, spec)] == [0, 2]
+
+
+def test_a_damaged_journal_line_is_named(tmp_path):
+    spec = parse_spec(SMALL)
+    out = tmp_path / "bad.h5"
+    from pydrill.sweep import evaluate_point
+
+    Path(str(out) + ".journal").write_text(
+        json.dumps({"spec_digest": spec.digest})
+        + "\n{not json\n"
+        + json.dumps(evaluate_point(spec, 0))
+        + "\n"
+    )
+    with pytest.raises(AtlasError, match=r"journal, line 2, is damaged"):
+        run_sweep(spec, out, resume=True, serial=True)
+
+
+def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path):
+    """Before the lock, ``--resume`` from a second terminal ran beside the first sweep: two
+    writers appending to one journal and overwriting each other's atlas flushes."""
+    spec_file = tmp_path / "longer.toml"
+    spec_file.write_text(LONGER)
+    out = tmp_path / "busy.h5"
+    journal = Path(str(out) + ".journal")
+    first = subprocess.Popen(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), "--workers", "2"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        wait_for_journal(journal, 1, first)
+        before = journal.read_bytes()
+        with pytest.raises(
+            AtlasError, match=rf"being written by another sweep \(process {first.pid}\)"
+        ):
+            run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
+        assert journal.read_bytes()[: len(before)] == before  # untouched by the refused one
+        # kill -9 of the sweep alone: its lock file stays, but the kernel drops the lock
+        # with the process, though its workers may still be finishing their batches.
+        os.kill(first.pid, signal.SIGKILL)
+        first.wait()
+        report = run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(first.pid, signal.SIGKILL)
+    assert report.resumed + report.computed == 32 * 16
+    assert not Path(str(out) + ".lock").exists()
