@@ -11,6 +11,7 @@ from .model import PRESETS, Params, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
 from .spec import SpecError, SweepSpec, load_spec, parse_spec
 from .sweep import AtlasError, ClusterInfo, SchedulerError, SweepInterrupted, SweepReport, run_sweep
+from .sweep_plan import SweepPlan, plan_sweep
 from .tally import Tally, load_tally
 
 __version__: str = _core.__version__
@@ -47,6 +48,7 @@ __all__ = [
     "SpecError",
     "Summary",
     "SweepInterrupted",
+    "SweepPlan",
     "SweepReport",
     "SweepSpec",
     "Switch",
@@ -56,6 +58,7 @@ __all__ = [
     "load_spec",
     "load_tally",
     "parse_spec",
+    "plan_sweep",
     "preset",
     "run_sweep",
     "simulate",

@@ -36,6 +36,13 @@ os.register_at_fork(after_in_child=_drop_in_child)
 class AtlasBusy(AtlasError):
     """Another process is writing this atlas."""
 
+    @classmethod
+    def of(cls, atlas: Path, holder: object) -> AtlasBusy:
+        return cls(
+            f"{atlas} is being written by another sweep (process {holder}); wait for it to "
+            "end, or stop it (what it computed is kept) and run again with --resume"
+        )
+
 
 @contextlib.contextmanager
 def writer_lock(atlas: Path) -> Iterator[None]:
@@ -47,10 +54,7 @@ def writer_lock(atlas: Path) -> Iterator[None]:
         except BlockingIOError:
             holder = os.read(fd, 32).decode(errors="replace").strip() or "?"
             os.close(fd)
-            raise AtlasBusy(
-                f"{atlas} is being written by another sweep (process {holder}); wait for it "
-                "to end, or stop it (what it computed is kept) and run again with --resume"
-            ) from None
+            raise AtlasBusy.of(atlas, holder) from None
         # The holder before us may have removed the file between our open and our flock:
         # then we hold a lock nobody else can see, and start over on the path's new file.
         try:
@@ -70,3 +74,21 @@ def writer_lock(atlas: Path) -> Iterator[None]:
             path.unlink()
         _held.remove(fd)
         os.close(fd)
+
+
+def writer_of(atlas: Path) -> int | None:
+    """The process writing ``atlas`` now, as its lock file names it; None if none is. Reads
+    only (no lock is taken, which could turn a sweep starting that instant away): for
+    reports such as a dry run, not for exclusion. A file left by a killed sweep names a
+    process that is gone."""
+    try:
+        pid = int(atlas.with_name(atlas.name + LOCK_SUFFIX).read_text().strip())
+    except (OSError, ValueError):  # no file, or no number in it
+        return None
+    try:
+        os.kill(pid, 0)
+    except PermissionError:  # alive, another user's
+        return pid
+    except OSError:  # no such process
+        return None
+    return pid

@@ -31,10 +31,10 @@ def journal_path(path: Path) -> Path:
     return path.with_name(path.name + JOURNAL_SUFFIX)
 
 
-def read_journal(path: Path, spec: SweepSpec) -> list[dict[str, Any]]:
+def read_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> list[dict[str, Any]]:
     """The records of ``path``'s journal. A last line cut by a kill (or Ctrl-C) mid-write is
-    dropped and cut off the file, so that the next append starts on a line of its own; its
-    points are simply computed again."""
+    dropped and, with ``repair``, cut off the file, so that the next append starts on a line
+    of its own; its points are simply computed again."""
     jp = journal_path(path)
     if not jp.exists():
         return []
@@ -62,7 +62,9 @@ def read_journal(path: Path, spec: SweepSpec) -> list[dict[str, Any]]:
                     )
                 continue
             records.append(data)
-    if good == 0:  # not even the header survived
+    if not repair:
+        pass
+    elif good == 0:  # not even the header survived
         jp.write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
     elif good < jp.stat().st_size:
         os.truncate(jp, good)

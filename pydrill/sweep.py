@@ -181,6 +181,12 @@ class SweepReport:
     write_time: float  #: s, of it spent writing the journal and the atlas
 
 
+def dealing_order(indices: np.ndarray) -> np.ndarray:
+    """The points in the order a sweep deals them out: a fixed pseudo-random permutation, so
+    that any first part of it samples the whole grid."""
+    return np.asarray(indices)[np.random.default_rng(0).permutation(len(indices))]
+
+
 def batches(
     indices: np.ndarray, workers: int, largest: int = 256, smallest: int = 16
 ) -> list[list[int]]:
@@ -192,7 +198,7 @@ def batches(
     dealt in a fixed pseudo-random order, so every batch samples the whole grid and costs
     about its size: no worker draws a batch of slow stick-slip points. Batches are small
     enough for a lively progress bar and little recomputation after an interruption."""
-    order = np.asarray(indices)[np.random.default_rng(0).permutation(len(indices))]
+    order = dealing_order(indices)
     out, start = [], 0
     while start < len(order):
         size = min(largest, max(smallest, math.ceil((len(order) - start) / (2 * max(workers, 1)))))

@@ -242,6 +242,9 @@ def run_cli(command: Command, cwd: Path, where: str) -> None:
     for flag in ("--plot", "--out"):
         if flag in argv[:-1]:
             target = cwd / argv[argv.index(flag) + 1]
+            if "--dry-run" in argv:  # names what a sweep would write, and writes nothing
+                assert not target.exists(), f"{where}: `{shown}` wrote {target.name}"
+                continue
             assert target.exists(), f"{where}: `{shown}` did not write {target.name}"
             assert target.is_dir() or target.stat().st_size > 0, f"{where}: {target} is empty"
 

@@ -60,6 +60,8 @@ GROUPS: list[tuple[str, str, list[str]]] = [
             "SpecError",
             "run_sweep",
             "SweepReport",
+            "plan_sweep",
+            "SweepPlan",
             "SweepInterrupted",
             "SchedulerError",
             "ClusterInfo",

@@ -1,0 +1,157 @@
+"""What a sweep would do, before it does it: ``pydrill sweep SPEC.toml --dry-run``.
+
+A sweep of a million points on a laptop, or a cluster job that must ask for its hours up
+front, wants to know its cost first. The plan checks the spec and the atlas as the sweep
+would (the same refusals), and times a sample of the points it would compute, drawn in the
+sweep's own pseudo-random order so that the sample spreads over the whole grid: slow
+stick-slip corners and cheap stuck ones alike. It writes nothing: not the atlas, not its
+journal (a journal's cut last line is left for the sweep to cut)."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import atlas_format as fmt
+from .journal import AtlasError, journal_path, read_journal
+from .spec import SweepSpec
+
+#: two-sided 95 % normal quantile, for the range of the estimate
+Z95 = 1.96
+
+
+@dataclass(frozen=True)
+class SweepPlan:
+    """What :func:`plan_sweep` found: the grid, the points a run would compute (``todo``; the
+    others are in the atlas or its journal already), and the time of the ``sampled`` points
+    on one core, in seconds per point, with the 95 % range of the mean over the points to
+    compute. ``failed``: sampled points whose solver failed, with the first ``message``."""
+
+    points: int  #: points in the grid
+    todo: int  #: points a run would compute
+    atlas: str  #: "none" (no atlas given), "new", "resume" or "complete"
+    sampled: int  #: points timed
+    failed: int  #: of those, failed (a run would store them as failed)
+    message: str  #: the first failure's message, or ""
+    point_seconds: float  #: mean time per point on one core, s
+    point_seconds_low: float  #: low end of that mean's 95 % range, s
+    point_seconds_high: float  #: high end of that mean's 95 % range, s
+    atlas_bytes: int  #: the atlas's data, uncompressed (compression makes it smaller)
+
+    @property
+    def compute_seconds(self) -> tuple[float, float, float]:
+        """(low, estimate, high) core-seconds to compute the ``todo`` points."""
+        return (
+            self.todo * self.point_seconds_low,
+            self.todo * self.point_seconds,
+            self.todo * self.point_seconds_high,
+        )
+
+    def wall_seconds(self, workers: int) -> tuple[float, float, float]:
+        """(low, estimate, high) wall time on ``workers`` cores at best: the computing
+        divided among them, without the cluster's start."""
+        return tuple(s / max(workers, 1) for s in self.compute_seconds)  # type: ignore[return-value]
+
+
+def _todo(spec: SweepSpec, out: Path | None, resume: bool) -> tuple[np.ndarray, str]:
+    """The points a sweep into ``out`` would compute, refusing as ``journal.prepare`` would,
+    but reading only."""
+    everything = np.arange(spec.size)
+    if out is None:
+        return everything, "none"
+    jp = journal_path(out)
+    if not (out.exists() or jp.exists()):
+        return everything, "new"
+    from .atlas_lock import AtlasBusy, writer_of
+
+    writer = writer_of(out)
+    if writer is not None:
+        raise AtlasBusy.of(out, writer)
+    done = np.zeros(spec.size, dtype=bool)
+    if out.exists():
+        import h5py
+
+        try:
+            with h5py.File(out, "r", locking=False) as f:
+                if f.attrs.get("format") != fmt.FORMAT:
+                    raise AtlasError(f"{out} exists and is not a pydrill atlas; not touching it")
+                digest = f.attrs.get("spec_digest")
+            if digest != spec.digest:
+                raise AtlasError(
+                    f"{out} holds a different sweep (spec digest {digest}, this spec "
+                    f"{spec.digest}); choose another --out or remove it"
+                )
+            done |= fmt.read_table(out, spec).status.ravel() != fmt.STATUS["missing"]
+        except AtlasError:
+            raise
+        except (OSError, KeyError, ValueError):
+            if not jp.exists():
+                raise AtlasError(
+                    f"{out} is damaged (not a readable HDF5 atlas) and has no journal to "
+                    "rebuild it from"
+                ) from None
+    if not resume:
+        raise AtlasError(
+            f"{out} already exists for this sweep; use --resume to complete it or remove it "
+            "to start over"
+        )
+    for rec in read_journal(out, spec, repair=False):
+        done[rec["i"]] = True
+    todo = np.flatnonzero(~done)
+    return todo, "resume" if len(todo) else "complete"
+
+
+def plan_sweep(
+    spec: SweepSpec,
+    out: str | Path | None = None,
+    *,
+    resume: bool = False,
+    budget: float = 2.0,
+    most: int = 256,
+    least: int = 3,
+) -> SweepPlan:
+    """Check ``spec`` against the atlas ``out`` (refusing, with ``AtlasError``, what
+    ``run_sweep`` would refuse) and time the points a run would compute, in the sweep's
+    order: at least ``least`` (or all there are), then more until ``budget`` seconds have
+    gone or ``most`` are timed. Computes in this process; writes nothing."""
+    from .sweep import dealing_order, evaluate_point
+
+    todo, state = _todo(spec, None if out is None else Path(out), resume)
+    order = dealing_order(todo)
+    times: list[float] = []
+    failed, message = 0, ""
+    if len(order):
+        evaluate_point(spec, int(order[0]))  # untimed: the first call loads what it needs
+    start = time.perf_counter()
+    for i in order[:most]:
+        t0 = time.perf_counter()
+        rec = evaluate_point(spec, int(i))
+        times.append(time.perf_counter() - t0)
+        if rec["status"] == "failed":
+            failed += 1
+            message = message or rec["message"]
+        if len(times) >= least and time.perf_counter() - start > budget:
+            break
+    k, n = len(times), len(todo)
+    mean = float(np.mean(times)) if k else 0.0
+    half = 0.0
+    if 1 < k < n:  # the sample's spread; none when every point to compute was timed
+        finite = math.sqrt((n - k) / (n - 1))  # sampling without replacement
+        half = Z95 * float(np.std(times, ddof=1)) / math.sqrt(k) * finite
+    row = fmt.AtlasTable(spec, points=1).columns()
+    return SweepPlan(
+        points=spec.size,
+        todo=n,
+        atlas=state,
+        sampled=k,
+        failed=failed,
+        message=message,
+        point_seconds=mean,
+        point_seconds_low=max(mean - half, 0.0),
+        point_seconds_high=mean + half,
+        atlas_bytes=spec.size * sum(a.nbytes for a in row.values() if a.dtype.kind != "O"),
+    )

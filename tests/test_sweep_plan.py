@@ -1,0 +1,145 @@
+"""pydrill sweep --dry-run: what a sweep would compute and about how long, writing nothing."""
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from sweeping import CMD, SMALL
+
+from pydrill.atlas_lock import AtlasBusy
+from pydrill.spec import parse_spec
+from pydrill.sweep import AtlasError, evaluate_point, run_sweep
+from pydrill.sweep_plan import plan_sweep
+
+# Cheap points first in grid order (W_ob 20-40 N: steady, ~2 ms), then slow ones (stick-slip
+# over 2000 s, ~10 ms): a sample of the first points would foretell a quarter of the time.
+SKEWED = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [20.0, 30.0, 40.0, 120.0, 125.0, 130.0, 135.0, 140.0, 145.0, 150.0, 155.0, 160.0]
+torque = [13.0, 14.0]
+[simulation]
+t_end = 2000.0
+initial = ["rest"]
+"""
+
+
+def test_the_estimate_foretells_the_time_of_every_point(tmp_path):
+    """A quarter of the points, timed in the sweep's pseudo-random order, foretell the time
+    of all of them, timed one by one: the sample spreads over the whole grid."""
+    spec = parse_spec(SKEWED)
+    plan = plan_sweep(spec, most=6, budget=60.0)
+    assert (plan.points, plan.todo, plan.sampled, plan.atlas) == (24, 24, 6, "none")
+    assert plan.failed == 0 and plan.message == ""
+    low, estimate, high = plan.compute_seconds
+    assert 0 < low < estimate < high
+    assert plan.wall_seconds(2) == pytest.approx((low / 2, estimate / 2, high / 2))
+    times = []
+    for i in range(spec.size):
+        t0 = time.perf_counter()
+        evaluate_point(spec, i)
+        times.append(time.perf_counter() - t0)
+    every = sum(times)
+    # The machine's speed drifts by tens of percent within a minute; a factor of 2 still
+    # tells this estimate from the one the first six points in grid order would give.
+    assert 0.5 * every < estimate < 2 * every, (plan, every)
+    assert 24 * sum(times[:6]) / 6 < 0.5 * every
+
+
+def test_a_dry_run_refuses_what_the_sweep_would_and_writes_nothing(tmp_path):
+    spec = parse_spec(SMALL)
+    out = tmp_path / "a.h5"
+    assert plan_sweep(spec, out, most=3).atlas == "new"
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+    run_sweep(spec, out, serial=True)
+    before = out.read_bytes()
+    with pytest.raises(AtlasError, match="--resume"):
+        plan_sweep(spec, out, most=3)
+    with pytest.raises(AtlasError, match="different sweep"):
+        plan_sweep(parse_spec(SMALL.replace("t_end = 200.0", "t_end = 100.0")), out, resume=True)
+    done = plan_sweep(spec, out, resume=True)
+    assert (done.atlas, done.todo, done.sampled) == ("complete", 0, 0)
+    assert done.compute_seconds == (0.0, 0.0, 0.0)
+    assert out.read_bytes() == before
+    junk = tmp_path / "junk.h5"
+    junk.write_bytes(b"not an atlas")
+    with pytest.raises(AtlasError, match="damaged"):
+        plan_sweep(spec, junk, resume=True)
+
+
+def test_a_dry_run_of_an_interrupted_sweep_counts_what_resume_computes(tmp_path):
+    """Points in the journal count as done; a journal line cut by a kill is left for the
+    sweep to cut (the dry run reads only), and the resume then computes what was foretold."""
+    spec = parse_spec(SMALL)
+    out = tmp_path / "cut.h5"
+    journal = Path(str(out) + ".journal")
+    header = json.dumps({"spec_digest": spec.digest}) + "\n"
+    whole = "".join(json.dumps(evaluate_point(spec, i)) + "\n" for i in (0, 4))
+    cut = json.dumps(evaluate_point(spec, 1))[:37]
+    journal.write_text(header + whole + cut)
+    plan = plan_sweep(spec, out, resume=True, most=2)
+    assert (plan.atlas, plan.todo, plan.sampled) == ("resume", spec.size - 2, 2)
+    assert journal.read_text() == header + whole + cut and not out.exists()
+    report = run_sweep(spec, out, resume=True, serial=True)
+    assert (report.resumed, report.computed) == (2, plan.todo)
+
+
+def test_an_atlas_being_written_is_named_by_its_writer(tmp_path):
+    spec = parse_spec(SMALL)
+    out = tmp_path / "busy.h5"
+    run_sweep(spec, out, serial=True)
+    lock = Path(str(out) + ".lock")
+    sleeper = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        lock.write_text(f"{sleeper.pid}\n")
+        with pytest.raises(
+            AtlasBusy, match=rf"being written by another sweep \(process {sleeper.pid}"
+        ):
+            plan_sweep(spec, out, resume=True)
+    finally:
+        sleeper.kill()
+        sleeper.wait()
+    # What kill -9 leaves: a lock file naming a process that is gone.
+    assert plan_sweep(spec, out, resume=True).atlas == "complete"
+
+
+def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
+    spec_file = tmp_path / "s.toml"
+    # Stick-slip needs more steps than this: those points would fail.
+    spec_file.write_text(SMALL.replace('initial = ["rest", "equilibrium"]', "max_steps = 900"))
+    out = tmp_path / "s.h5"
+    proc = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), "--dry-run", "--workers", "3"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "6 points (3 wob x 2 torque), from rest" in proc.stdout
+    assert f"{out}: a new atlas" in proc.stdout and "on 3 local workers" in proc.stdout
+    assert "points timed failed" in proc.stdout and "max_steps" in proc.stdout
+    assert proc.stdout.endswith("dry run: nothing was written\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+    data = json.loads(
+        subprocess.run(
+            [*CMD, "sweep", str(spec_file), "--dry-run", "--serial", "--json"],
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+    )
+    assert data["dry_run"] is True and data["atlas"] == {"path": None, "state": "none"}
+    assert data["shape"] == {"wob": 3, "torque": 2} and data["initial"] == ["rest"]
+    assert data["todo"] == data["sampled"] == 6 and 0 < data["failed"] < 6
+    assert data["workers"] == 1
+    c = data["compute_seconds"]
+    assert c["low"] == c["estimate"] == c["high"] > 0  # every point timed: no spread left
+    assert data["wall_seconds"] == c and data["atlas_bytes"] > 0
+    # Without --dry-run, an atlas must be named.
+    no_out = subprocess.run([*CMD, "sweep", str(spec_file)], capture_output=True, text=True)
+    assert no_out.returncode == 2 and "--out ATLAS.h5 is required" in no_out.stderr
