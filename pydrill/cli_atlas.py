@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 from pathlib import Path
 
 from .cli import figure_path
@@ -24,15 +25,17 @@ def register_atlas(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     asub = at.add_subparsers(dest="atlas_command", metavar="ACTION", parser_class=type(at))
-    raw = argparse.RawDescriptionHelpFormatter
+    raw = argparse.RawDescriptionHelpFormatter  # the epilogs' lines stay; descriptions: _para
     info = asub.add_parser(
         "info",
         help="axes, status and regime counts",
-        description="What an atlas holds: its axes (size and range), how many points are "
-        "done, failed or still missing, the regimes counted for each initial condition, the "
-        "safe points (steady from rest, stable steady state) and where rest and equilibrium "
-        "starts disagree. A journal beside the atlas means a sweep into it is running or was "
-        "stopped.",
+        description=_para(
+            "What an atlas holds: its axes (size and range), how many points are "
+            "done, failed or still missing, the regimes counted for each initial condition, the "
+            "safe points (steady from rest, stable steady state) and where rest and equilibrium "
+            "starts disagree. A journal beside the atlas means a sweep into it is running or was "
+            "stopped."
+        ),
         formatter_class=raw,
         epilog="JSON fields: path, pydrill_version, spec_digest, points, axes {NAME: {size, "
         "min, max}},\n  initial, status {missing, done, failed}, regimes {INITIAL: {REGIME: "
@@ -44,10 +47,12 @@ def register_atlas(sub) -> None:
     query = asub.add_parser(
         "query",
         help="everything recorded at one point",
-        description="Everything recorded at one point of the grid: its regime and metrics "
-        "from each initial condition, its steady states with their eigenvalues and Hopf "
-        "margin, and whether rest and equilibrium starts disagree. Give a value for every "
-        "axis of the atlas; without --nearest each must be on the grid.",
+        description=_para(
+            "Everything recorded at one point of the grid: its regime and metrics "
+            "from each initial condition, its steady states with their eigenvalues and Hopf "
+            "margin, and whether rest and equilibrium starts disagree. Give a value for every "
+            "axis of the atlas; without --nearest each must be on the grid."
+        ),
         formatter_class=raw,
         epilog="examples:\n  pydrill atlas query paper.h5 --wob 100 --torque 8.5\n"
         "  pydrill atlas query paper.h5 --wob '0.1 kN' --torque 8.4 --nearest\n"
@@ -81,13 +86,28 @@ def register_atlas(sub) -> None:
     plot = asub.add_parser(
         "plot",
         help="regime map on two axes with the analytic boundaries",
-        description="The regime map of one initial condition on two axes of the atlas, with "
-        "the Hopf boundary (where steady drilling loses stability) and the stuck boundary "
-        "overlaid, as in the paper's Figs. 6b and 12. Other axes are held at one grid value "
-        "each (--set). The format is the suffix of --out.",
+        description=_para(
+            "The regime map of one initial condition on two axes of the atlas, with the Hopf "
+            "boundary (where steady drilling loses stability) and the stuck boundary overlaid, "
+            "as in the paper's Figs. 6b and 12. Other axes are held at one grid value each "
+            "(--set). With --metric the map is coloured by a value instead: a simulation's "
+            "(e.g. severity, stuck_fraction, period) from one start, or a steady state's "
+            "(spectral_abscissa, hopf_margin: red where unstable) of the fastest one."
+        ),
+        epilog="examples:\n  pydrill atlas plot paper.h5 --out map.png\n"
+        "  pydrill atlas plot paper.h5 --out severity.png --metric severity\n"
+        "  pydrill atlas plot paper.h5 --out growth.pdf --metric spectral_abscissa\n"
+        "  pydrill atlas plot sizes.h5 --out map8.png --x wob --y torque --set dof=8",
+        formatter_class=raw,
     )
     plot.add_argument("atlas", metavar="ATLAS.h5")
-    plot.add_argument("--out", required=True, metavar="FILE.png", type=figure_path)
+    plot.add_argument(
+        "--out",
+        required=True,
+        metavar="FILE.png",
+        type=figure_path,
+        help="the figure to write; its suffix is the format (.png, .pdf, .svg, ...)",
+    )
     plot.add_argument("--initial", help="which start to draw (default: the first)")
     plot.add_argument("--x", metavar="AXIS", help="horizontal axis (default: the first swept)")
     plot.add_argument("--y", metavar="AXIS", help="vertical axis (default: the next swept)")
@@ -97,6 +117,15 @@ def register_atlas(sub) -> None:
         default=[],
         metavar="AXIS=VALUE",
         help="hold another axis at its grid value nearest VALUE (default: its first value)",
+    )
+    from .atlas_format import EQ_FIELDS, RUN_FIELDS
+
+    plot.add_argument(
+        "--metric",
+        choices=[*RUN_FIELDS, *EQ_FIELDS],
+        metavar="NAME",
+        help="colour the map by this value instead of the regime: "
+        + ", ".join([*RUN_FIELDS, *EQ_FIELDS]),
     )
     plot.set_defaults(handler=_cmd_plot)
     export = asub.add_parser(
@@ -120,6 +149,11 @@ def register_atlas(sub) -> None:
     )
     export.set_defaults(handler=_cmd_export)
     at.set_defaults(handler=lambda args: _atlas_usage(at))
+
+
+def _para(text: str) -> str:
+    """A description as argparse's raw formatter shows it: wrapped here, once."""
+    return textwrap.fill(text, 79)
 
 
 def _export_path(text: str) -> str:
@@ -238,7 +272,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
     at = _axis_values(args.set)
     with Atlas(args.atlas) as atlas:
-        save(atlas_figure(atlas, initial=args.initial, x=args.x, y=args.y, at=at), args.out)
+        fig = atlas_figure(
+            atlas, initial=args.initial, x=args.x, y=args.y, at=at, metric=args.metric
+        )
+        save(fig, args.out)
     print(f"figure: {args.out}")
     return 0
 

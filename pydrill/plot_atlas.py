@@ -2,9 +2,20 @@
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
+from . import atlas_format as fmt
 from .plot import plt
+
+#: what ``atlas_figure(metric=...)`` can colour a map by: a simulation's summary values (from
+#: one start) and a steady state's (the fastest), each with its units and meaning
+METRICS = {
+    **{n: (f[2], f[3]) for n, f in fmt.RUN_FIELDS.items()},
+    **{n: (f[2], f[3].replace(", fastest first", "")) for n, f in fmt.EQ_FIELDS.items()},
+}
+# Signed: zero is the stability boundary, so the colours diverge there.
+SIGNED = ("spectral_abscissa", "hopf_margin")
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -16,21 +27,28 @@ def atlas_figure(
     x: str | None = None,
     y: str | None = None,
     at: dict[str, float] | None = None,
+    metric: str | None = None,
 ) -> Figure:
     """Regime map of an atlas on the axes ``x`` and ``y`` (default: its first two swept ones),
     every other axis held at the grid value nearest ``at[name]`` (default: its first value).
     On (W_ob, u) the stuck boundary u = μ_sb W_ob R_b and the first Hopf curve of the string
-    at those values are drawn on top (the paper's Figs. 6b and 12)."""
+    at those values are drawn on top (the paper's Figs. 6b and 12).
+
+    With ``metric`` (a name of ``METRICS``: ``severity``, ``stuck_fraction``, ``period``,
+    ``spectral_abscissa``, ...) the map is coloured by that value instead, with a colour bar
+    in its units: a simulation's from ``initial``, a steady state's of the fastest one. Signed
+    stability values (``spectral_abscissa``, ``hopf_margin``) are coloured about zero, red
+    where unstable."""
     import numpy as np
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
-
-    from . import atlas_format as fmt
 
     init = initial or atlas.initials[0]
     j = atlas.initials.index(init) if init in atlas.initials else None
     if j is None:
         raise ValueError(f"initial = {init!r} is not in this atlas: {atlas.initials}")
+    if metric is not None and metric not in METRICS:
+        raise ValueError(f"metric = {metric!r} is not allowed: one of {', '.join(METRICS)}")
     order = list(atlas.axes)
     if len(order) < 2:
         raise ValueError("the atlas has one axis: a map needs two")
@@ -58,24 +76,40 @@ def atlas_figure(
         k = int(np.argmin(np.abs(values - at[name]))) if name in at else 0
         held[name] = float(values[k])
         index.append(k)
-    grid = atlas._f["regime"][..., j][tuple(index)]
+    # A simulation's value from the start drawn; a steady state's of the fastest (column 0).
+    column = 0 if metric in fmt.EQ_FIELDS else j
+    grid = atlas._f[metric or "regime"][..., column][tuple(index)]
     if order.index(xname) > order.index(yname):
         grid = grid.T
     # grid is (x, y); plot y vertical.
-    shown = ["steady", "stick-slip", "stuck", "oscillation", "failed", "missing", "no-steady-state"]
-    colors = ["#58d68d", "#f5b041", "#85929e", "#af7ac5", "#e74c3c", "#ffffff", "#d6eaf8"]
-    lut = {fmt.REGIMES[n]: k for k, n in enumerate(shown)}
-    img = np.vectorize(lut.get)(grid).T
     fig, ax = plt.subplots(figsize=(9.5, 6.2), layout="constrained")
     x, y = atlas.axes[xname], atlas.axes[yname]
-    ax.pcolormesh(
-        x,
-        y,
-        img,
-        cmap=ListedColormap(colors),
-        norm=BoundaryNorm(np.arange(-0.5, len(shown) + 0.5), len(shown)),
-        shading="nearest",
-    )
+    handles = []
+    if metric is None:
+        shown = [
+            "steady",
+            "stick-slip",
+            "stuck",
+            "oscillation",
+            "failed",
+            "missing",
+            "no-steady-state",
+        ]
+        colors = ["#58d68d", "#f5b041", "#85929e", "#af7ac5", "#e74c3c", "#ffffff", "#d6eaf8"]
+        lut = {fmt.REGIMES[n]: k for k, n in enumerate(shown)}
+        ax.pcolormesh(
+            x,
+            y,
+            np.vectorize(lut.get)(grid).T,
+            cmap=ListedColormap(colors),
+            norm=BoundaryNorm(np.arange(-0.5, len(shown) + 0.5), len(shown)),
+            shading="nearest",
+        )
+        present = sorted({int(c) for c in np.unique(grid)}, key=lambda c: lut[c])
+        handles = [Patch(color=colors[lut[c]], label=fmt.REGIME_NAMES[c]) for c in present]
+        what = f"regime from {init}"
+    else:
+        handles, what = _metric_mesh(fig, ax, x, y, grid, metric, init)
     units = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
     label = {
         "wob": "weight on bit $W_{ob}$",
@@ -91,8 +125,6 @@ def atlas_figure(
         set_label(label.get(name, name) + (f" ({unit})" if unit else ""))
         if len(values) <= 12 and np.all(values == np.round(values)):
             set_ticks(values)  # a few whole numbers (dof, pipes): a tick on each
-    present = sorted({int(c) for c in np.unique(grid)}, key=lambda c: lut[c])
-    handles = [Patch(color=colors[lut[c]], label=fmt.REGIME_NAMES[c]) for c in present]
     if {xname, yname} == {"wob", "torque"}:
         from .stability import critical_deltas
 
@@ -116,7 +148,16 @@ def atlas_figure(
         ax.set_xlim(x.min(), x.max())
         ax.set_ylim(y.min(), y.max())
         handles += ax.get_legend_handles_labels()[0]
-    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9)
+    if metric is None:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9)
+    elif handles:  # the colour bar is on the right: the legend goes below
+        ax.legend(
+            handles=handles,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.1),
+            ncol=len(handles),
+            fontsize=9,
+        )
     s = atlas.spec
     total = int(np.prod(atlas.shape))
     missing = atlas.summary()["status"]["missing"]
@@ -132,7 +173,45 @@ def atlas_figure(
     else:
         string = s.preset
     ax.set_title(
-        f"{string}{size}{where}: regime from {init} after {s.simulation['t_end']:g} s ({count})",
+        f"{string}{size}{where}: {what}"
+        + ("" if metric in fmt.EQ_FIELDS else f" after {s.simulation['t_end']:g} s")
+        + f" ({count})",
         fontsize=10,
     )
     return fig
+
+
+def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str) -> tuple[list, str]:
+    """Colour the map by ``metric`` with a colour bar; cells without a value (no steady state,
+    a failed or missing point) in grey. Returns the legend handles and the title's words."""
+    import numpy as np
+    from matplotlib import colormaps
+    from matplotlib.colors import Normalize, SymLogNorm
+    from matplotlib.patches import Patch
+
+    unit, meaning = METRICS[metric]
+    values = np.ma.masked_invalid(np.asarray(grid, dtype=float))
+    if metric in fmt.RUN_FIELDS and fmt.RUN_FIELDS[metric][0].startswith("i"):
+        values = np.ma.masked_less(values, 0)  # integer fields mark "no value" with -1
+    lo, hi = (float(values.min()), float(values.max())) if values.count() else (0.0, 1.0)
+    if metric in SIGNED:  # red where unstable (> 0 abscissa; < 0 margin), blue where stable
+        cmap = colormaps["RdBu" if metric == "hopf_margin" else "RdBu_r"]
+        span = max(abs(lo), abs(hi), 1e-12)
+        # Logarithmic on either side of zero: stable steady states sit close to it (-0.016/s
+        # on the laboratory string) while unstable ones reach 3/s, and on a linear scale all
+        # the stable ones would look white.
+        norm = SymLogNorm(linthresh=span / 1000, linscale=0.3, vmin=-span, vmax=span)
+    else:
+        cmap, norm = colormaps["viridis"], Normalize(lo, hi if hi > lo else lo + 1)
+    cmap = cmap.with_extremes(bad="#d5d8dc")
+    mesh = ax.pcolormesh(x, y, values.T, cmap=cmap, norm=norm, shading="nearest")
+    shown_unit = "" if unit == "1" else f" ({unit.replace(' ', '·')})"
+    bar = fig.colorbar(mesh, ax=ax, pad=0.01)
+    bar.set_label(f"{metric}{shown_unit}: {meaning}", fontsize=9)
+    if metric in SIGNED:  # whole decades, clear of the linear band about zero
+        top = math.floor(math.log10(norm.vmax))
+        decades = [10.0**d for d in range(math.ceil(math.log10(norm.linthresh)) + 1, top + 1)]
+        bar.set_ticks([-d for d in decades[::-1]] + [0.0] + decades)
+    handles = [Patch(color="#d5d8dc", label="no value")] if values.mask.any() else []
+    steady = metric in fmt.EQ_FIELDS
+    return handles, f"{metric} " + ("of the fastest steady state" if steady else f"from {init}")

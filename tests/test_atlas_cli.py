@@ -175,3 +175,40 @@ def test_export_to_an_unknown_format_is_refused_before_the_atlas_is_read(tmp_pat
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert "argument --out" in proc.stderr and ".nc (netCDF) or .csv" in proc.stderr
     assert not out.exists()
+
+
+def test_a_metric_map_shows_the_values_the_atlas_holds(small_atlas, tmp_path):
+    from pydrill.plot_atlas import atlas_figure
+
+    with h5py.File(small_atlas, "r") as f:  # (wob, torque, initial | steady state)
+        severity = f["severity"][:, :, 1]  # from equilibrium
+        abscissa = f["spectral_abscissa"][:, :, 0]  # the fastest steady state
+    with Atlas(small_atlas) as atlas:
+        fig = atlas_figure(atlas, metric="severity", initial="equilibrium")
+        mesh = fig.axes[0].collections[0]
+        shown = np.ma.filled(mesh.get_array().astype(float), np.nan).reshape(2, 3)  # (u, W_ob)
+        np.testing.assert_array_equal(shown, severity.T)
+        assert "severity from equilibrium after 200 s" in fig.axes[0].get_title()
+        fig = atlas_figure(atlas, metric="spectral_abscissa")
+        ax, bar = fig.axes
+        mesh = ax.collections[0]
+        shown = np.ma.filled(mesh.get_array().astype(float), np.nan).reshape(2, 3)
+        np.testing.assert_array_equal(shown, abscissa.T)
+        at = atlas.value(wob=100.0, torque=8.3)["stability"]["spectral_abscissa"][0]
+        assert shown[1, 1] == pytest.approx(at)
+        assert bar.get_ylabel().startswith("spectral_abscissa (1/s)")
+        assert "of the fastest steady state" in ax.get_title()
+        # Red where a steady state grows (abscissa > 0), blue where it decays.
+        grows = mesh.cmap(mesh.norm(0.1 * mesh.norm.vmax))
+        decays = mesh.cmap(mesh.norm(-0.1 * mesh.norm.vmax))
+        assert grows[0] > grows[2] and decays[2] > decays[0]
+        with pytest.raises(ValueError, match="metric = 'speed' is not allowed: one of bit_min"):
+            atlas_figure(atlas, metric="speed")
+    out = tmp_path / "severity.png"
+    proc = subprocess.run(
+        [*CMD, "atlas", "plot", str(small_atlas), "--out", str(out), "--metric", "severity"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert out.stat().st_size > 10_000
