@@ -216,6 +216,25 @@ class Atlas:
         ds = with_regime_names(self.to_xarray().load())
         return ds.sel(method=method, **coords)
 
+    def plot(
+        self,
+        metric: str | None = None,
+        *,
+        initial: str | None = None,
+        x: str | None = None,
+        y: str | None = None,
+        at: dict[str, float] | None = None,
+    ):
+        """The atlas as a map, a matplotlib ``Figure`` (what ``pydrill atlas plot`` saves):
+        the regime, or ``metric`` (e.g. ``"severity"``, ``"spectral_abscissa"``; any of
+        ``pydrill.plot_atlas.METRICS``) with a colour bar, on the axes ``x`` and ``y``
+        (default: the first two swept), any other held at its grid value nearest ``at[name]``
+        (default: its first), from the start ``initial`` (default: the first). On (W_ob, u)
+        the stuck boundary and the first Hopf curve are drawn on top."""
+        from .plot_atlas import atlas_figure
+
+        return atlas_figure(self, initial=initial, x=x, y=y, at=at, metric=metric)
+
     def to_xarray(self):
         """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates, read
         lazily. ``regime`` is an integer code; its CF attributes ``flag_values`` and
