@@ -71,45 +71,51 @@ def read_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> list[di
     return records
 
 
+def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable | None:
+    """The table of the atlas ``out`` that a sweep of ``spec`` would continue, read only;
+    None when there is no atlas file, or a damaged one that its journal can rebuild. Raises
+    ``AtlasError`` for what a sweep must not touch: a file that is not a pydrill atlas, an
+    atlas of another spec, a damaged one without a journal, or any of this spec's without
+    ``resume``."""
+    jp = journal_path(out)
+    table = None
+    if out.exists():
+        try:
+            import h5py
+
+            with h5py.File(out, "r") as f:
+                if f.attrs.get("format") != fmt.FORMAT:
+                    raise AtlasError(f"{out} exists and is not a pydrill atlas; not touching it")
+                digest = f.attrs.get("spec_digest")
+            if digest != spec.digest:
+                raise AtlasError(
+                    f"{out} holds a different sweep (spec digest {digest}, this spec "
+                    f"{spec.digest}); choose another --out or remove it"
+                )
+            table = fmt.read_table(out, spec)
+        except AtlasError:
+            raise
+        except (OSError, KeyError, ValueError):
+            if not jp.exists():
+                raise AtlasError(
+                    f"{out} is damaged (not a readable HDF5 atlas) and has no journal to "
+                    "rebuild it from"
+                ) from None
+    if not resume:
+        raise AtlasError(
+            f"{out} already exists for this sweep; use --resume to complete it or remove it "
+            "to start over"
+        )
+    return table
+
+
 def prepare(
     spec: SweepSpec, out: Path, *, resume: bool, params_json: str, version: str
 ) -> tuple[fmt.AtlasTable, int]:
     """Open or create the atlas for ``spec``; returns its table and how many points were done."""
     jp = journal_path(out)
     if out.exists() or jp.exists():
-        existing_digest = None
-        table = None
-        if out.exists():
-            try:
-                import h5py
-
-                with h5py.File(out, "r") as f:
-                    if f.attrs.get("format") != fmt.FORMAT:
-                        raise AtlasError(
-                            f"{out} exists and is not a pydrill atlas; not touching it"
-                        )
-                    existing_digest = f.attrs.get("spec_digest")
-                if existing_digest == spec.digest:
-                    table = fmt.read_table(out, spec)
-            except AtlasError:
-                raise
-            except (OSError, KeyError, ValueError):
-                if not jp.exists():
-                    raise AtlasError(
-                        f"{out} is damaged (not a readable HDF5 atlas) and has no "
-                        "journal to rebuild it from"
-                    ) from None
-                table = None  # rebuilt from the journal below
-        if existing_digest is not None and existing_digest != spec.digest:
-            raise AtlasError(
-                f"{out} holds a different sweep (spec digest {existing_digest}, "
-                f"this spec {spec.digest}); choose another --out or remove it"
-            )
-        if not resume:
-            raise AtlasError(
-                f"{out} already exists for this sweep; use --resume to complete it "
-                "or remove it to start over"
-            )
+        table = read_existing(spec, out, resume=resume)
         if table is None:
             fmt.create(out, spec, params_json, version)
             table = fmt.AtlasTable(spec)

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from . import atlas_format as fmt
-from .journal import AtlasError, journal_path, read_journal
+from .journal import journal_path, read_existing, read_journal
 from .spec import SweepSpec
 
 #: two-sided 95 % normal quantile, for the range of the estimate
@@ -72,33 +72,9 @@ def _todo(spec: SweepSpec, out: Path | None, resume: bool) -> tuple[np.ndarray, 
     if writer is not None:
         raise AtlasBusy.of(out, writer)
     done = np.zeros(spec.size, dtype=bool)
-    if out.exists():
-        import h5py
-
-        try:
-            with h5py.File(out, "r", locking=False) as f:
-                if f.attrs.get("format") != fmt.FORMAT:
-                    raise AtlasError(f"{out} exists and is not a pydrill atlas; not touching it")
-                digest = f.attrs.get("spec_digest")
-            if digest != spec.digest:
-                raise AtlasError(
-                    f"{out} holds a different sweep (spec digest {digest}, this spec "
-                    f"{spec.digest}); choose another --out or remove it"
-                )
-            done |= fmt.read_table(out, spec).status.ravel() != fmt.STATUS["missing"]
-        except AtlasError:
-            raise
-        except (OSError, KeyError, ValueError):
-            if not jp.exists():
-                raise AtlasError(
-                    f"{out} is damaged (not a readable HDF5 atlas) and has no journal to "
-                    "rebuild it from"
-                ) from None
-    if not resume:
-        raise AtlasError(
-            f"{out} already exists for this sweep; use --resume to complete it or remove it "
-            "to start over"
-        )
+    table = read_existing(spec, out, resume=resume)
+    if table is not None:
+        done |= table.status.ravel() != fmt.STATUS["missing"]
     for rec in read_journal(out, spec, repair=False):
         done[rec["i"]] = True
     todo = np.flatnonzero(~done)

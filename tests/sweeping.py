@@ -28,6 +28,11 @@ t_end = 200.0
 initial = ["rest", "equilibrium"]
 """
 
+# The same grid, shorter and from rest only.
+TINY = SMALL.replace("t_end = 200.0", "t_end = 100.0").replace(
+    'initial = ["rest", "equilibrium"]', 'initial = ["rest"]'
+)
+
 
 MEDIUM = """
 [model]
@@ -108,16 +113,3 @@ def interrupt_mid_sweep(tmp_path, sig, *extra):
     os.killpg(proc.pid, sig)
     stdout, err = proc.communicate(timeout=60)
     return proc.returncode, stdout, err, out
-
-
-TINY = """
-[model]
-preset = "reduced-scale"
-dof = 4
-[axes]
-wob = [40.0, 100.0, 160.0]
-torque = [6.0, 8.3]
-[simulation]
-t_end = 100.0
-initial = ["rest"]
-"""
