@@ -328,6 +328,7 @@ def _dry_run(args: argparse.Namespace, spec) -> int:
                         dict(zip(("low", "estimate", "high"), wall, strict=True)) if wall else None
                     ),
                     "atlas_bytes": plan.atlas_bytes,
+                    "journal_bytes": plan.journal_bytes,
                     "units": {"point_seconds": "s", "compute_seconds": "s", "wall_seconds": "s"},
                 }
             )
@@ -366,6 +367,11 @@ def _dry_run(args: argparse.Namespace, spec) -> int:
         else:
             print(f"  runs    {where}: that time divided among its workers")
     print(f"  writes  about {_size(plan.atlas_bytes)} of data, before compression")
+    if plan.journal_bytes:
+        print(
+            f"  journal up to about {_size(plan.journal_bytes)} beside the atlas while the "
+            "sweep runs (removed at the end)"
+        )
     if plan.failed:
         print(
             f"  warning {plan.failed} of the {plan.sampled} points timed failed; the sweep "

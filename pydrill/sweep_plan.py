@@ -9,6 +9,7 @@ journal (a journal's cut last line is left for the sweep to cut)."""
 
 from __future__ import annotations
 
+import json
 import math
 import time
 from dataclasses import dataclass
@@ -41,6 +42,7 @@ class SweepPlan:
     point_seconds_low: float  #: low end of that mean's 95 % range, s
     point_seconds_high: float  #: high end of that mean's 95 % range, s
     atlas_bytes: int  #: the atlas's data, uncompressed (compression makes it smaller)
+    journal_bytes: int  #: the journal at its largest (one JSON line per point; removed at the end)
 
     @property
     def compute_seconds(self) -> tuple[float, float, float]:
@@ -99,6 +101,7 @@ def plan_sweep(
     todo, state = _todo(spec, None if out is None else Path(out), resume)
     order = dealing_order(todo)
     times: list[float] = []
+    line_bytes = 0  # of the sampled points' journal lines
     failed, message = 0, ""
     if len(order):
         evaluate_point(spec, int(order[0]))  # untimed: the first call loads what it needs
@@ -107,6 +110,7 @@ def plan_sweep(
         t0 = time.perf_counter()
         rec = evaluate_point(spec, int(i))
         times.append(time.perf_counter() - t0)
+        line_bytes += len(json.dumps(rec, allow_nan=False)) + 1
         if rec["status"] == "failed":
             failed += 1
             message = message or rec["message"]
@@ -130,4 +134,5 @@ def plan_sweep(
         point_seconds_low=max(mean - half, 0.0),
         point_seconds_high=mean + half,
         atlas_bytes=spec.size * sum(a.nbytes for a in row.values() if a.dtype.kind != "O"),
+        journal_bytes=round(spec.size * line_bytes / k) if k else 0,
     )

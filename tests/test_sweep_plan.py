@@ -39,16 +39,18 @@ def test_the_estimate_foretells_the_time_of_every_point(tmp_path):
     low, estimate, high = plan.compute_seconds
     assert 0 < low < estimate < high
     assert plan.wall_seconds(2) == pytest.approx((low / 2, estimate / 2, high / 2))
-    times = []
+    times, lines = [], 0
     for i in range(spec.size):
         t0 = time.perf_counter()
-        evaluate_point(spec, i)
+        rec = evaluate_point(spec, i)
         times.append(time.perf_counter() - t0)
+        lines += len(json.dumps(rec)) + 1  # the point's journal line
     every = sum(times)
     # The machine's speed drifts by tens of percent within a minute; a factor of 2 still
     # tells this estimate from the one the first six points in grid order would give.
     assert 0.5 * every < estimate < 2 * every, (plan, every)
     assert 24 * sum(times[:6]) / 6 < 0.5 * every
+    assert plan.journal_bytes == pytest.approx(lines, rel=0.2)
 
 
 def test_a_dry_run_refuses_what_the_sweep_would_and_writes_nothing(tmp_path):
@@ -139,7 +141,7 @@ def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
     assert data["workers"] == 1
     c = data["compute_seconds"]
     assert c["low"] == c["estimate"] == c["high"] > 0  # every point timed: no spread left
-    assert data["wall_seconds"] == c and data["atlas_bytes"] > 0
+    assert data["wall_seconds"] == c and data["atlas_bytes"] > 0 and data["journal_bytes"] > 0
     # Without --dry-run, an atlas must be named.
     no_out = subprocess.run([*CMD, "sweep", str(spec_file)], capture_output=True, text=True)
     assert no_out.returncode == 2 and "--out ATLAS.h5 is required" in no_out.stderr
