@@ -18,7 +18,7 @@ import h5py
 import numpy as np
 
 from . import atlas_format as fmt
-from .journal import JOURNAL_SUFFIX, AtlasError
+from .journal import JOURNAL_SUFFIX, AtlasError, journaled
 from .spec import SpecError, parse_spec
 
 
@@ -201,7 +201,16 @@ class Atlas:
             # A journal beside the atlas: a sweep is running, or was stopped; what it holds
             # but the atlas does not yet is completed by --resume.
             "journal": str(journal) if journal.exists() else None,
+            "journal_points": self._journal_only(status),
         }
+
+    def _journal_only(self, status: np.ndarray) -> int:
+        """Points the journal holds and the atlas does not yet: a running sweep's progress
+        since its last flush, or what --resume takes back after a kill."""
+        indices = journaled(self.path)
+        indices = indices[(indices >= 0) & (indices < status.size)]
+        missing = status.ravel()[indices] == fmt.STATUS["missing"]
+        return len(np.unique(indices[missing]))
 
     def sel(self, method: str | None = None, **coords: float):
         """A slice of the atlas as an ``xarray.Dataset``: fix some axes (or ``initial``),

@@ -39,7 +39,8 @@ def register_atlas(sub) -> None:
         formatter_class=raw,
         epilog="JSON fields: path, pydrill_version, spec_digest, points, axes {NAME: {size, "
         "min, max}},\n  initial, status {missing, done, failed}, regimes {INITIAL: {REGIME: "
-        "count}},\n  safe_points, coexistence_points, journal (its path, or null)",
+        "count}},\n  safe_points, coexistence_points, journal (its path, or null),\n"
+        "  journal_points (in the journal, not yet in the atlas)",
     )
     info.add_argument("atlas", metavar="ATLAS.h5")
     info.add_argument("--json", action="store_true", help="print one JSON object for scripts")
@@ -189,9 +190,11 @@ def _cmd_info(args: argparse.Namespace) -> int:
         f"  safe points {s['safe_points']}, rest/equilibrium disagree at {s['coexistence_points']}"
     )
     if s["journal"]:
+        more = s["journal_points"]
+        held = f"holds {more} more points, not yet in the atlas" if more else "is there"
         print(
-            f"  journal {s['journal']}: a sweep into this atlas is running or was stopped; "
-            "'pydrill sweep SPEC.toml --out ATLAS.h5 --resume' completes it"
+            f"  journal {s['journal']} {held}:\n          a sweep into this atlas is running "
+            "or was stopped; 'pydrill sweep SPEC.toml --out ATLAS.h5 --resume' completes it"
         )
     return 0
 

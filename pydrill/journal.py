@@ -9,6 +9,7 @@ rebuilding the atlas from it if a kill caught the HDF5 file mid-write.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 from pathlib import Path
@@ -69,6 +70,30 @@ def read_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> list[di
     elif good < jp.stat().st_size:
         os.truncate(jp, good)
     return records
+
+
+def journaled(path: Path) -> np.ndarray:
+    """Flat indices of the points in the journal of the atlas ``path`` (none without one),
+    read only and fast: a journal may hold millions of lines, and ``pydrill atlas info``
+    reads it to show a running sweep's progress between two flushes of the atlas. Lines are
+    ``{"i": N, ...}`` as ``run_sweep`` writes them; a last line cut by a kill is skipped."""
+    jp = journal_path(path)
+    found: list[int] = []
+    try:
+        fh = jp.open("rb")
+    except FileNotFoundError:
+        return np.array([], dtype=np.int64)
+    with fh:
+        next(fh, None)  # the header
+        for raw in fh:
+            if not raw.endswith(b"\n"):
+                break
+            if raw.startswith(b'{"i": '):
+                found.append(int(raw[6 : raw.index(b",", 6)]))
+            else:  # not as written by run_sweep: parse it whole
+                with contextlib.suppress(ValueError, KeyError, TypeError):
+                    found.append(int(json.loads(raw)["i"]))
+    return np.array(found, dtype=np.int64)
 
 
 def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable | None:

@@ -3,6 +3,7 @@
 import csv
 import json
 import subprocess
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -212,3 +213,30 @@ def test_a_metric_map_shows_the_values_the_atlas_holds(small_atlas, tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert out.stat().st_size > 10_000
+
+
+def test_info_counts_the_points_a_running_sweep_journaled_since_its_last_flush(tmp_path):
+    """Between two flushes of the atlas (or after a kill -9), the journal holds the newest
+    points: `atlas info` counts those not yet in the atlas, as --resume would take them."""
+    from pydrill import atlas_format as fmt
+    from pydrill.sweep import evaluate_point
+
+    spec = parse_spec(SMALL)
+    out = tmp_path / "running.h5"
+    fmt.create(out, spec, "{}", "test")
+    table = fmt.AtlasTable(spec)
+    table.apply(evaluate_point(spec, 4))  # flushed already: in the atlas and the journal
+    fmt.write(out, table)
+    records = [evaluate_point(spec, i) for i in (0, 4, 1)]
+    reordered = {"status": records[2]["status"], **records[2]}  # "i" not first: parsed whole
+    lines = [json.dumps({"spec_digest": spec.digest})]
+    lines += [json.dumps(r) for r in records[:2]] + [json.dumps(reordered)]
+    cut = json.dumps(evaluate_point(spec, 5))[:40]  # a kill mid-append
+    Path(str(out) + ".journal").write_text("\n".join(lines) + "\n" + cut)
+    with Atlas(out) as atlas:
+        s = atlas.summary()
+    assert s["status"]["done"] == 1 and s["journal_points"] == 2  # points 0 and 1
+    proc = subprocess.run([*CMD, "atlas", "info", str(out)], capture_output=True, text=True)
+    assert proc.returncode == 0 and "holds 2 more points, not yet in the atlas" in proc.stdout
+    # What --resume then finds done: the atlas's point and the journal's two.
+    assert run_sweep(spec, out, resume=True, serial=True).resumed == 3
