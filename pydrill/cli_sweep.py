@@ -189,6 +189,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         line = f"sweep: {info.workers} Dask worker{plural}, scheduler {info.scheduler}"
         if configured is not None:
             line += f" (from {configured.source})"
+        if info.workers == 0:
+            line += " (none yet: the points wait for workers to join)"
         if info.dashboard:
             line += f", dashboard {info.dashboard}"
             asked = dashboard and dashboard.rpartition(":")[2]

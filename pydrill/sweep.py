@@ -48,7 +48,7 @@ class ClusterInfo:
     submitted: what to open to watch them (``dashboard``) or to reach the cluster again."""
 
     scheduler: str  #: the scheduler's address, e.g. ``tcp://127.0.0.1:40321``
-    workers: int  #: workers connected when the sweep started
+    workers: int  #: workers connected when the points were handed out (0: they wait for some)
     dashboard: str | None  #: link to Dask's dashboard (task stream, workers' CPU), if it has one
 
 

@@ -177,8 +177,10 @@ def run_dask(
             client = Client(cluster)
         futures = []
         try:
-            n = max(1, len(client.scheduler_info().get("workers", {})))
-            todo_batches = batches(todo, n)
+            n = len(client.scheduler_info().get("workers", {}))
+            if cluster is None and n:  # workers this process did not fork: can they run it?
+                check_workers(client)
+            todo_batches = batches(todo, max(n, 1))
             # One message to the scheduler for all the batches, not one each (measured: a
             # quarter less of the client's CPU, which the workers would have had).
             futures = client.map(
@@ -206,3 +208,35 @@ def run_dask(
                 fut = None
             if cluster is not None:
                 cluster.close()
+
+
+def check_workers(client: Any) -> None:
+    """Refuse, before any point is handed out, an existing cluster whose workers cannot run
+    this sweep: without pydrill, a worker dies unpickling its first task, and the sweep would
+    wait for ever for workers that are gone; with another version, one atlas would mix the
+    results of two. Raises ``SchedulerError`` naming the workers and the fix."""
+    from . import __version__
+    from .sweep import SchedulerError
+
+    def probe() -> str:  # nested, so pickled by value: it unpickles where pydrill is missing
+        import pydrill
+
+        return pydrill.__version__
+
+    found = client.run(probe, on_error="return")
+    where = client.scheduler.address
+    broken = {w: v for w, v in found.items() if isinstance(v, BaseException)}
+    if broken:
+        worker, exc = sorted(broken.items())[0]
+        raise SchedulerError(
+            f"{len(broken)} of {len(found)} Dask workers at {where} cannot import pydrill "
+            f"(e.g. {worker}: {type(exc).__name__}: {exc}). Install pydrill {__version__} "
+            "where they run, in the environment their 'dask worker' starts from"
+        )
+    other = sorted({str(v) for v in found.values()} - {__version__})
+    if other:
+        raise SchedulerError(
+            f"the Dask workers at {where} run pydrill {', '.join(other)}, this client "
+            f"{__version__}: one atlas must come from one version. Install pydrill "
+            f"{__version__} where they run"
+        )

@@ -290,3 +290,68 @@ def test_a_dask_client_of_the_callers_runs_the_sweep_and_stays_open(tmp_path):
         assert not client.futures  # the batches not yet done were cancelled, not left running
         assert client.submit(sum, [3, 4], pure=False).result() == 7
     same_atlas(tmp_path / "client.h5", reference)
+
+
+def _break_pydrill():
+    sys.modules["pydrill"] = None  # as on a worker where pydrill is not installed
+
+
+def _older_pydrill():
+    import pydrill
+
+    pydrill.__version__ = "0.0.1"
+
+
+@pytest.mark.parametrize(
+    ("harm", "said"),
+    [
+        (_break_pydrill, r"1 of 2 Dask workers at tcp://127\.0\.0\.1:\d+ cannot import pydrill"),
+        (_older_pydrill, r"run pydrill 0\.0\.1, this client .*: one atlas must come from one"),
+    ],
+)
+def test_workers_that_cannot_run_the_sweep_are_refused_before_any_point(tmp_path, harm, said):
+    """Without pydrill a worker dies unpickling its first batch, and the sweep used to wait
+    for ever for workers that were gone; with another pydrill, one atlas would mix two."""
+    from distributed import Client, LocalCluster
+
+    from pydrill.sweep import SchedulerError
+
+    out = tmp_path / "never.h5"
+    with (
+        LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=":0") as cluster,
+        Client(cluster) as client,
+    ):
+        first = sorted(client.scheduler_info()["workers"])[0]
+        client.run(harm, workers=[first])
+        t0 = time.perf_counter()
+        with pytest.raises(SchedulerError, match=said):
+            run_sweep(parse_spec(SMALL), out, scheduler=cluster.scheduler_address)
+        assert time.perf_counter() - t0 < 30
+        assert len(client.scheduler_info()["workers"]) == 2  # no worker was lost to it
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+def test_a_cluster_without_workers_yet_is_waited_for_and_said_so(tmp_path):
+    """An adaptive or batch-system cluster may have no workers when the sweep starts: the
+    sweep says so, waits, and runs on the workers that join."""
+    from distributed import LocalCluster
+
+    spec_file = tmp_path / "small.toml"
+    spec_file.write_text(SMALL)
+    with LocalCluster(n_workers=0, threads_per_worker=1, dashboard_address=":0") as cluster:
+        out = tmp_path / "later.h5"
+        where = ["--scheduler", cluster.scheduler_address]
+        sweep = subprocess.Popen(
+            [*CMD, "sweep", str(spec_file), "--out", str(out), *where, "--json"],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        line = sweep.stderr.readline()
+        assert line.startswith("sweep: 0 Dask workers, scheduler tcp://127.0.0.1:"), line
+        assert "(none yet: the points wait for workers to join)" in line
+        cluster.scale(1)
+        stdout, stderr = sweep.communicate(timeout=120)
+    assert sweep.returncode == 0, stderr
+    report = json.loads(stdout)
+    assert report["computed"] == parse_spec(SMALL).size and report["cluster"]["workers"] == 0
