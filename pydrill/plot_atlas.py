@@ -79,8 +79,9 @@ def atlas_figure(
     # A simulation's value from the start drawn; a steady state's of the fastest (column 0).
     column = 0 if metric in fmt.EQ_FIELDS else j
     grid = atlas._f[metric or "regime"][..., column][tuple(index)]
+    regime = atlas._f["regime"][..., j][tuple(index)]
     if order.index(xname) > order.index(yname):
-        grid = grid.T
+        grid, regime = grid.T, regime.T
     # grid is (x, y); plot y vertical.
     fig, ax = plt.subplots(figsize=(9.5, 6.2), layout="constrained")
     x, y = atlas.axes[xname], atlas.axes[yname]
@@ -109,7 +110,9 @@ def atlas_figure(
         handles = [Patch(color=colors[lut[c]], label=fmt.REGIME_NAMES[c]) for c in present]
         what = f"regime from {init}"
     else:
-        handles, what = _metric_mesh(fig, ax, x, y, grid, metric, init)
+        # A stuck bit has no velocity spread (severity 0, as steady drilling): hatch it.
+        stuck = regime == fmt.REGIMES["stuck"] if metric in fmt.RUN_FIELDS else None
+        handles, what = _metric_mesh(fig, ax, x, y, grid, metric, init, stuck)
     units = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
     label = {
         "wob": "weight on bit $W_{ob}$",
@@ -181,9 +184,10 @@ def atlas_figure(
     return fig
 
 
-def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str) -> tuple[list, str]:
+def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tuple[list, str]:
     """Colour the map by ``metric`` with a colour bar; cells without a value (no steady state,
-    a failed or missing point) in grey. Returns the legend handles and the title's words."""
+    a failed or missing point) in grey, ``stuck`` ones (a boolean grid) hatched. Returns the
+    legend handles and the title's words."""
     import numpy as np
     from matplotlib import colormaps
     from matplotlib.colors import Normalize, SymLogNorm
@@ -213,5 +217,8 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str) -> tuple[list, str
         decades = [10.0**d for d in range(math.ceil(math.log10(norm.linthresh)) + 1, top + 1)]
         bar.set_ticks([-d for d in decades[::-1]] + [0.0] + decades)
     handles = [Patch(color="#d5d8dc", label="no value")] if values.mask.any() else []
+    if stuck is not None and stuck.any() and min(len(x), len(y)) >= 2:
+        ax.contourf(x, y, stuck.T.astype(float), levels=[0.5, 1.5], colors="none", hatches=["//"])
+        handles.append(Patch(facecolor="none", edgecolor="0.3", hatch="//", label="bit stuck"))
     steady = metric in fmt.EQ_FIELDS
     return handles, f"{metric} " + ("of the fastest steady state" if steady else f"from {init}")

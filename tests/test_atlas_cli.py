@@ -190,6 +190,11 @@ def test_a_metric_map_shows_the_values_the_atlas_holds(small_atlas, tmp_path):
         shown = np.ma.filled(mesh.get_array().astype(float), np.nan).reshape(2, 3)  # (u, W_ob)
         np.testing.assert_array_equal(shown, severity.T)
         assert "severity from equilibrium after 200 s" in fig.axes[0].get_title()
+        # From rest, the bit sticks at W_ob = 160 N: severity 0 as when drilling steadily, so
+        # those cells are hatched and named.
+        legend = atlas_figure(atlas, metric="severity").axes[0].get_legend()
+        assert "bit stuck" in [t.get_text() for t in legend.get_texts()]
+        assert atlas.regimes("rest")[2].tolist() == ["stuck", "stuck"]
         fig = atlas_figure(atlas, metric="spectral_abscissa")
         ax, bar = fig.axes
         mesh = ax.collections[0]
