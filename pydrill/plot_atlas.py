@@ -216,7 +216,8 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
         top = math.floor(math.log10(norm.vmax))
         decades = [10.0**d for d in range(math.ceil(math.log10(norm.linthresh)) + 1, top + 1)]
         bar.set_ticks([-d for d in decades[::-1]] + [0.0] + decades)
-    handles = [Patch(color="#d5d8dc", label="no value")] if values.mask.any() else []
+    blank = "no steady state (or not computed)" if metric in fmt.EQ_FIELDS else "no value"
+    handles = [Patch(color="#d5d8dc", label=blank)] if values.mask.any() else []
     if stuck is not None and stuck.any() and min(len(x), len(y)) >= 2:
         ax.contourf(x, y, stuck.T.astype(float), levels=[0.5, 1.5], colors="none", hatches=["//"])
         handles.append(Patch(facecolor="none", edgecolor="0.3", hatch="//", label="bit stuck"))
