@@ -120,6 +120,15 @@ class _LogProgress:
         pass
 
 
+def _say(bar, line: str) -> None:
+    """A line on stderr, above a tqdm bar (which stays whole) or in a log."""
+    if hasattr(bar, "write"):
+        bar.write(line, file=sys.stderr)
+    else:
+        sys.stderr.write(line + "\n")
+        sys.stderr.flush()
+
+
 def _duration(seconds: float) -> str:
     m, s = divmod(round(seconds), 60)
     h, m = divmod(m, 60)
@@ -181,11 +190,18 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
     def on_cluster(info) -> None:
         nonlocal cluster
+        plural = "s" if info.workers != 1 else ""
+        if cluster is not None:  # later: the existing cluster's workers came or went
+            line = f"sweep: now {info.workers} Dask worker{plural}"
+            if info.workers == 0:
+                line += " (the points wait for workers to join; Ctrl-C stops, keeping what is done)"
+            if bar is not None:
+                _say(bar, line)
+            return
         cluster = {"scheduler": info.scheduler, "workers": info.workers}
         cluster["dashboard"] = info.dashboard
         if bar is None:
             return
-        plural = "s" if info.workers != 1 else ""
         line = f"sweep: {info.workers} Dask worker{plural}, scheduler {info.scheduler}"
         if configured is not None:
             line += f" (from {configured.source})"
@@ -196,10 +212,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             asked = dashboard and dashboard.rpartition(":")[2]
             if asked not in (None, "0") and f":{asked}/" not in info.dashboard:
                 line += f" (port {asked} is taken)"
-        if hasattr(bar, "write"):  # tqdm: above the bar, which stays whole
-            bar.write(line, file=sys.stderr)
-        else:
-            sys.stderr.write(line + "\n")
+        _say(bar, line)
 
     try:
         report = run_sweep(

@@ -237,7 +237,8 @@ def run_sweep(
     ``dashboard`` (``"HOST:PORT"``, e.g. ``"127.0.0.1:8787"``; port 0 for any free one) serves
     Dask's dashboard from the local cluster while the sweep runs; it needs bokeh >= 3.1. An
     existing cluster serves its own. ``on_cluster`` is called with a :class:`ClusterInfo`
-    (scheduler, workers, dashboard link) once a Dask sweep's points are submitted."""
+    (scheduler, workers, dashboard link) once a Dask sweep's points are submitted, and on an
+    existing cluster again whenever its number of workers changes (from another thread)."""
     from . import __version__
 
     if (workers is not None) + bool(scheduler) + bool(serial) > 1:

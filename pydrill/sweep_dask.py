@@ -14,6 +14,7 @@ import importlib.metadata
 import logging
 import os
 import sys
+import threading
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -176,6 +177,7 @@ def run_dask(
                 ) from exc
             client = Client(cluster)
         futures = []
+        watch = None
         try:
             n = len(client.scheduler_info().get("workers", {}))
             if cluster is None and n:  # workers this process did not fork: can they run it?
@@ -194,10 +196,15 @@ def run_dask(
             if on_cluster is not None:
                 # Without a dashboard, the local scheduler's HTTP server still makes a link.
                 link = client.dashboard_link if cluster is None or dashboard else None
-                on_cluster(ClusterInfo(client.scheduler.address, n, link or None))
+                info = ClusterInfo(client.scheduler.address, n, link or None)
+                on_cluster(info)
+                if cluster is None:  # a cluster of others: its workers come and go
+                    watch = WorkerWatch(client, info, on_cluster)
             for fut in as_completed(futures):
                 absorb(fut.result())
         finally:
+            if watch is not None:
+                watch.stop()
             if own:
                 client.close()
             else:  # the caller's client: take back only what this sweep asked of it
@@ -208,6 +215,41 @@ def run_dask(
                 fut = None
             if cluster is not None:
                 cluster.close()
+
+
+#: how often (s) a sweep on an existing cluster looks at how many workers it has
+WATCH_SECONDS = 5.0
+
+
+class WorkerWatch(threading.Thread):
+    """Tells ``on_cluster`` whenever the number of workers of an existing cluster changes: an
+    adaptive cluster scaling, a batch job's workers reaching their time limit. At 0 the sweep
+    waits for workers to join, and without a word it would look hung. Not for the sweep's
+    own local cluster, whose nanny replaces a lost worker (and forks it from this process:
+    no thread should be busy then)."""
+
+    def __init__(self, client: Any, info: Any, on_cluster: Callable[[Any], None]) -> None:
+        super().__init__(name="pydrill-worker-watch", daemon=True)
+        self.client, self.info, self.on_cluster = client, info, on_cluster
+        self.done = threading.Event()
+        self.start()
+
+    def run(self) -> None:
+        import dataclasses
+
+        last = self.info.workers
+        while not self.done.wait(WATCH_SECONDS):
+            try:
+                n = len(self.client.scheduler_info().get("workers", {}))
+            except Exception:  # the client is closing: the sweep is over
+                return
+            if n != last and not self.done.is_set():
+                last = n
+                self.on_cluster(dataclasses.replace(self.info, workers=n))
+
+    def stop(self) -> None:
+        self.done.set()
+        self.join(timeout=10)
 
 
 def check_workers(client: Any) -> None:

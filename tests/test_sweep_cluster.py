@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 from sweeping import (
     CMD,
+    LONGER,
     MEDIUM,
     ROOT,
     SMALL,
@@ -355,3 +356,49 @@ def test_a_cluster_without_workers_yet_is_waited_for_and_said_so(tmp_path):
     assert sweep.returncode == 0, stderr
     report = json.loads(stdout)
     assert report["computed"] == parse_spec(SMALL).size and report["cluster"]["workers"] == 0
+
+
+def test_workers_leaving_and_joining_an_existing_cluster_are_told(tmp_path, monkeypatch):
+    """A batch job's workers reach their time limit, an adaptive cluster scales: the sweep
+    tells on_cluster (the command prints a line), waits at 0 workers, and completes on the
+    workers that join."""
+    import threading
+
+    from distributed import LocalCluster
+
+    from pydrill import sweep_dask
+
+    monkeypatch.setattr(sweep_dask, "WATCH_SECONDS", 0.2)
+    seen, done = [], []
+    # Long enough (256 points of 3000 s from rest) to be stopped mid-way.
+    spec = parse_spec(LONGER.replace("num = 32", "num = 16").replace(', "equilibrium"', ""))
+    with LocalCluster(
+        n_workers=1, processes=False, threads_per_worker=1, dashboard_address=":0"
+    ) as cluster:
+        box = {}
+
+        def sweep():
+            box["report"] = run_sweep(
+                spec,
+                tmp_path / "scaled.h5",
+                scheduler=cluster.scheduler_address,
+                on_cluster=seen.append,
+                progress=lambda n, total: done.append(n),
+            )
+
+        runner = threading.Thread(target=sweep)
+        runner.start()
+        deadline = time.time() + 60
+        while not done and time.time() < deadline:  # the first batch is in
+            time.sleep(0.01)
+        cluster.scale(0)
+        while [i.workers for i in seen][-1:] != [0] and time.time() < deadline:
+            time.sleep(0.05)
+        stalled = sum(done)
+        time.sleep(1.0)
+        assert sum(done) == stalled < spec.size  # nothing computes without workers
+        cluster.scale(1)
+        runner.join(timeout=120)
+    assert not runner.is_alive()
+    assert [i.workers for i in seen] == [1, 0, 1]
+    assert box["report"].computed == spec.size and box["report"].failed == 0
