@@ -158,7 +158,8 @@ def atlas_figure(
             handles=handles,
             loc="upper center",
             bbox_to_anchor=(0.5, -0.1),
-            ncol=len(handles),
+            # One row if it fits under the map; else two, not wider than it.
+            ncol=len(handles) if sum(len(h.get_label()) for h in handles) < 90 else 2,
             fontsize=9,
         )
     s = atlas.spec
