@@ -122,7 +122,9 @@ class Atlas:
         status = {v: k for k, v in fmt.STATUS.items()}[int(f["status"][idx])]
         out: dict[str, Any] = {
             "coords": {
-                name: float(v[i]) for (name, v), i in zip(self.axes.items(), idx, strict=True)
+                # an int on a size axis (dof, pipes), else a float
+                name: v[i].item()
+                for (name, v), i in zip(self.axes.items(), idx, strict=True)
             },
             "status": status,
         }
@@ -190,7 +192,7 @@ class Atlas:
             "spec_digest": self.spec.digest,
             "points": int(np.prod(self.shape)),
             "axes": {
-                name: {"size": len(v), "min": float(v.min()), "max": float(v.max())}
+                name: {"size": len(v), "min": v.min().item(), "max": v.max().item()}
                 for name, v in self.axes.items()
             },
             "initial": self.initials,

@@ -90,7 +90,8 @@ class SweepSpec:
                 self.preset,
                 self.dof,
                 sorted(self.overrides.items()),
-                [(k, v.tolist()) for k, v in self.axes.items()],
+                # as floats: an atlas's identity from before size axes were ints stays the same
+                [(k, v.astype(float).tolist()) for k, v in self.axes.items()],
                 sorted(self.simulation.items()),
                 sorted(self.record.items()),
                 sorted(self.fixed.items()),
@@ -98,10 +99,11 @@ class SweepSpec:
         )
         return hashlib.sha256(canon.encode()).hexdigest()[:16]
 
-    def coords(self, flat_index: int) -> dict[str, float]:
+    def coords(self, flat_index: int) -> dict[str, float | int]:
         """The axis values of point number ``flat_index``."""
         idx = np.unravel_index(flat_index, self.shape)
-        return {k: float(v[i]) for (k, v), i in zip(self.axes.items(), idx, strict=True)}
+        # .item(): a plain float, or an int on a size axis (dof, pipes).
+        return {k: v[i].item() for (k, v), i in zip(self.axes.items(), idx, strict=True)}
 
     def params_at(self, coords: dict[str, float]) -> Params:
         """The string at one grid point (size, depth and parameter axes applied)."""
@@ -172,6 +174,8 @@ def _axis(name: str, value: Any) -> np.ndarray:
         low = 2 if name == "dof" else 1
         if np.any(values < low):
             raise _fail(key, f"must be >= {low}")
+        # Counts: whole numbers in the atlas too (xarray's dof coordinate reads 2, 4, 8).
+        values = values.astype(np.int64)
     return values
 
 

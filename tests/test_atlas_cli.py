@@ -60,11 +60,17 @@ initial = ["rest"]
 """
 
 
-def test_atlas_plot_draws_the_chosen_axes_at_the_held_values(tmp_path):
+@pytest.fixture(scope="module")
+def sizes_atlas(tmp_path_factory):
+    out = tmp_path_factory.mktemp("atlas") / "sizes.h5"
+    run_sweep(parse_spec(SIZES), out, serial=True)
+    return out
+
+
+def test_atlas_plot_draws_the_chosen_axes_at_the_held_values(sizes_atlas, tmp_path):
     from pydrill.plot_atlas import atlas_figure
 
-    out = tmp_path / "sizes.h5"
-    run_sweep(parse_spec(SIZES), out, serial=True)
+    out = sizes_atlas
     shown = ["steady", "stick-slip", "stuck", "oscillation", "failed", "missing", "no-steady-state"]
     with Atlas(out) as atlas:
         names = atlas.regimes("rest")  # (dof, wob, torque)
@@ -94,6 +100,47 @@ def test_atlas_plot_draws_the_chosen_axes_at_the_held_values(tmp_path):
         text=True,
     )
     assert proc.returncode == 0 and (tmp_path / "m.png").stat().st_size > 10_000
+
+
+def test_size_axes_are_whole_numbers_in_the_file_xarray_and_queries(sizes_atlas):
+    import xarray as xr
+
+    with h5py.File(sizes_atlas, "r") as f:
+        assert f["dof"].dtype.kind == "i" and f["dof"][...].tolist() == [4, 8]
+        assert f["wob"].dtype.kind == "f"
+        # The atlas's identity is the one written before dof was stored as integers: atlases
+        # of older versions still resume (digest from pydrill 0.1.0 at 7f36144).
+        assert f.attrs["spec_digest"] == parse_spec(SIZES).digest == "21554d1232d9cd73"
+    with xr.open_dataset(sizes_atlas, engine="h5netcdf") as ds:
+        assert ds["dof"].dtype.kind == "i" and ds["dof"].values.tolist() == [4, 8]
+        assert int(ds["regime"].sel(dof=8, wob=100.0, torque=8.3, initial="rest")) >= 0
+    with Atlas(sizes_atlas) as atlas:
+        coords = atlas.value(dof=8, wob=100.0, torque=8.3)["coords"]
+        assert coords == {"dof": 8, "wob": 100.0, "torque": 8.3}
+        assert type(coords["dof"]) is int and type(coords["wob"]) is float
+    proc = subprocess.run(
+        [
+            *CMD,
+            "atlas",
+            "query",
+            str(sizes_atlas),
+            "--dof",
+            "8",
+            "--wob",
+            "100",
+            "--torque",
+            "8.3",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert '"dof": 8,' in proc.stdout and json.loads(proc.stdout)["coords"]["dof"] == 8
+    info = subprocess.run(
+        [*CMD, "atlas", "info", str(sizes_atlas), "--json"], capture_output=True, text=True
+    )
+    assert '"dof": {"size": 2, "min": 4, "max": 8}' in info.stdout
 
 
 @pytest.fixture(scope="module")
