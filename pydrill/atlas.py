@@ -35,6 +35,8 @@ class Atlas:
         self.path = Path(path)
         if not self.path.exists():
             raise AtlasError(f"{self.path}: no such atlas")
+        if self.path.is_dir():
+            raise AtlasError(f"{self.path} is a directory, not an atlas file")
         try:
             self._f = h5py.File(self.path, "r")
         except OSError as exc:

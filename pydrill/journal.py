@@ -104,6 +104,10 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
     ``resume``."""
     jp = journal_path(out)
     table = None
+    if out.is_dir():
+        raise AtlasError(
+            f"{out} is a directory; give the atlas a file name, e.g. --out {out / 'atlas.h5'}"
+        )
     if out.exists():
         try:
             import h5py

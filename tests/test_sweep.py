@@ -132,6 +132,14 @@ def test_damaged_atlas_gives_a_clear_error(tmp_path):
         f["x"] = 1
     with pytest.raises(AtlasError, match="not a pydrill atlas"):
         Atlas(junk)
+    # A directory given for the atlas: said so, not "damaged", and nothing written in it.
+    folder = tmp_path / "runs.h5"
+    folder.mkdir()
+    with pytest.raises(AtlasError, match="runs.h5 is a directory, not an atlas file"):
+        Atlas(folder)
+    with pytest.raises(AtlasError, match=r"runs.h5 is a directory; .* --out .*runs.h5/atlas.h5"):
+        run_sweep(parse_spec(SMALL), folder, serial=True)
+    assert list(folder.iterdir()) == [] and sorted(tmp_path.glob("runs.h5*")) == [folder]
 
 
 def test_depth_sweep_of_a_tally_string(tmp_path):
