@@ -214,6 +214,17 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                 line += f" (port {asked} is taken)"
         _say(bar, line)
 
+    address = args.scheduler or configured
+    if bar is not None and address and not str(address).endswith(".json"):
+        from .sweep_dask import unanswered
+
+        patience = unanswered(address)
+        if patience is not None:  # or the run would sit silent until Dask gives up
+            _say(
+                bar,
+                f"sweep: no Dask scheduler answers at {address} yet; waiting up to "
+                f"{patience:g} s for one to start (distributed.comm.timeouts.connect)",
+            )
     try:
         report = run_sweep(
             spec,

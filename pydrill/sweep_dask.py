@@ -61,6 +61,30 @@ def configured_scheduler() -> ConfiguredAddress | None:
     return found
 
 
+def unanswered(address: str, within: float = 0.5) -> float | None:
+    """When nothing answers at the scheduler address ``address`` right now (refused,
+    unreachable, or silent ``within`` seconds): how long Dask's client will keep trying
+    (``distributed.comm.timeouts.connect``, s), in case a scheduler is starting. None when
+    one answers, or for an address this cannot probe (not TCP, a scheduler file)."""
+    import socket
+
+    from dask.utils import parse_timedelta
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, where = parse_address(str(address))
+        if scheme not in ("tcp", "tls"):
+            return None
+        host, port = parse_host_port(where)
+    except ValueError:
+        return None
+    try:
+        with socket.create_connection((host, port), timeout=within):
+            return None
+    except OSError:
+        return parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s")
+
+
 def default_dask_client() -> Any:
     """The caller's default ``distributed.Client`` (the last one made, unless told
     otherwise), which ``dask.compute`` would use; None without one. Without distributed

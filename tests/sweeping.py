@@ -93,6 +93,28 @@ def free_port():
         return s.getsockname()[1]
 
 
+def dask_process(*args: str, log: Path | None = None) -> subprocess.Popen:
+    """A real ``dask scheduler ...`` or ``dask worker ...`` process, in a session of its own
+    (stop it with ``stop_processes``), this interpreter's pydrill on its path."""
+    dask_bin = Path(sys.executable).parent / "dask"
+    return subprocess.Popen(
+        [str(dask_bin) if dask_bin.exists() else "dask", *args],
+        stdout=subprocess.DEVNULL,
+        stderr=log.open("w") if log else subprocess.DEVNULL,
+        env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
+        start_new_session=True,
+    )
+
+
+def stop_processes(procs: list[subprocess.Popen]) -> None:
+    for p in procs:
+        try:
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        p.wait()
+
+
 def interrupt_mid_sweep(tmp_path, sig, *extra):
     """Start ``pydrill sweep`` on LONGER, send ``sig`` to its whole process group (what Ctrl-C
     in a terminal does) once its first batch is journaled; return (rc, stdout, stderr, atlas)."""

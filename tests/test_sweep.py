@@ -135,9 +135,9 @@ def test_damaged_atlas_gives_a_clear_error(tmp_path):
     # A directory given for the atlas: said so, not "damaged", and nothing written in it.
     folder = tmp_path / "runs.h5"
     folder.mkdir()
-    with pytest.raises(AtlasError, match="runs.h5 is a directory, not an atlas file"):
+    with pytest.raises(AtlasError, match=r"runs\.h5 is a directory, not an atlas file"):
         Atlas(folder)
-    with pytest.raises(AtlasError, match=r"runs.h5 is a directory; .* --out .*runs.h5/atlas.h5"):
+    with pytest.raises(AtlasError, match=r"runs\.h5 is a directory; .* --out .*runs\.h5/atlas\.h5"):
         run_sweep(parse_spec(SMALL), folder, serial=True)
     assert list(folder.iterdir()) == [] and sorted(tmp_path.glob("runs.h5*")) == [folder]
 

@@ -1,0 +1,103 @@
+"""Connecting to an existing Dask cluster: a scheduler that is not there (yet), a scheduler
+file that is missing."""
+
+import json
+import os
+import re
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+from sweeping import CMD, ROOT, SMALL, dask_process, free_port, stop_processes
+
+from pydrill.spec import load_spec, parse_spec
+from pydrill.sweep import run_sweep
+from pydrill.sweep_dask import unanswered
+
+
+def test_no_scheduler_at_the_address_is_one_clear_error_and_leaves_no_files(tmp_path):
+    out = tmp_path / "never.h5"
+    nobody = f"tcp://127.0.0.1:{free_port()}"
+    proc = subprocess.run(
+        [
+            *CMD,
+            "sweep",
+            str(ROOT / "sweeps" / "minimal.toml"),
+            "--out",
+            str(out),
+            "--scheduler",
+            nobody,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"},
+    )
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    # While Dask waits for the scheduler to start, the user is told so; then one error.
+    waiting, error = proc.stderr.splitlines()
+    assert waiting == (
+        f"sweep: no Dask scheduler answers at {nobody} yet; waiting up to 2 s for one to start "
+        "(distributed.comm.timeouts.connect)"
+    )
+    error = error.replace(nobody, "ADDRESS")
+    assert error.startswith("pydrill sweep: error: --scheduler ADDRESS: no Dask scheduler")
+    assert "'dask scheduler', then 'dask worker ADDRESS'" in error
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+    # So the same command, once the address is right, needs no --resume nor any cleaning up.
+    report = run_sweep(load_spec(ROOT / "sweeps" / "minimal.toml"), out, serial=True)
+    assert report.computed == report.points
+
+
+def test_a_missing_scheduler_file_is_named_and_nothing_is_written(tmp_path):
+    from pydrill.sweep import SchedulerError
+
+    out = tmp_path / "never.h5"
+    with pytest.raises(SchedulerError, match=r"no such scheduler file.*--scheduler-file"):
+        run_sweep(parse_spec(SMALL), out, scheduler=str(tmp_path / "gone.json"))
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+def test_a_scheduler_that_starts_while_the_sweep_waits_runs_it(tmp_path):
+    """A job script may start the scheduler and the sweep together: Dask's client waits for the
+    scheduler, and the user is told that it does instead of seeing nothing."""
+    port = free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    assert unanswered(address) == 30.0  # nothing there: Dask's default wait, in s
+    small = tmp_path / "small.toml"
+    small.write_text(SMALL)
+    out = tmp_path / "late.h5"
+    sweep = subprocess.Popen(
+        [*CMD, "sweep", str(small), "--out", str(out), "--scheduler", address, "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "90s"},
+    )
+    procs = []
+    try:
+        line = sweep.stderr.readline()
+        assert line.startswith(
+            f"sweep: no Dask scheduler answers at {address} yet; waiting up to 90 s"
+        )
+        procs.append(dask_process("scheduler", "--host", "127.0.0.1", "--port", str(port),
+                                  "--dashboard-address", ":0"))  # fmt: skip
+        procs.append(dask_process("worker", address, "--nthreads", "1", "--no-nanny"))
+        stdout, stderr = sweep.communicate(timeout=120)
+        assert sweep.returncode == 0, line + stderr
+        assert json.loads(stdout)["computed"] == parse_spec(SMALL).size
+        # connected as soon as the scheduler answered, with its worker or before it joined
+        assert re.search(rf"^sweep: [01] Dask workers?, scheduler {address}", stderr, re.M)
+        deadline = time.time() + 30  # the scheduler answers now: no notice
+        while unanswered(address) is not None and time.time() < deadline:
+            time.sleep(0.1)
+        assert unanswered(address) is None
+    finally:
+        if sweep.poll() is None:
+            sweep.kill()
+            sweep.wait()
+        stop_processes(procs)
+    # Addresses it cannot probe are left to Dask: a scheduler file, another protocol.
+    assert unanswered(str(tmp_path / "scheduler.json")) is None
+    assert unanswered("inproc://10.0.0.1/1/2") is None
