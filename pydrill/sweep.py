@@ -18,11 +18,13 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from . import atlas_format as fmt
+from . import batching
+from .batching import Batcher, batches, dealing_order  # noqa: F401 (re-exported)
 from .interrupt import stop_between_batches
 from .journal import AtlasError, journal_path, prepare
 from .spec import SweepSpec, parse_spec
@@ -156,14 +158,37 @@ def encode_batch(
     return np.array([rec["i"] for rec in records], dtype=np.int64), block.columns(), lines
 
 
+class Batch(NamedTuple):
+    """A computed batch as the client absorbs it."""
+
+    indices: np.ndarray  #: the points' flat indices
+    block: dict[str, np.ndarray]  #: their rows, as columns (``AtlasTable.columns``)
+    lines: str  #: their journal lines
+    seconds: float  #: wall time the batch took to compute, where it ran
+    left: list[int]  #: the points it did not reach, out of time (``budget``)
+
+
 def evaluate_batch(
-    spec_text: str, indices: list[int], tally_text: str | None = None
-) -> tuple[np.ndarray, dict[str, np.ndarray], str]:
+    spec_text: str,
+    indices: list[int],
+    tally_text: str | None = None,
+    budget: float | None = None,
+) -> Batch:
     """Worker entry point: plain data in and out (no pickled objects of ours). The records
     are encoded here (``encode_batch``), so that the client, which shares the machine with
-    the workers, only appends text and assigns arrays."""
+    the workers, only appends text and assigns arrays. With a ``budget`` (s), the points
+    after the one that runs past it are not computed but handed back (``Batch.left``)."""
+    t0 = time.perf_counter()
     spec = parse_spec(spec_text, tally_text=tally_text)
-    return encode_batch(spec, [evaluate_point(spec, i) for i in indices])
+    records = []
+    for k, i in enumerate(indices):
+        records.append(evaluate_point(spec, i))
+        if budget is not None and time.perf_counter() - t0 > budget:
+            left = [int(j) for j in indices[k + 1 :]]
+            break
+    else:
+        left = []
+    return Batch(*encode_batch(spec, records), time.perf_counter() - t0, left)
 
 
 @dataclass
@@ -179,32 +204,6 @@ class SweepReport:
     resumed: int  #: found already done (``resume``)
     wall_time: float  #: s, the whole run
     write_time: float  #: s, of it spent writing the journal and the atlas
-
-
-def dealing_order(indices: np.ndarray) -> np.ndarray:
-    """The points in the order a sweep deals them out: a fixed pseudo-random permutation, so
-    that any first part of it samples the whole grid."""
-    return np.asarray(indices)[np.random.default_rng(0).permutation(len(indices))]
-
-
-def batches(
-    indices: np.ndarray, workers: int, largest: int = 256, smallest: int = 16
-) -> list[list[int]]:
-    """Split the points into batches of decreasing size ("guided" scheduling): each takes
-    1/(2 x workers) of what is left, between ``smallest`` and ``largest`` points. Big early
-    batches hide Dask's per-task overhead (measured: 8 batches of 250 points ran a 2000-point
-    sweep 15 % faster than 125 of 16); small last ones let every worker finish within a few
-    points of the others instead of one waiting a whole batch for the last. The points are
-    dealt in a fixed pseudo-random order, so every batch samples the whole grid and costs
-    about its size: no worker draws a batch of slow stick-slip points. Batches are small
-    enough for a lively progress bar and little recomputation after an interruption."""
-    order = dealing_order(indices)
-    out, start = [], 0
-    while start < len(order):
-        size = min(largest, max(smallest, math.ceil((len(order) - start) / (2 * max(workers, 1)))))
-        out.append(order[start : start + size].tolist())
-        start += size
-    return out
 
 
 def run_sweep(
@@ -332,9 +331,9 @@ def _sweep_locked(
     last_flush = time.perf_counter()
     flush_every = FLUSH_SECONDS
 
-    def absorb(batch: tuple[np.ndarray, dict[str, np.ndarray], str]) -> None:
+    def absorb(batch: Batch) -> None:
         nonlocal computed, failed, write_time, last_flush, flush_every
-        indices, block, lines = batch
+        indices, block, lines = batch.indices, batch.block, batch.lines
         tw = time.perf_counter()
         with stop.hold():  # the journal and the table take a batch together, or neither
             with jp.open("a") as fh:
@@ -356,8 +355,13 @@ def _sweep_locked(
     with stop_between_batches(stop_on) as stop:
         try:
             if len(todo) and serial:
-                for batch in batches(todo, 1):
-                    absorb(evaluate_batch(spec.text, batch, spec.tally_text))
+                deal = Batcher(todo)
+                while deal.left:
+                    batch = deal.take(1)
+                    done = evaluate_batch(spec.text, batch, spec.tally_text, batching.BATCH_SECONDS)
+                    deal.timed(len(done.indices), done.seconds)
+                    deal.give_back(done.left)
+                    absorb(done)
             elif len(todo):
                 from .sweep_dask import run_dask
 

@@ -139,7 +139,8 @@ def run_dask(
     ``on_cluster`` gets a ``ClusterInfo`` once the batches are submitted."""
     from distributed import Client, LocalCluster, as_completed
 
-    from .sweep import ClusterInfo, SchedulerError, batches, evaluate_batch
+    from . import batching
+    from .sweep import ClusterInfo, SchedulerError, evaluate_batch
 
     with dask.config.set(QUIET):
         cluster = None
@@ -200,23 +201,31 @@ def run_dask(
                     "run with --serial, or start a cluster and give --scheduler"
                 ) from exc
             client = Client(cluster)
-        futures = []
-        watch = None
+        pending: set[Any] = set()  # submitted, not absorbed yet
+        watch = running = fut = None
         try:
             n = len(client.scheduler_info().get("workers", {}))
             if cluster is None and n:  # workers this process did not fork: can they run it?
                 check_workers(client)
-            todo_batches = batches(todo, max(n, 1))
-            # One message to the scheduler for all the batches, not one each (measured: a
-            # quarter less of the client's CPU, which the workers would have had).
-            futures = client.map(
-                evaluate_batch,
-                [spec.text] * len(todo_batches),
-                todo_batches,
-                [spec.tally_text] * len(todo_batches),
-                pure=False,
-                retries=3,
-            )
+            deal = batching.Batcher(todo)
+
+            def submit(workers: int) -> list[Any]:
+                # One message to the scheduler for many batches, not one each (measured: a
+                # quarter less of the client's CPU, which the workers would have had).
+                parts = deal.rest(max(workers, 1))
+                futures = client.map(
+                    evaluate_batch,
+                    [spec.text] * len(parts),
+                    parts,
+                    [spec.tally_text] * len(parts),
+                    [batching.BATCH_SECONDS] * len(parts),
+                    pure=False,
+                    retries=3,
+                )
+                pending.update(futures)
+                return futures
+
+            running = as_completed(submit(n))
             if on_cluster is not None:
                 # Without a dashboard, the local scheduler's HTTP server still makes a link.
                 link = client.dashboard_link if cluster is None or dashboard else None
@@ -224,19 +233,27 @@ def run_dask(
                 on_cluster(info)
                 if cluster is None:  # a cluster of others: its workers come and go
                     watch = WorkerWatch(client, info, on_cluster)
-            for fut in as_completed(futures):
-                absorb(fut.result())
+            for fut in running:
+                done = fut.result()
+                # Let go of it, or its result would stay in the workers' memory to the end
+                # of the sweep: a gigabyte for a million points.
+                pending.discard(fut)
+                deal.timed(len(done.indices), done.seconds)
+                if done.left:  # out of time: deal the rest again, sized by what points take
+                    deal.give_back(done.left)
+                    running.update(submit(len(client.scheduler_info().get("workers", {}))))
+                absorb(done)
         finally:
             if watch is not None:
                 watch.stop()
             if own:
                 client.close()
             else:  # the caller's client: take back only what this sweep asked of it
-                client.cancel([f for f in futures if not f.done()])
+                client.cancel(list(pending))
                 # An exception's traceback keeps this frame alive, and with it any future
                 # it names, and their results on the workers.
-                futures.clear()
-                fut = None
+                pending.clear()
+                fut = running = None
             if cluster is not None:
                 cluster.close()
 

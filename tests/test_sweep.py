@@ -7,11 +7,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-from sweeping import (
-    CMD,
-    ROOT,
-    SMALL,
-)
+from sweeping import CMD, ROOT, SMALL, same_atlas
 
 import pydrill
 from pydrill.atlas import Atlas
@@ -184,13 +180,63 @@ def test_batches_deal_every_point_once_in_shrinking_batches():
     assert batches(np.array([], dtype=int), 2) == []
 
 
+def test_batches_once_timed_are_sized_by_time_and_points_handed_back_come_first():
+    from pydrill.batching import BATCH_SECONDS, LEAST_SECONDS, Batcher
+
+    todo = np.arange(10_000)
+    deal = Batcher(todo)
+    assert deal.size(2) == 256 and deal.point_seconds is None  # by count until timed
+    first = deal.take(2)
+    deal.timed(4, 4 * 0.5)  # half a second a point: at most BATCH_SECONDS of them
+    cap = int(BATCH_SECONDS / 0.5)
+    assert deal.size(2) == cap
+    deal.give_back(first[4:])  # a batch out of time computed 4 of its points
+    again = deal.take(2)
+    assert again == first[4 : 4 + cap]  # the points handed back go out first, in order
+    rest = deal.rest(2)
+    assert all(len(b) <= cap for b in rest) and len(rest[-1]) == 1  # down to one point
+    dealt = first[:4] + again + [i for b in rest for i in b]
+    assert sorted(dealt) == todo.tolist()  # every point exactly once
+    cheap = Batcher(todo)
+    cheap.timed(100, 100 * 1e-3)  # a millisecond a point: no batch under LEAST_SECONDS
+    sizes = [len(b) for b in cheap.rest(2)]
+    assert min(sizes[:-1]) >= min(16, LEAST_SECONDS / 1e-3) and max(sizes) == 256
+
+
+def test_a_batch_out_of_time_hands_back_the_points_it_did_not_reach():
+    from pydrill.sweep import evaluate_batch
+
+    spec = parse_spec(SMALL)
+    done = evaluate_batch(spec.text, [4, 0, 5, 2], None, budget=0.0)
+    assert done.indices.tolist() == [4] and done.left == [0, 5, 2]
+    assert len(done.lines.splitlines()) == 1
+
+
+@pytest.mark.parametrize("where", ["serial", "dask"])
+def test_a_sweep_of_batches_out_of_time_computes_every_point_once(tmp_path, monkeypatch, where):
+    """Every batch stops after its first point (no time at all): the points handed back are
+    dealt again, one a batch, and the atlas is the one of an ordinary sweep."""
+    import pydrill.batching
+
+    reference = tmp_path / "ref.h5"
+    run_sweep(parse_spec(SMALL), reference, serial=True)
+    monkeypatch.setattr(pydrill.batching, "BATCH_SECONDS", 0.0)
+    sizes = []
+    out = tmp_path / f"{where}.h5"
+    kw = {"serial": True} if where == "serial" else {"workers": 2}
+    report = run_sweep(parse_spec(SMALL), out, progress=lambda n, _: sizes.append(n), **kw)
+    assert report.computed == parse_spec(SMALL).size == len(sizes) and set(sizes) == {1}
+    same_atlas(out, reference)
+
+
 def test_block_of_records_equals_records_applied_one_by_one():
     from pydrill import atlas_format as fmt
     from pydrill.sweep import evaluate_batch, evaluate_point
 
     spec = parse_spec(SMALL)
     picked = [4, 0, 5, 2]
-    indices, block, lines = evaluate_batch(spec.text, picked)
+    indices, block, lines, seconds, left = evaluate_batch(spec.text, picked)
+    assert seconds > 0 and left == []
     assert indices.tolist() == picked and len(lines.splitlines()) == len(picked)
     by_block, by_record = fmt.AtlasTable(spec), fmt.AtlasTable(spec)
     by_block.put(indices, block)

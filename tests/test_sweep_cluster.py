@@ -205,6 +205,16 @@ def test_a_dask_client_of_the_callers_runs_the_sweep_and_stays_open(tmp_path):
         report = run_sweep(parse_spec(SMALL), tmp_path / "client.h5", scheduler=client)
         assert report.computed == 6
         assert not client.futures  # nothing of the sweep's left behind on it
+        # Nor during the sweep: a batch's result is let go of once absorbed. Kept, the results
+        # of a million-point sweep would fill the workers' memory (a gigabyte) to the end.
+        held = []
+        run_sweep(
+            parse_spec(MEDIUM),
+            tmp_path / "held.h5",
+            scheduler=client,
+            progress=lambda n, total: held.append(sum(map(len, client.has_what().values()))),
+        )
+        assert len(held) >= 5 and max(held) <= 2, held
         assert client.submit(sum, [1, 2], pure=False).result() == 3  # still the caller's
 
         def stop_after_the_first_batch(n, total):
