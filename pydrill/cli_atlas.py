@@ -11,6 +11,13 @@ from pathlib import Path
 from .cli import figure_path
 
 
+def axis_line(name: str, size: int, low: float, high: float) -> str:
+    """An axis as ``atlas info`` and ``sweep --dry-run`` list it."""
+    if size == 1:
+        return f"  axis {name:12s} {size:6d} value,  {low:g}"
+    return f"  axis {name:12s} {size:6d} values, {low:g} ... {high:g}"
+
+
 def register_atlas(sub) -> None:
     at = sub.add_parser(
         "atlas",
@@ -182,7 +189,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
         f"spec {s['spec_digest']}"
     )
     for name, ax in s["axes"].items():
-        print(f"  axis {name:12s} {ax['size']:6d} values, {ax['min']:g} ... {ax['max']:g}")
+        print(axis_line(name, ax["size"], ax["min"], ax["max"]))
     print("  status  " + ", ".join(f"{k} {v}" for k, v in s["status"].items()))
     for init, counts in s["regimes"].items():
         print(f"  from {init:12s}" + ", ".join(f"{k} {v}" for k, v in counts.items()))

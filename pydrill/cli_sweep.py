@@ -10,6 +10,7 @@ import sys
 import time
 
 from .cli import figure_path
+from .cli_atlas import axis_line
 
 SWEEP_EPILOG = """\
 examples:
@@ -363,7 +364,7 @@ def _dry_run(args: argparse.Namespace, spec) -> int:
     grid = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
     print(f"{args.spec}: {plan.points} points ({grid}), from " + " and ".join(spec.initials))
     for name, values in spec.axes.items():
-        print(f"  axis {name:12s} {len(values):6d} values, {values[0]:g} ... {values[-1]:g}")
+        print(axis_line(name, len(values), values[0], values[-1]))
     state = {
         "none": "no --out given",
         "new": f"{args.out}: a new atlas",

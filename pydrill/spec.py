@@ -331,11 +331,13 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
         lump,
     )
     # Every string of the grid must be buildable: try the corners of the size/parameter axes.
-    try:
-        for corner in _corners(spec):
+    for corner in _corners(spec):
+        try:
             spec.params_at(corner)
-    except ValueError as exc:
-        raise _fail("model", str(exc)) from None
+        except ValueError as exc:
+            # Name the swept values that made the string (pipes = 50 means dof = 53).
+            where = ", ".join(f"axes.{k} = {v:g}" for k, v in corner.items())
+            raise _fail(f"model (at {where})" if where else "model", str(exc)) from None
     return spec
 
 

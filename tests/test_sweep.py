@@ -34,7 +34,14 @@ def test_shipped_specs_parse():
             "simulation.initial",
         ),
         ("[axes]\nwob = [1.0]\ntorque = [1.0]\n[simulation]\nt_end = -3\n", "simulation.t_end"),
-        ("[axes]\nwob = [1.0]\ntorque = [1.0]\nbit_damping = [-1.0, 0.1]\n", "model"),
+        (
+            "[axes]\nwob = [1.0]\ntorque = [1.0]\nbit_damping = [-1.0, 0.1]\n",
+            "model (at axes.bit_damping = -1): ",
+        ),
+        (  # pipes = 50 makes dof = 53: the swept value the user wrote is named
+            "[model]\npreset = 'real-string'\n[axes]\npipes = [50]\nwob = [1.0]\ntorque = [1.0]\n",
+            "model (at axes.pipes = 50): dof = 53 is not allowed for preset 'real-string'",
+        ),
         ("[axes]\nwob = [1.0]\ntorque = [1.0]\n[extras]\n", "extras"),
         ("[axes\n", "not valid TOML"),
     ],

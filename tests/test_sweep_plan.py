@@ -123,6 +123,7 @@ def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert "6 points (3 wob x 2 torque), from rest" in proc.stdout
+    assert "  axis wob               3 values, 40 ... 160\n" in proc.stdout
     assert f"{out}: a new atlas" in proc.stdout and "on 3 local workers" in proc.stdout
     assert "points timed failed" in proc.stdout and "max_steps" in proc.stdout
     assert proc.stdout.endswith("dry run: nothing was written\n")
@@ -145,3 +146,9 @@ def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
     # Without --dry-run, an atlas must be named.
     no_out = subprocess.run([*CMD, "sweep", str(spec_file)], capture_output=True, text=True)
     assert no_out.returncode == 2 and "--out ATLAS.h5 is required" in no_out.stderr
+    # An axis of one value is listed as such.
+    spec_file.write_text(SMALL.replace("torque = [6.0, 8.3]", "torque = [8.3]"))
+    one = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--dry-run"], capture_output=True, text=True
+    )
+    assert "  axis torque            1 value,  8.3\n" in one.stdout
