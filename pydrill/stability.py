@@ -9,6 +9,7 @@ at any point is a lookup.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -127,15 +128,27 @@ def hopf_deltas_dof2(params: Params) -> list[float]:
 
 
 def stability(
-    params: Params, wob: float, *, omega: float | None = None, torque: float | None = None
+    params: Params,
+    wob: float,
+    *,
+    omega: float | None = None,
+    torque: float | None = None,
+    crossings: list[Crossing] | None = None,
 ) -> list[StabilityPoint]:
     """Stability of the steady state at velocity ``omega``, or of every steady state that the
-    surface ``torque`` can hold (0, 1 or 2 of them) at weight on bit ``wob``."""
+    surface ``torque`` can hold (0, 1 or 2 of them) at weight on bit ``wob``.
+
+    ``crossings``: the string's ``critical_deltas(params)``, if already at hand. They depend
+    on the string alone, and on a short one cost more than the rest: a loop over many
+    (W_ob, u) of one string computes them once."""
     if (omega is None) == (torque is None):
         raise ValueError("give exactly one of omega (rad/s) or torque (N·m)")
     core = params.to_core()
     if omega is not None:
         points = [_core.stability_at_velocity(core, float(wob), float(omega))]
+    elif crossings is not None:
+        known = [dataclasses.asdict(c) for c in crossings]
+        points = _core.stability_at_torque(core, float(wob), float(torque), known)
     else:
         points = _core.stability_at_torque(core, float(wob), float(torque))
     return [

@@ -73,6 +73,28 @@ def _num(v: Any) -> Any:
     return v
 
 
+# The crossings of each string a process has met (critical_deltas): they depend on the
+# string alone, not on W_ob or u, and cost ~0.3 ms, a sixth of a dof-4 point. A (W_ob, u)
+# sweep has one string; a size or depth sweep a few hundred at most.
+_CROSSINGS: dict[tuple, list] = {}
+_CROSSINGS_KEPT = 1024
+
+
+def _string_crossings(spec: SweepSpec, coords: dict[str, Any], params: Any) -> list:
+    from .spec import OPERATING_AXES
+    from .stability import critical_deltas
+
+    key = (spec.text, spec.tally_text, tuple(sorted(
+        (k, v) for k, v in coords.items() if k not in OPERATING_AXES
+    )))  # fmt: skip
+    found = _CROSSINGS.get(key)
+    if found is None:
+        if len(_CROSSINGS) >= _CROSSINGS_KEPT:
+            _CROSSINGS.clear()
+        found = _CROSSINGS[key] = critical_deltas(params)
+    return found
+
+
 def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
     """Simulate one grid point from every initial condition and analyse its steady states."""
     from . import simulate
@@ -126,7 +148,8 @@ def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
         if len(spec.initials) > 1 and len(rec["runs"]) == len(spec.initials):
             rec["coexistence"] = len(regimes) > 1
         if spec.record["stability"]:
-            pts = stability(params, wob, torque=torque)[::-1]  # fastest first
+            crossings = _string_crossings(spec, coords, params)
+            pts = stability(params, wob, torque=torque, crossings=crossings)[::-1]  # fastest first
             k = spec.record["eigenvalues"]
             rec["stability"] = {
                 "omega_eq": [p.omega for p in pts],

@@ -139,6 +139,25 @@ def test_stability_at_torque_covers_every_steady_state():
         st.stability(p, wob)
 
 
+def test_crossings_handed_in_give_the_points_computed_without_them():
+    """A sweep computes a string's crossings once and hands them in at every (W_ob, u)."""
+    rng = np.random.default_rng(3)
+    differs = 0
+    for dof in (2, 4, 12):
+        p = pydrill.preset("reduced-scale", dof=dof)
+        crossings = st.critical_deltas(p)
+        other = st.critical_deltas(pydrill.preset("reduced-scale", dof=dof + 1))
+        for _ in range(20):
+            wob = float(rng.uniform(10, 250))
+            torque = float(p.static_torque(wob) * rng.uniform(0.6, 1.4))
+            alone = st.stability(p, wob, torque=torque)
+            assert st.stability(p, wob, torque=torque, crossings=crossings) == alone
+            # Another string's crossings change the verdicts: they are what is used.
+            wrong = st.stability(p, wob, torque=torque, crossings=other)
+            differs += [q.delta_margin for q in wrong] != [q.delta_margin for q in alone]
+    assert differs > 10
+
+
 def test_hopf_and_stability_commands(tmp_path):
     png = tmp_path / "hopf.png"
     run = [sys.executable, "-m", "pydrill"]

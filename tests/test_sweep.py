@@ -236,6 +236,25 @@ def test_a_sweep_of_batches_out_of_time_computes_every_point_once(tmp_path, monk
     same_atlas(out, reference)
 
 
+def test_each_string_of_a_sweep_has_its_own_crossings():
+    """evaluate_point keeps each string's crossings across points (and batches): points of
+    strings of 2, 4 and 8 dof, in the sweep's mixed order, analysed as if alone."""
+    from pydrill.stability import stability
+    from pydrill.sweep import dealing_order, evaluate_point
+
+    spec = parse_spec(
+        SMALL.replace("dof = 4\n", "").replace("[axes]\n", "[axes]\ndof = [2, 4, 8]\n")
+    )
+    assert spec.shape == (3, 3, 2)
+    for i in dealing_order(np.arange(spec.size)):
+        rec = evaluate_point(spec, int(i))
+        coords = spec.coords(int(i))
+        wob, torque = spec.operating_point(coords)
+        alone = stability(spec.params_at(coords), wob, torque=torque)[::-1]
+        assert rec["stability"]["hopf_margin"] == [q.delta_margin for q in alone], coords
+        assert rec["stability"]["unstable"] == [q.unstable for q in alone], coords
+
+
 def test_block_of_records_equals_records_applied_one_by_one():
     from pydrill import atlas_format as fmt
     from pydrill.sweep import evaluate_batch, evaluate_point

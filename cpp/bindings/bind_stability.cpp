@@ -1,3 +1,7 @@
+#include <optional>
+#include <string>
+#include <vector>
+
 #include <pybind11/complex.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -18,6 +22,17 @@ py::dict crossing_dict(const Crossing& c) {
   d["direction"] = c.direction;
   d["multiplicity"] = c.multiplicity;
   return d;
+}
+
+// The inverse of crossing_dict: crossings found earlier, handed back.
+Crossing crossing_from(const py::dict& d) {
+  Crossing c;
+  c.type = d["type"].cast<std::string>();
+  c.delta = d["delta"].cast<double>();
+  c.frequency = d["frequency"].is_none() ? 0.0 : d["frequency"].cast<double>();
+  c.direction = d["direction"].cast<int>();
+  c.multiplicity = d["multiplicity"].cast<int>();
+  return c;
 }
 
 py::dict point_dict(const StabilityPoint& s) {
@@ -72,12 +87,20 @@ void bind_stability(py::module_& m) {
       py::arg("params"), py::arg("wob"), py::arg("omega"));
   m.def(
       "stability_at_torque",
-      [](const Params& p, double wob, double torque) {
+      [](const Params& p, double wob, double torque, std::optional<py::list> crossings) {
+        std::vector<StabilityPoint> points;
+        if (crossings) {
+          std::vector<Crossing> known;
+          for (const auto& item : *crossings) known.push_back(crossing_from(item.cast<py::dict>()));
+          points = stability_at_torque(p, wob, torque, known);
+        } else {
+          points = stability_at_torque(p, wob, torque);
+        }
         py::list out;
-        for (const auto& s : stability_at_torque(p, wob, torque)) out.append(point_dict(s));
+        for (const auto& s : points) out.append(point_dict(s));
         return out;
       },
-      py::arg("params"), py::arg("wob"), py::arg("torque"));
+      py::arg("params"), py::arg("wob"), py::arg("torque"), py::arg("crossings") = py::none());
 }
 
 }  // namespace pydrill::bindings

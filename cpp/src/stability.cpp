@@ -458,4 +458,11 @@ std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, dou
   return out;
 }
 
+std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, double torque,
+                                                const std::vector<Crossing>& crossings) {
+  std::vector<StabilityPoint> out;
+  for (double omega : equilibrium_velocities(p, wob, torque)) out.push_back(point_at(p, wob, omega, crossings));
+  return out;
+}
+
 }  // namespace pydrill

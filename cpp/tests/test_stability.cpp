@@ -53,3 +53,25 @@ TEST_CASE("boundary W_ob(Omega) inverts the Stribeck slope", "[stability]") {
     CHECK(stribeck_slope(p, w, omega) == Approx(327.0).epsilon(1e-14));
   }
 }
+
+TEST_CASE("crossings found once serve every operating point of the string", "[stability]") {
+  const Params p = preset("reduced-scale", 4);
+  const auto crossings = critical_deltas(p);
+  int points = 0;
+  for (double wob : {40.0, 100.0, 200.0}) {
+    for (double factor : {0.7, 0.95, 1.2}) {
+      const double torque = factor * p.bit_radius * p.mu_static * wob;
+      const auto alone = stability_at_torque(p, wob, torque);
+      const auto shared = stability_at_torque(p, wob, torque, crossings);
+      REQUIRE(alone.size() == shared.size());
+      for (std::size_t k = 0; k < alone.size(); ++k) {
+        ++points;
+        CHECK(shared[k].omega == alone[k].omega);
+        CHECK(shared[k].unstable == alone[k].unstable);
+        CHECK(shared[k].delta_margin == alone[k].delta_margin);
+        CHECK(shared[k].eigenvalues == alone[k].eigenvalues);
+      }
+    }
+  }
+  CHECK(points >= 6);  // steady states exist at most of these points
+}

@@ -83,5 +83,10 @@ struct StabilityPoint {
 StabilityPoint stability_at_velocity(const Params& params, double wob, double omega);
 // Stability of every steady state for (W_ob, u): 0, 1 or 2 of them.
 std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque);
+// The same with the string's crossings (critical_deltas(params)) already at hand: they
+// depend on the string alone, and finding them costs more than the rest on a short
+// string (a sweep over W_ob and u computes them once per string, not once per point).
+std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque,
+                                                const std::vector<Crossing>& crossings);
 
 }  // namespace pydrill
