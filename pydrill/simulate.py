@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import asdict, dataclass
 from typing import Any, Literal
@@ -105,11 +106,16 @@ class SimulationResult:
         self.friction_loss: NDArray[np.float64] = core.friction_loss
         self.energy: NDArray[np.float64] = core.energy
         self.mode_index: NDArray[np.int32] = core.modes
-        self.switches = [Switch(**s) for s in core.switches]
         self.stats = SolverStats(**core.stats)
         summary = dict(core.summary)
         summary["omega_equilibrium"] = tuple(summary["omega_equilibrium"])
         self.summary = Summary(**summary)
+
+    @functools.cached_property
+    def switches(self) -> list[Switch]:
+        """Every stick, slip and reversal of the bit, in time order. Built when first asked
+        for: a sweep reads only the summary, and a long stick-slip run has thousands."""
+        return [Switch(**s) for s in self._core.switches]
 
     @property
     def dof(self) -> int:

@@ -9,7 +9,6 @@ at any point is a lookup.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,7 +146,7 @@ def stability(
     if omega is not None:
         points = [_core.stability_at_velocity(core, float(wob), float(omega))]
     elif crossings is not None:
-        known = [dataclasses.asdict(c) for c in crossings]
+        known = [vars(c) for c in crossings]  # their fields, as the core takes them
         points = _core.stability_at_torque(core, float(wob), float(torque), known)
     else:
         points = _core.stability_at_torque(core, float(wob), float(torque))
