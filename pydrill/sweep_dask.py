@@ -85,6 +85,16 @@ def unanswered(address: str, within: float = 0.5) -> float | None:
         return parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s")
 
 
+def worker_count(client: Any) -> int:
+    """Workers connected to the cluster of ``client``. Not ``len(scheduler_info()["workers"])``:
+    distributed 2025.4 ... 2026.6 lists at most 5 workers there by default (dask/distributed
+    #9065), which would size a hundred workers' batches for five. The count is in
+    ``n_workers`` where that cap exists; before it, the list is whole."""
+    info = client.scheduler_info()
+    n = info.get("n_workers")
+    return n if isinstance(n, int) and n >= 0 else len(info.get("workers", {}))
+
+
 def default_dask_client() -> Any:
     """The caller's default ``distributed.Client`` (the last one made, unless told
     otherwise), which ``dask.compute`` would use; None without one. Without distributed
@@ -204,7 +214,7 @@ def run_dask(
         pending: set[Any] = set()  # submitted, not absorbed yet
         watch = running = fut = None
         try:
-            n = len(client.scheduler_info().get("workers", {}))
+            n = worker_count(client)
             if cluster is None and n:  # workers this process did not fork: can they run it?
                 check_workers(client)
             deal = batching.Batcher(todo)
@@ -241,7 +251,7 @@ def run_dask(
                 deal.timed(len(done.indices), done.seconds)
                 if done.left:  # out of time: deal the rest again, sized by what points take
                     deal.give_back(done.left)
-                    running.update(submit(len(client.scheduler_info().get("workers", {}))))
+                    running.update(submit(worker_count(client)))
                 absorb(done)
         finally:
             if watch is not None:
@@ -281,7 +291,7 @@ class WorkerWatch(threading.Thread):
         last = self.info.workers
         while not self.done.wait(WATCH_SECONDS):
             try:
-                n = len(self.client.scheduler_info().get("workers", {}))
+                n = worker_count(self.client)
             except Exception:  # the client is closing: the sweep is over
                 return
             if n != last and not self.done.is_set():

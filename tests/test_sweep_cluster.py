@@ -342,3 +342,32 @@ def test_workers_leaving_and_joining_an_existing_cluster_are_told(tmp_path, monk
     assert not runner.is_alive()
     assert [i.workers for i in seen] == [1, 0, 1]
     assert box["report"].computed == spec.size and box["report"].failed == 0
+
+
+def test_workers_are_counted_beyond_the_five_some_dask_versions_list(tmp_path):
+    """distributed 2025.4 ... 2026.6 lists at most 5 workers in scheduler_info()["workers"]
+    (dask/distributed#9065) but gives their number in "n_workers"; older versions list all."""
+    from distributed import Client, LocalCluster
+
+    from pydrill.sweep_dask import worker_count
+
+    class Capped:  # what those versions' client answers for 7 workers
+        def scheduler_info(self):
+            return {"n_workers": 7, "workers": {f"tcp://w{i}": {} for i in range(5)}}
+
+    class Old:  # before the cap: no count, the whole list
+        def scheduler_info(self):
+            return {"workers": {f"tcp://w{i}": {} for i in range(7)}}
+
+    assert worker_count(Capped()) == worker_count(Old()) == 7
+    seen = []
+    with (
+        LocalCluster(
+            n_workers=7, threads_per_worker=1, processes=False, dashboard_address=":0"
+        ) as c,
+        Client(c) as client,
+    ):
+        run_sweep(
+            parse_spec(SMALL), tmp_path / "seven.h5", scheduler=client, on_cluster=seen.append
+        )
+    assert seen[0].workers == 7
