@@ -158,6 +158,27 @@ def test_crossings_handed_in_give_the_points_computed_without_them():
     assert differs > 10
 
 
+def test_long_strings_get_the_dense_solvers_eigenvalues_faster():
+    """From 24 inertias on, a steady state's eigenvalues are the roots of Z_b = δ (O(n'²))
+    rather than the dense Jacobian's (O(n'³)); they must be the same numbers."""
+    from pydrill import _core
+
+    p = pydrill.preset("reduced-scale", pipes=60)
+    crossings = st.critical_deltas(p)
+    checked = 0
+    for wob in (30.0, 120.0, 250.0):
+        for point in st.stability(p, wob, torque=float(p.static_torque(wob)) * 0.98):
+            assert _core.roots_of_impedance(p.to_core(), point.delta) is not None  # fast path
+            dense = st.eigenvalues(p, point.delta)
+            fast = np.array(point.eigenvalues)
+            scale = np.abs(dense).max()
+            assert np.abs(dense[:, None] - fast[None, :]).min(axis=1).max() < 1e-12 * scale
+            assert abs(point.spectral_abscissa - dense[0].real) < 1e-12 * scale
+            assert point.unstable == st.unstable_count(crossings, point.delta)
+            checked += 1
+    assert checked >= 3
+
+
 def test_hopf_and_stability_commands(tmp_path):
     png = tmp_path / "hopf.png"
     run = [sys.executable, "-m", "pydrill"]

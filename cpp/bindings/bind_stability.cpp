@@ -63,6 +63,22 @@ void bind_stability(py::module_& m) {
         return eigenvalues(p, delta);
       },
       py::arg("params"), py::arg("delta"));
+  m.def(
+      "structured_eigenvalues",
+      [](const Params& p, double delta) {
+        py::gil_scoped_release release;
+        return structured_eigenvalues(p, delta);
+      },
+      py::arg("params"), py::arg("delta"));
+  m.def(
+      "roots_of_impedance",
+      [](const Params& p, double delta) -> std::optional<std::vector<complex>> {
+        py::gil_scoped_release release;
+        std::vector<complex> z;
+        if (!roots_of_impedance(p, delta, z)) return std::nullopt;
+        return z;
+      },
+      py::arg("params"), py::arg("delta"));
   m.def("characteristic_polynomial", &characteristic_polynomial, py::arg("params"), py::arg("delta"));
   m.def("hurwitz_determinants", &hurwitz_determinants, py::arg("ascending"));
   m.def("hopf_deltas_dof2", &hopf_deltas_dof2, py::arg("params"));

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -421,6 +422,10 @@ int unstable_count(const std::vector<Crossing>& crossings, double delta) {
 
 namespace {
 
+// From this many inertias on, the structured eigenvalues beat the dense solver (measured:
+// 1.0 against 3.3 ms at dof 53, 43 against 670 ms at dof 303; even below).
+constexpr int kStructuredDof = 24;
+
 StabilityPoint point_at(const Params& p, double wob, double omega,
                         const std::vector<Crossing>& crossings) {
   if (!std::isfinite(omega) || !(omega > 0)) {
@@ -438,7 +443,16 @@ StabilityPoint point_at(const Params& p, double wob, double omega,
   double nearest = std::numeric_limits<double>::infinity();
   for (const auto& c : crossings) nearest = std::min(nearest, std::fabs(c.delta - s.delta));
   s.delta_margin = s.stable ? nearest : -nearest;
-  s.eigenvalues = eigenvalues(p, s.delta);
+  // Long strings: the roots of Z_b = δ in O(n'²), kept only if as many lie in the right
+  // half-plane as the crossings say; else (and on short strings, where it gains nothing)
+  // the dense solver.
+  std::vector<complex> roots;
+  if (p.dof() >= kStructuredDof && roots_of_impedance(p, s.delta, roots) &&
+      std::count_if(roots.begin(), roots.end(), [](complex z) { return z.real() > 0; }) == s.unstable) {
+    s.eigenvalues = std::move(roots);
+  } else {
+    s.eigenvalues = eigenvalues(p, s.delta);
+  }
   s.spectral_abscissa = s.eigenvalues.front().real();
   return s;
 }

@@ -75,3 +75,40 @@ TEST_CASE("crossings found once serve every operating point of the string", "[st
   }
   CHECK(points >= 6);  // steady states exist at most of these points
 }
+
+TEST_CASE("structured eigenvalues equal the dense solver's on long strings", "[stability]") {
+  for (int dof : {30, 80}) {
+    const Params p = preset("reduced-scale", dof);
+    std::vector<double> deltas = {0.0, 0.002, 0.3, 5.0};
+    for (const auto& c : critical_deltas(p)) {
+      if (deltas.size() < 8) deltas.push_back(c.delta * 1.001);
+    }
+    for (double delta : deltas) {
+      std::vector<complex> fast;
+      REQUIRE(roots_of_impedance(p, delta, fast));  // the O(n'²) path answers here
+      const auto dense = eigenvalues(p, delta);
+      REQUIRE(fast.size() == dense.size());
+      double scale = 0.0;
+      for (const auto& z : dense) scale = std::max(scale, std::abs(z));
+      for (const auto& z : dense) {  // every dense eigenvalue has a structured twin
+        double best = 1e300;
+        for (const auto& f : fast) best = std::min(best, std::abs(f - z));
+        CHECK(best <= 1e-12 * scale);
+      }
+      CHECK(std::abs(fast.front() - dense.front()) <= 1e-12 * scale);  // the leading one
+    }
+  }
+}
+
+TEST_CASE("an overdamped string's eigenvalues come from the dense solver", "[stability]") {
+  // Every spring damped 5 times past critical, as a real string's pipes (c = k/5 there):
+  // the high modes' roots bunch on the real axis near -k/c.
+  Params p = preset("reduced-scale", 40);
+  for (std::size_t i = 0; i < p.dampings.size(); ++i) {
+    p.dampings[i] = 10.0 * std::sqrt(p.stiffnesses[i] * std::min(p.inertias[i], p.inertias[i + 1]));
+  }
+  std::vector<complex> unused;
+  CHECK_FALSE(roots_of_impedance(p, 0.01, unused));
+  CHECK(unused.empty());
+  CHECK(structured_eigenvalues(p, 0.01) == eigenvalues(p, 0.01));
+}
