@@ -4,8 +4,8 @@ A batch is one Dask task: big enough to hide Dask's per-task cost (~1-5 ms of sc
 transfer), small enough that the progress bar moves, that an interruption or a lost worker
 costs little recomputation, and that at the end no worker waits long for the others. For
 cheap points (a dof-4 string: ~1.5 ms) a count does it: 16 ... 256 points. A string of
-hundreds of pipes takes a quarter of a second a point or more, and 256 of them would make a
-batch of minutes. So a batch stops after ``BATCH_SECONDS`` of work (``evaluate_batch``'s
+hundreds of inertias takes a tenth of a second a point or more, and 256 of them make a batch
+of minutes. So a batch stops after ``BATCH_SECONDS`` of work (``evaluate_batch``'s
 ``budget``) and hands back the points it did not reach, which are dealt again in batches
 sized by the time the points have taken so far.
 """
