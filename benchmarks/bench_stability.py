@@ -11,6 +11,10 @@ Goals (issue 3): all δ_k for 500 pipes in under 100 ms; the 1000 × 1000 map in
 Then the eigenvalues a sweep records at each steady state: the structured solver (the roots
 of Z_b(λ) = δ by Ehrlich–Aberth, O(n'²)) against the dense one (O(n'³)), at the same δ, with
 the largest difference between them.
+
+Last, the first Lyapunov coefficient at a Hopf crossing (its criticality): the core's banded
+solves, O(n'), against the same formula on dense LU factorisations (scipy, O(n'³)), as the
+core computed it before.
 """
 
 from __future__ import annotations
@@ -88,6 +92,60 @@ def eigenvalues_at_a_point() -> None:
         )
 
 
+def dense_lyapunov(p, delta: float, w: float) -> float:
+    """The first Lyapunov coefficient by dense LU: null vectors by three steps of inverse
+    iteration, then Kuznetsov's formula with the friction's B and C on the bit's velocity."""
+    from scipy.linalg import lu_factor, lu_solve
+
+    A = st.jacobian(p, delta).astype(complex)
+    n, iw = len(A), 1j * w
+    eye = np.eye(n)
+
+    def null_vector(M):
+        lu = lu_factor(M - 1e-10 * max(1.0, w) * eye)
+        v = np.ones(n, complex)
+        for _ in range(3):
+            v = lu_solve(lu, v)
+            v /= np.linalg.norm(v)
+        return v
+
+    q, adj = null_vector(A - iw * eye), null_vector(A.T + iw * eye)
+    adj /= np.conj(np.vdot(adj, q))
+    g = p.stribeck_decay / p.stribeck_velocity
+    beta, kappa = -delta * g / p.inertias[-1], delta * g**2 / p.inertias[-1]
+    e = np.zeros(n, complex)
+    e[-1] = 1.0
+    a1 = lu_solve(lu_factor(A), beta * q[-1] * np.conj(q[-1]) * e)
+    a2 = lu_solve(lu_factor(2 * iw * eye - A), beta * q[-1] ** 2 * e)
+    pb = np.conj(adj[-1])
+    s = pb * (kappa * q[-1] ** 2 * np.conj(q[-1]) - 2 * beta * q[-1] * a1[-1])
+    s += pb * beta * np.conj(q[-1]) * a2[-1]
+    return float(s.real / (2 * w))
+
+
+def lyapunov_at_a_crossing() -> None:
+    from pydrill import _core
+
+    print(
+        f"\n{'pipes':>6s} {'dof':>5s} {'dense LU (ms)':>14s} {'banded (ms)':>12s} {'ratio':>7s} "
+        f"{'relative difference':>20s}"
+    )
+    dense_lyapunov(pydrill.preset("reduced-scale", dof=4), 0.01, 1.0)  # scipy's import, untimed
+    for pipes in (50, 100, 200, 300, 500):
+        p = pydrill.preset("reduced-scale", pipes=pipes)
+        c = next(c for c in st.critical_deltas(p) if c.type == "hopf")
+        td, dense = best_of(lambda p=p, c=c: dense_lyapunov(p, c.delta, c.frequency), repeats=1)
+        core = p.to_core()
+        tb, banded = best_of(
+            lambda c=c, core=core: _core.first_lyapunov_coefficient(core, c.delta, c.frequency)
+        )
+        print(
+            f"{pipes:6d} {p.dof:5d} {1e3 * td:14.1f} {1e3 * tb:12.2f} {td / tb:6.0f}× "
+            f"{abs(banded - dense) / abs(dense):20.1e}"
+        )
+
+
 if __name__ == "__main__":
     main()
     eigenvalues_at_a_point()
+    lyapunov_at_a_crossing()

@@ -37,19 +37,15 @@ FIG11 = (
     ("c", 4, "wob", 8.1),
     ("d", 4, "torque", 60.0),
 )
-#: How many Hopf crossings (the first, by δ) get a first Lyapunov coefficient: every one up to
-#: 100 pipes in the table of crossings; on the branches (which meet each crossing once or twice)
-#: the first few beyond 10 pipes. The core's coefficient is a dense O(dof³) computation — 40 ms
-#: at 100 pipes, 4 s at 500 — and the first crossings are the ones on the stability boundary.
+#: Dense eigenvalues check every Hopf crossing up to 100 pipes; beyond, the first two only,
+#: as they cost O(n'³) a crossing (1 s a call at 500 pipes, and 339 crossings). Everything
+#: else is done for every crossing: locating it on the branches and its first Lyapunov
+#: coefficient (the core's banded solves take about a millisecond at 500 pipes).
 
 
-def lyapunov_limits(dof: int) -> tuple[int | None, int | None]:
-    """(table, branch) limits for a string of ``dof`` inertias; None means all."""
-    if dof <= 13:
-        return None, None
-    if dof <= 103:
-        return None, 5
-    return 3, 3
+def eigenvalue_check_limit(dof: int) -> int | None:
+    """How many crossings of a string of ``dof`` inertias the dense eigenvalues check; None: all."""
+    return None if dof <= 103 else 2
 
 
 def _crossing(c: Crossing) -> dict[str, Any]:
@@ -101,35 +97,15 @@ def fig10(name: str) -> dict[str, Any]:
 
 
 def fig11_branch(
-    params: Params, vary: str, fixed: float, crossings: list[Crossing], lyapunov: int | None = None
+    params: Params, vary: str, fixed: float, crossings: list[Crossing]
 ) -> dict[str, Any]:
-    """One bifurcation diagram: the branch of steady states with its HB and LP points. With
-    ``lyapunov`` set, HB points (with criticality) only for the first that many Hopf crossings
-    by δ; the other crossings are placed on the branch by interpolation (``other_hopf``)."""
-    subset = crossings
-    hopf = [c for c in crossings if c.type == "hopf"]
-    if lyapunov is not None and len(hopf) > lyapunov:
-        keep = hopf[:lyapunov] + [c for c in crossings if c.type == "fold"]
-        subset = sorted(keep, key=lambda c: c.delta)
+    """One bifurcation diagram: the branch of steady states with its HB and LP points."""
     kw = {"torque": fixed} if vary == "wob" else {"wob": fixed}
-    b = branch(params, vary=vary, crossings=subset, samples=1500, **kw)
+    b = branch(params, vary=vary, crossings=crossings, samples=1500, **kw)
     delta = stribeck_slope(params, b.wob, b.omega)
     unstable = unstable_count(crossings, delta)
     x = b.wob if vary == "wob" else b.torque
     points = [pt.to_dict() for pt in b.points]
-    # Crossings left out of the subset: where the branch meets them (for the figure).
-    other = []
-    for c in crossings:
-        if c.type == "hopf" and c not in subset:
-            f = delta - c.delta
-            for i in np.nonzero(np.sign(f[1:]) != np.sign(f[:-1]))[0]:
-                s = f[i] / (f[i] - f[i + 1])
-                other.append(
-                    [
-                        float(x[i] + s * (x[i + 1] - x[i])),
-                        float(b.omega[i] + s * (b.omega[i + 1] - b.omega[i])),
-                    ]
-                )
     hb = [pt for pt in points if pt["type"] == "HB"]
     lp = [pt for pt in points if pt["type"] == "LP"]
     first = [pt for pt in hb if pt["delta"] == crossings[0].delta and crossings[0].type == "hopf"]
@@ -138,8 +114,7 @@ def fig11_branch(
         "vary": vary,
         "fixed": fixed,
         "points": points,
-        "hopf_points": len(hb) + len(other),
-        "other_hopf": other,
+        "hopf_points": len(hb),
         "first_hopf": max(first, key=lambda pt: pt["omega"]) if first else None,
         "fold": lp[0] if lp else None,
         "branch": {"omega": b.omega.tolist(), "x": x.tolist(), "unstable": unstable.tolist()},
@@ -156,7 +131,6 @@ def fig11(panel: str) -> dict[str, Any]:
 def hopf_curves(
     params: Params,
     crossings: list[Crossing],
-    lyapunov: int | None = None,
     torques: tuple[float, ...] = (4.0, 6.0, 8.1, 10.0, 12.0),
 ) -> dict[str, Any]:
     """Fig. 12: the (W_ob, u) at which a Hopf point can appear — one curve δ(Ω, W_ob) = δ_k per
@@ -165,10 +139,8 @@ def hopf_curves(
     core = params.to_core()
     hopf = [c for c in crossings if c.type == "hopf"]
     curves = []
-    for k, c in enumerate(hopf):
-        l1 = None
-        if lyapunov is None or k < lyapunov:
-            l1 = _core.first_lyapunov_coefficient(core, c.delta, c.frequency)
+    for c in hopf:
+        l1 = _core.first_lyapunov_coefficient(core, c.delta, c.frequency)
         curves.append({**_crossing(c), "lyapunov": l1})
     first = next((c for c in hopf if c.direction > 0), None)
     at_torque = {}
@@ -270,14 +242,13 @@ def long_string(pipes: int) -> dict[str, Any]:
     multiple Hopf crossings checked by eigenvalues, and their criticality."""
     p = preset("reduced-scale", pipes=pipes)
     crossings = critical_deltas(p)
-    table, on_branch = lyapunov_limits(p.dof)
     return {
         "pipes": pipes,
         "summary": string_summary(p, crossings),
-        "verify": verify_crossings(p, crossings, limit=2 if table else None),
-        "fig11c": fig11_branch(p, "wob", 8.1, crossings, lyapunov=on_branch),
-        "fig11d": fig11_branch(p, "torque", 60.0, crossings, lyapunov=on_branch),
-        "fig12": hopf_curves(p, crossings, lyapunov=table),
+        "verify": verify_crossings(p, crossings, limit=eigenvalue_check_limit(p.dof)),
+        "fig11c": fig11_branch(p, "wob", 8.1, crossings),
+        "fig11d": fig11_branch(p, "torque", 60.0, crossings),
+        "fig12": hopf_curves(p, crossings),
     }
 
 

@@ -184,17 +184,6 @@ def _draw_branch(ax, b: dict[str, Any], labels: bool) -> None:
                 fontsize=7,
                 color=color,
             )
-    if b["other_hopf"]:
-        ox, oy = np.array(b["other_hopf"]).T
-        ax.plot(
-            ox,
-            oy,
-            "s",
-            color="0.5",
-            ms=3,
-            zorder=5,
-            label=f"{len(ox)} further Hopf points (criticality not computed)",
-        )
     if b["fold"]:
         ax.plot(b["fold"][key], b["fold"]["omega"], "D", color="black", ms=6, zorder=6)
         if labels:

@@ -89,17 +89,9 @@ def multiple_hopf(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) ->
         )
         pos, neg = np.isfinite(l1) & (l1 > 0), np.isfinite(l1) & (l1 < 0)
         ax2.scatter(freq[pos], l1[pos], marker=markers[k], color=color, s=18, label=label)
-        if neg.any():
-            ax2.scatter(
-                freq[neg],
-                -l1[neg],
-                marker=markers[k],
-                facecolor="none",
-                edgecolor=SUPER,
-                s=60,
-                lw=1.5,
-                label=f"{label}: |l₁| of a supercritical crossing (l₁ < 0)",
-            )
+        ax2.scatter(
+            freq[neg], -l1[neg], marker=markers[k], facecolor="none", edgecolor=SUPER, s=60, lw=1.5
+        )
         n_sub += int(pos.sum())
         n_all += int(pos.sum() + neg.sum())
     ax.axvline(
@@ -113,7 +105,8 @@ def multiple_hopf(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) ->
     ax.set_xlabel("critical Stribeck slope $\\delta_k$ (N·m·s/rad)")
     ax.set_ylabel("Hopf frequency $\\omega_k$ (rad/s)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=9, loc="upper right")
+    # Below the axes: every corner of either panel holds crossings of some string.
+    ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3)
     ax.set_title(
         "(a) every Hopf crossing (filled: destabilising as δ grows, open: restabilising)",
         fontsize=10,
@@ -122,7 +115,17 @@ def multiple_hopf(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) ->
     ax2.set_xlabel("Hopf frequency $\\omega_k$ (rad/s)")
     ax2.set_ylabel("first Lyapunov coefficient |$l_1$| (filled: $l_1$ > 0, subcritical)")
     ax2.grid(alpha=0.3, which="both")
-    ax2.legend(fontsize=9)
+    ax2.scatter(
+        [],
+        [],
+        marker="o",
+        facecolor="none",
+        edgecolor=SUPER,
+        s=60,
+        lw=1.5,
+        label="open, in green: |l₁| of a supercritical crossing (l₁ < 0), same shapes",
+    )
+    ax2.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
     ax2.set_title(
         f"(b) criticality: {n_sub} of {n_all} computed Hopf crossings are subcritical", fontsize=10
     )

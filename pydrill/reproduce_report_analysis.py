@@ -124,8 +124,8 @@ def _branch_rows(b: dict[str, Any]) -> list[str]:
             f"| HB{i} | {g(p['wob'], 6)} | {g(p['torque'], 6)} | {g(p['omega'], 5)} | "
             f"{g(p['frequency'])} | {g(p['lyapunov'], 3)} | {p['criticality'] or '–'} |"
         )
-    if len(hb) > 6 or b["other_hopf"]:
-        rows.append(f"| … | {len(hb) + len(b['other_hopf']) - min(6, len(hb))} more HB | | | | | |")
+    if len(hb) > 6:
+        rows.append(f"| … | {len(hb) - 6} more HB | | | | | |")
     if b["fold"]:
         f = b["fold"]
         rows.append(f"| LP | {g(f['wob'], 6)} | {g(f['torque'], 6)} | {g(f['omega'], 5)} | | | |")

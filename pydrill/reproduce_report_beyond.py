@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import itertools
 from typing import Any
 
 from .reproduce_report import g
@@ -139,7 +140,15 @@ def _criticality_text(entries: list[tuple[str, dict[str, Any]]]) -> str:
         )
     else:
         text += " No supercritical crossing was found."
-    return text + " l₁ shrinks with string length (the cubic friction term acts at the bit only)."
+    first = [(label, d["fig12"]["curves"][0]["lyapunov"]) for label, d in entries]
+    first = [(label, l1) for label, l1 in first if l1 is not None]
+    if len(first) > 1 and all(a[1] > b[1] for a, b in itertools.pairwise(first)):
+        text += (
+            " The first crossing's l₁ shrinks as the string grows ("
+            + ", ".join(f"{label}: {g(l1, 2)}" for label, l1 in first)
+            + "): the cubic friction term acts at the bit alone, whose share of the mode shrinks."
+        )
+    return text
 
 
 def _typos(n: dict[str, Any]) -> list[str]:

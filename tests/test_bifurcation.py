@@ -40,6 +40,38 @@ def test_lyapunov_coefficient_matches_the_amplitude_growth_of_a_simulation():
     assert growth == pytest.approx(hopf.frequency * l1, rel=0.05)
 
 
+@pytest.mark.parametrize("pipes", [30, 150])
+def test_lyapunov_coefficient_of_long_strings_matches_dense_linear_algebra(pipes):
+    """The core solves banded systems in O(n'); here the same normal-form formula (Kuznetsov,
+    Eq. 3.20) on numpy's dense eigenvectors and solves, for the first and the last crossing."""
+    p = pydrill.preset("reduced-scale", pipes=pipes)
+    hopf = [c for c in st.critical_deltas(p) if c.type == "hopf"]
+    g = p.stribeck_decay / p.stribeck_velocity
+    for c in (hopf[0], hopf[-1]):
+        A = st.jacobian(p, c.delta)
+        iw = 1j * c.frequency
+        ev, V = np.linalg.eig(A)
+        q = V[:, np.argmin(np.abs(ev - iw))]
+        evt, W = np.linalg.eig(A.T)
+        adj = W[:, np.argmin(np.abs(evt + iw))]
+        adj /= np.conj(np.vdot(adj, q))  # <p, q> = 1
+        beta, kappa = -c.delta * g / p.inertias[-1], c.delta * g**2 / p.inertias[-1]
+
+        def B(x, y, beta=beta):  # the friction acts on the bit's velocity, the last state
+            e = np.zeros(len(x), complex)
+            e[-1] = beta * x[-1] * y[-1]
+            return e
+
+        cqqq = np.zeros(len(q), complex)
+        cqqq[-1] = kappa * q[-1] ** 2 * np.conj(q[-1])
+        a1 = np.linalg.solve(A, B(q, np.conj(q)))
+        a2 = np.linalg.solve(2 * iw * np.eye(len(q)) - A, B(q, q))
+        s = np.vdot(adj, cqqq) - 2 * np.vdot(adj, B(q, a1)) + np.vdot(adj, B(np.conj(q), a2))
+        dense = s.real / (2 * c.frequency)
+        banded = _core.first_lyapunov_coefficient(p.to_core(), c.delta, c.frequency)
+        assert banded == pytest.approx(dense, rel=1e-8), (pipes, c.frequency)
+
+
 def test_branch_special_points_are_exact():
     p = pydrill.preset("reduced-scale", dof=2)
     b = branch(p, vary="wob", torque=8.1)

@@ -24,7 +24,7 @@ pydrill bifurcation --dof 2 --vary wob --torque 8.1 --plot out/bifurcation.png >
 pydrill simulate --preset reduced-scale --dof 4 --wob 100 --torque 8.3 --t-end 300 \
   --json --plot out/stick-slip.png > out/stick-slip.json
 pydrill simulate --preset reduced-scale --dof 4 --wob 100 --torque 8.3 --t-end 300
-# The paper's Sections 3-4 recomputed with a report (about 4 min from scratch, seconds when
+# The paper's Sections 3-4 recomputed with a report (about 75 s from scratch, seconds when
 # out/paper/ already holds its atlases and analyses).
 pydrill reproduce --out out/paper --no-progress
 echo "wrote out/: paper-atlas.h5, regimes-rest.png, regimes-equilibrium.png, severity-rest.png,"
