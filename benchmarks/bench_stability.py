@@ -5,7 +5,8 @@
 
 Prints, measured in the same run: the time for every critical δ_k of strings of 10 … 500 pipes;
 a 1000 × 1000 (Ω, W_ob) stability map from them; and the time per point of the brute-force
-alternative (dense eigenvalues of the Jacobian at each point), with the ratio.
+alternative (dense eigenvalues of the Jacobian at each point, by LAPACK through numpy), with
+the ratio. Run with OPENBLAS_NUM_THREADS=1 for one core's numbers.
 Goals (issue 3): all δ_k for 500 pipes in under 100 ms; the 1000 × 1000 map in under 1 s.
 
 Then the eigenvalues a sweep records at each steady state: the structured solver (the roots

@@ -158,6 +158,19 @@ def test_crossings_handed_in_give_the_points_computed_without_them():
     assert differs > 10
 
 
+@pytest.mark.parametrize("dof", [2, 4, 23, 80])
+def test_the_cores_dense_eigenvalues_are_lapacks(dof):
+    """The core's dense solver (Eigen's, which short strings and overdamped ones get in every
+    sweep) against LAPACK's (numpy's, behind ``stability.eigenvalues``), in the same order."""
+    from pydrill import _core
+
+    p = pydrill.preset("reduced-scale", dof=dof)
+    for delta in (1e-4, st.critical_deltas(p)[0].delta, 0.05, 2.0):
+        core = np.array(_core.eigenvalues(p.to_core(), delta))
+        lapack = st.eigenvalues(p, delta)
+        assert np.abs(core - lapack).max() < 1e-12 * np.abs(lapack).max(), (dof, delta)
+
+
 def test_long_strings_get_the_dense_solvers_eigenvalues_faster():
     """From 24 inertias on, a steady state's eigenvalues are the roots of Z_b = δ (O(n'²))
     rather than the dense Jacobian's (O(n'³)); they must be the same numbers."""
