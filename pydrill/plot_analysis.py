@@ -118,36 +118,79 @@ def eigenvalue_figure(params, points) -> Figure:
 
 def bifurcation_figure(params, branch) -> Figure:
     """The paper's Fig. 11: steady velocity against the varied parameter, stable solid,
-    unstable dashed, Hopf (HB) and fold (LP) points marked with their criticality."""
+    unstable dashed, Hopf (HB) and fold (LP) points marked with their criticality. Long
+    strings have hundreds of Hopf points: then only the first (highest Ω, where the stable
+    branch ends) is labelled. Where the special points crowd into a small part of the range,
+    an inset zooms in on them."""
     import numpy as np
 
     fig, ax = plt.subplots(figsize=(9, 5.8), layout="constrained")
     x = branch.wob if branch.vary == "wob" else branch.torque
-    stable = branch.unstable == 0
-    for mask, style, label in (
-        (stable, "-", "stable steady state"),
-        (~stable, "--", "unstable steady state"),
-    ):
-        y = np.where(mask, branch.omega, np.nan)
-        ax.plot(x, y, style, color="#1f618d" if style == "-" else "#922b21", lw=2, label=label)
-    for pt in branch.points:
-        px = pt.wob if branch.vary == "wob" else pt.torque
-        if pt.type == "HB":
+    hb = sorted((pt for pt in branch.points if pt.type == "HB"), key=lambda pt: -pt.omega)
+    few = len(hb) <= 4
+
+    def draw(ax, labels: bool, short: bool = False) -> None:
+        stable = branch.unstable == 0
+        for mask, style, label in (
+            (stable, "-", "stable steady state"),
+            (~stable, "--", "unstable steady state"),
+        ):
+            y = np.where(mask, branch.omega, np.nan)
+            color = "#1f618d" if style == "-" else "#922b21"
+            ax.plot(x, y, style, color=color, lw=2, label=label)
+        for i, pt in enumerate(hb):
+            px = pt.wob if branch.vary == "wob" else pt.torque
             color = "#27ae60" if pt.criticality == "supercritical" else "#c0392b"
-            ax.plot(px, pt.omega, "s", color=color, ms=8, zorder=5)
-            ax.annotate(
-                f"HB ({pt.criticality[:3]}), {pt.frequency:.3g} rad/s",
-                (px, pt.omega),
-                textcoords="offset points",
-                xytext=(8, 6),
-                fontsize=8,
-                color=color,
-            )
-        else:
-            ax.plot(px, pt.omega, "D", color="black", ms=7, zorder=5)
-            ax.annotate(
-                "LP", (px, pt.omega), textcoords="offset points", xytext=(8, -12), fontsize=8
-            )
+            ax.plot(px, pt.omega, "s", color=color, ms=8 if few else 5, zorder=5)
+            if labels and (few or i == 0):
+                ax.annotate(
+                    f"HB{i + 1}"
+                    if short
+                    else f"HB{i + 1} ({pt.criticality[:3]}), {pt.frequency:.3g} rad/s",
+                    (px, pt.omega),
+                    textcoords="offset points",
+                    # Varying the torque, the stable branch leaves HB1 to the upper right;
+                    # close points get their labels one under the other.
+                    xytext=(8, 6 - 11 * (i % 3))
+                    if branch.vary == "wob"
+                    else (-8, 8 - 11 * (i % 3)),
+                    ha="left" if branch.vary == "wob" else "right",
+                    fontsize=8,
+                    color=color,
+                )
+        for pt in branch.points:
+            if pt.type == "LP":
+                px = pt.wob if branch.vary == "wob" else pt.torque
+                ax.plot(px, pt.omega, "D", color="black", ms=7, zorder=5)
+                if labels:
+                    # Beside the fold, away from the branch's two arms.
+                    ax.annotate(
+                        "LP",
+                        (px, pt.omega),
+                        textcoords="offset points",
+                        xytext=(8, -12) if branch.vary == "wob" else (-10, -3),
+                        ha="left" if branch.vary == "wob" else "right",
+                        fontsize=8,
+                    )
+
+    xs = np.array([pt.wob if branch.vary == "wob" else pt.torque for pt in branch.points])
+    zoom = len(xs) > 1 and np.ptp(xs) < 0.15 * np.ptp(x)
+    draw(ax, labels=not zoom)
+    if zoom:
+        # The special points sit within a few per cent of the range: zoom in on them.
+        pad = max(0.15 * np.ptp(xs), 0.01 * xs.max())
+        top = max(pt.omega for pt in branch.points)
+        ins = ax.inset_axes(
+            [0.5, 0.4, 0.47, 0.42] if branch.vary == "wob" else [0.5, 0.08, 0.47, 0.42]
+        )
+        draw(ins, labels=True, short=True)
+        ins.set_xlim(xs.min() - pad, xs.max() + 2 * pad)
+        ins.set_ylim(0, top * 1.25 + 0.3)
+        ins.tick_params(labelsize=7)
+        ins.grid(alpha=0.3)
+        first = f"; HB1 at {hb[0].frequency:.3g} rad/s, {hb[0].criticality}" if hb else ""
+        ins.set_title(f"{len(hb)} Hopf points{first}", fontsize=8)
+        ax.indicate_inset_zoom(ins, edgecolor="0.4")
     if branch.vary == "wob":
         ax.set_xlabel("weight on bit $W_{ob}$ (N)")
         fixed = f"$u$ = {branch.fixed:g} N·m"
@@ -157,10 +200,11 @@ def bifurcation_figure(params, branch) -> Figure:
     ax.set_ylabel("steady bit velocity $\\Omega$ (rad/s)")
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
-    ax.plot([], [], "s", color="#c0392b", label="Hopf point, subcritical")
-    ax.plot([], [], "s", color="#27ae60", label="Hopf point, supercritical")
+    sub = sum(pt.criticality == "subcritical" for pt in hb)
+    ax.plot([], [], "s", color="#c0392b", label=f"Hopf point, subcritical ({sub})")
+    ax.plot([], [], "s", color="#27ae60", label=f"Hopf point, supercritical ({len(hb) - sub})")
     ax.plot([], [], "D", color="black", label="limit point (fold)")
-    ax.legend(fontsize=9, loc="best")
+    ax.legend(fontsize=9, loc="upper left" if zoom else "best")
     ax.set_title(f"{params.name}, dof {params.dof}, {fixed}", fontsize=10)
     return fig
 

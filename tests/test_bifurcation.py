@@ -175,6 +175,39 @@ def test_bifurcation_command_json(tmp_path):
     assert bad.returncode == 2 and "--torque" in bad.stderr and "Traceback" not in bad.stderr
 
 
+def test_a_long_strings_diagram_zooms_in_on_its_hopf_points():
+    """100 pipes: 101 Hopf points within 1 N·m of torque. The figure draws every one (in an
+    inset over their range), counts them by criticality in the legend, and labels only HB1."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from pydrill.plot_analysis import bifurcation_figure
+
+    p = pydrill.preset("reduced-scale", pipes=100)
+    b = branch(p, vary="torque", wob=60.0)
+    hb = [pt for pt in b.points if pt.type == "HB"]
+    sub = sum(pt.criticality == "subcritical" for pt in hb)
+    assert len(hb) == 101 and 0 < sub < 101
+    fig = bifurcation_figure(p, b)
+    (main,) = fig.axes
+    (inset,) = main.child_axes
+    legend = [t.get_text() for t in main.get_legend().get_texts()]
+    assert f"Hopf point, subcritical ({sub})" in legend
+    assert f"Hopf point, supercritical ({101 - sub})" in legend
+    squares = [ln for ln in inset.get_lines() if ln.get_marker() == "s" and len(ln.get_xdata())]
+    assert len(squares) == 101
+    lo, hi = inset.get_xlim()
+    assert all(lo < pt.torque < hi for pt in hb)
+    assert [t.get_text() for t in inset.texts if t.get_text().startswith("HB")] == ["HB1"]
+    assert not [t for t in main.texts if t.get_text().startswith("HB")]  # all in the inset
+    assert inset.get_title().startswith("101 Hopf points; HB1 at ")
+    # A short string's few points: each labelled.
+    dof2 = pydrill.preset("reduced-scale", dof=2)
+    fig = bifurcation_figure(dof2, branch(dof2, vary="wob", torque=8.1))
+    labels = sorted(t.get_text() for ax in fig.axes[0].child_axes for t in ax.texts)
+    assert labels == ["HB1", "HB2", "LP"]
+
+
 def test_first_hopf_point_is_subcritical_across_the_parameter_space():
     """Why no supercritical test: with this friction law the first destabilising Hopf point is
     subcritical for every string we tried — here a grid over bit and string damping, top
