@@ -17,11 +17,14 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         help="critical Stribeck slopes: where steady drilling loses stability",
         description="Every value of the Stribeck slope delta at which eigenvalues of the steady "
         "state reach the imaginary axis (Hopf: an oscillation is born; fold: lambda = 0), for any "
-        "string length. Each gives the closed-form boundary "
+        "string length, with each Hopf crossing's criticality. Each gives the closed-form boundary "
         "W_ob(Omega) = delta * exp(gamma_b Omega / v_f) / (R_b gamma_b/v_f (mu_s - mu_c)).",
         epilog="examples:\n  pydrill hopf --dof 4\n  pydrill hopf --pipes 100 --json\n"
         "  pydrill hopf --preset real-string --plot hopf.png\n\n"
-        "units: delta N*m*s/rad, frequency rad/s.",
+        "criticality (the first Lyapunov coefficient l1 of each Hopf crossing): subcritical "
+        "(l1 > 0): past it the bit jumps to stick-slip, and before it the two coexist; "
+        "supercritical (l1 < 0): a small stable oscillation is born.\n"
+        "units: delta N*m*s/rad, frequency rad/s, lyapunov 1/s per amplitude^2.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _string_options(hopf, PRESETS)
@@ -146,6 +149,10 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     omap.set_defaults(handler=_cmd_map)
 
 
+def _criticality(l1: float | None) -> str | None:
+    return None if l1 is None else ("subcritical" if l1 > 0 else "supercritical")
+
+
 def _cmd_hopf(args: argparse.Namespace) -> int:
     from . import preset
     from .stability import critical_deltas
@@ -167,10 +174,12 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
                     "delta": c.delta,
                     "frequency": c.frequency,
                     "direction": c.direction,
+                    "lyapunov": (l1 := c.lyapunov(params)),
+                    "criticality": _criticality(l1),
                 }
                 for c in crossings
             ],
-            "units": {"delta": "N·m·s/rad", "frequency": "rad/s"},
+            "units": {"delta": "N·m·s/rad", "frequency": "rad/s", "lyapunov": "1/s per amplitude²"},
         }
         if args.plot:
             data["plot"] = args.plot
@@ -181,12 +190,18 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
         f"{params.name}, dof {params.dof}: {len(hopf)} Hopf crossings, "
         f"{len(crossings) - len(hopf)} fold"
     )
-    print(f"{'type':6s} {'delta (N m s/rad)':>18s} {'frequency (rad/s)':>18s}  direction")
+    print(
+        f"{'type':6s} {'delta (N m s/rad)':>18s} {'frequency (rad/s)':>18s}  {'direction':13s}"
+        f" {'lyapunov':>10s}  criticality"
+    )
     for c in crossings[:40]:
         freq = f"{c.frequency:18.6g}" if c.frequency is not None else f"{'-':>18s}"
+        l1 = c.lyapunov(params)
+        l1_text = f"{l1:10.4g}" if l1 is not None else f"{'-':>10s}"
         print(
             f"{c.type:6s} {c.delta:18.10g} {freq}  "
-            f"{'destabilising' if c.direction > 0 else 'stabilising'}"
+            f"{'destabilising' if c.direction > 0 else 'stabilising':13s} "
+            f"{l1_text}  {_criticality(l1) or '-'}"
         )
     if len(crossings) > 40:
         print(f"... {len(crossings) - 40} more (use --json for all)")

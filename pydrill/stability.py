@@ -32,6 +32,15 @@ class Crossing:
         """The boundary W_ob(Ω) on which this crossing happens (N)."""
         return boundary_wob(params, self.delta, omega)
 
+    def lyapunov(self, params: Params) -> float | None:
+        """The first Lyapunov coefficient l₁ of this Hopf crossing (None for a fold), from the
+        normal form on the reduced Jacobian (banded solves, O(dof)): l₁ > 0 subcritical (past
+        it the bit jumps to stick-slip; before it the two coexist), l₁ < 0 supercritical (a
+        small stable oscillation is born)."""
+        if self.type != "hopf" or self.frequency is None:
+            return None
+        return _core.first_lyapunov_coefficient(params.to_core(), self.delta, self.frequency)
+
 
 @dataclass(frozen=True)
 class StabilityPoint:

@@ -205,8 +205,15 @@ def test_hopf_and_stability_commands(tmp_path):
     deltas = [c["delta"] for c in data["crossings"]]
     assert deltas == sorted(deltas)
     assert {c["type"] for c in data["crossings"]} == {"hopf", "fold"}
-    for c in data["crossings"]:
+    p4 = pydrill.preset("reduced-scale", dof=4)
+    for c, crossing in zip(data["crossings"], st.critical_deltas(p4), strict=True):
         assert (c["frequency"] is None) == (c["type"] == "fold")
+        # Criticality: l1 of the Hopf crossings (the test of bifurcation checks it against a
+        # simulation's amplitude growth), its sign named; none for the fold.
+        assert c["lyapunov"] == crossing.lyapunov(p4)
+        assert (c["lyapunov"] is None) == (c["type"] == "fold")
+        if c["lyapunov"] is not None:
+            assert c["criticality"] == ("subcritical" if c["lyapunov"] > 0 else "supercritical")
     assert png.stat().st_size > 20_000
     out = subprocess.run(
         [*run, "stability", "--dof", "4", "--wob", "40", "--torque", "8.3", "--json"],
