@@ -69,7 +69,7 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
             color="#7b241c",
             lw=2.2,
             label=f"first Hopf: $\\delta_1$ = {first.delta:.4g} N·m·s/rad, "
-            f"{(first.frequency or 0):.3g} rad/s",
+            f"{(first.frequency or 0):.3g} rad/s{_criticality_note(params, first)}",
         ),
         Line2D([], [], color="#922b21", lw=0.8, label="further Hopf crossings"),
         Line2D([], [], color="#1f618d", ls="--", label="fold ($\\delta = c_r + c_b$)"),
@@ -114,6 +114,14 @@ def eigenvalue_figure(params, points) -> Figure:
             f"{params.name}, dof {params.dof}, $W_{{ob}}$ = {points[0].wob:g} N", fontsize=10
         )
     return fig
+
+
+def _criticality_note(params, crossing) -> str:
+    """ ", subcritical ($l_1$ = …)" for a Hopf crossing: what happens past the boundary."""
+    l1 = crossing.lyapunov(params)
+    if l1 is None:
+        return ""
+    return f", {'subcritical' if l1 > 0 else 'supercritical'} ($l_1$ = {l1:.2g})"
 
 
 def bifurcation_figure(params, branch) -> Figure:
