@@ -17,7 +17,7 @@ from scipy.optimize import brentq
 
 from . import _core
 from .model import Params
-from .stability import Crossing, critical_deltas, stribeck_slope, unstable_count
+from .stability import Crossing, critical_deltas, criticality, stribeck_slope, unstable_count
 
 
 @dataclass(frozen=True)
@@ -160,7 +160,7 @@ def branch(
                     cr.delta,
                     cr.frequency,
                     l1,
-                    "supercritical" if l1 < 0 else "subcritical",
+                    criticality(l1),
                     cr.direction,
                 )
             )

@@ -149,13 +149,9 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     omap.set_defaults(handler=_cmd_map)
 
 
-def _criticality(l1: float | None) -> str | None:
-    return None if l1 is None else ("subcritical" if l1 > 0 else "supercritical")
-
-
 def _cmd_hopf(args: argparse.Namespace) -> int:
     from . import preset
-    from .stability import critical_deltas
+    from .stability import critical_deltas, criticality
 
     params = preset(args.preset, dof=args.dof, pipes=args.pipes)
     crossings = critical_deltas(params)
@@ -175,7 +171,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
                     "frequency": c.frequency,
                     "direction": c.direction,
                     "lyapunov": (l1 := c.lyapunov(params)),
-                    "criticality": _criticality(l1),
+                    "criticality": criticality(l1),
                 }
                 for c in crossings
             ],
@@ -201,7 +197,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
         print(
             f"{c.type:6s} {c.delta:18.10g} {freq}  "
             f"{'destabilising' if c.direction > 0 else 'stabilising':13s} "
-            f"{l1_text}  {_criticality(l1) or '-'}"
+            f"{l1_text}  {criticality(l1) or '-'}"
         )
     if len(crossings) > 40:
         print(f"... {len(crossings) - 40} more (use --json for all)")

@@ -118,10 +118,10 @@ def eigenvalue_figure(params, points) -> Figure:
 
 def _criticality_note(params, crossing) -> str:
     """ ", subcritical ($l_1$ = …)" for a Hopf crossing: what happens past the boundary."""
+    from .stability import criticality
+
     l1 = crossing.lyapunov(params)
-    if l1 is None:
-        return ""
-    return f", {'subcritical' if l1 > 0 else 'supercritical'} ($l_1$ = {l1:.2g})"
+    return "" if l1 is None else f", {criticality(l1)} ($l_1$ = {l1:.2g})"
 
 
 def bifurcation_figure(params, branch) -> Figure:

@@ -18,6 +18,15 @@ from . import _core
 from .model import Params
 
 
+def criticality(l1: float | None) -> str | None:
+    """A Hopf point's criticality from its first Lyapunov coefficient: "subcritical" (l₁ > 0:
+    past it the motion jumps to a large oscillation or stick-slip, with hysteresis) or
+    "supercritical" (l₁ < 0: a small stable oscillation is born); None without one."""
+    if l1 is None:
+        return None
+    return "supercritical" if l1 < 0 else "subcritical"
+
+
 @dataclass(frozen=True)
 class Crossing:
     """A value of δ at which eigenvalues of the steady state reach the imaginary axis."""
@@ -31,6 +40,10 @@ class Crossing:
     def wob(self, params: Params, omega: ArrayLike) -> NDArray[np.float64]:
         """The boundary W_ob(Ω) on which this crossing happens (N)."""
         return boundary_wob(params, self.delta, omega)
+
+    def criticality(self, params: Params) -> str | None:
+        """ "subcritical" or "supercritical" (the sign of :meth:`lyapunov`); None for a fold."""
+        return criticality(self.lyapunov(params))
 
     def lyapunov(self, params: Params) -> float | None:
         """The first Lyapunov coefficient l₁ of this Hopf crossing (None for a fold), from the
