@@ -11,6 +11,8 @@
     is serial. Two more runs put the number in context:
       - warm: the same sweep through ``--scheduler`` on a cluster that is already running, i.e.
         without Dask's start and stop;
+      - fixed cost: a 2-point sweep on a cluster of its own (start, files, first dispatch,
+        stop), and the speed-up the ceiling would keep after paying it;
       - ceiling: two already-running plain processes (a multiprocessing pool) computing the
         sweep's batches, with no scheduler, no transfer of results and no writing. It is about
         the most any parallel run can get out of this machine's two cores at that moment; the
@@ -58,6 +60,8 @@ SPEC = (
     .replace("num = 37", "num = 50")
     .replace("num = 29", "num = 40")
 )
+
+TINY = SPEC.replace("num = 50", "num = 2").replace("num = 40", "num = 1")
 
 BIG = """
 [model]
@@ -130,16 +134,19 @@ def main() -> None:
         # serial loops and compared with their mean: S (D W C) S (D W C) ... S.
         serial_cpu, pool_cpu = [], []
         serial = [serial_loop(spec, serial_cpu)]
-        reports, ratios, warm_ratios, ceilings = [], [], [], []
+        reports, ratios, warm_ratios, ceilings, fixed, bounds = [], [], [], [], [], []
+        tiny = parse_spec(TINY)
         for k in range(ROUNDS):
             reports.append(run_sweep(spec, tmp / f"dask{k}.h5", workers=2))
             w = run_sweep(spec, tmp / f"warm{k}.h5", scheduler=warm.scheduler_address)
             c = ceiling_run(pool, spec, pool_cpu)
+            fixed.append(run_sweep(tiny, tmp / f"tiny{k}.h5", workers=2).wall_time)
             serial.append(serial_loop(spec, serial_cpu))
             s = 0.5 * (serial[k] + serial[k + 1])
             ratios.append(s / reports[k].wall_time)
             warm_ratios.append(s / w.wall_time)
             ceilings.append(s / c)
+            bounds.append(s / (c + fixed[k]))
         pool.close()
         warm.close()
         print(
@@ -165,6 +172,11 @@ def main() -> None:
             f"    ceiling, the same batches on a running 2-process pool: median "
             f"{float(np.median(ceilings)):.2f}x; Dask reaches "
             f"{100 * float(np.median(np.array(ratios) / np.array(ceilings))):.0f} % of it"
+        )
+        print(
+            f"    fixed cost of a sweep on a cluster of its own ({tiny.size}-point sweep): median "
+            f"{float(np.median(fixed)):.2f} s; the ceiling after paying it: median "
+            f"{float(np.median(bounds)):.2f}x"
         )
         print(
             "    CPU time of the same points in two processes side by side, against one alone: "
