@@ -11,7 +11,8 @@ Goals (issue 3): all δ_k for 500 pipes in under 100 ms; the 1000 × 1000 map in
 
 Then the eigenvalues a sweep records at each steady state: the structured solver (the roots
 of Z_b(λ) = δ by Ehrlich–Aberth, O(n'²)) against the dense one (O(n'³)), at the same δ, with
-the largest difference between them.
+the largest difference between them: on the reduced-scale preset (lightly damped) and on a
+real string from a tally (c = β k: most modes overdamped, their roots bunched near −1/β).
 
 Last, the first Lyapunov coefficient at a Hopf crossing (its criticality): the core's banded
 solves, O(n'), against the same formula on dense LU factorisations (scipy, O(n'³)), as the
@@ -64,16 +65,28 @@ def main() -> None:
 
 
 def eigenvalues_at_a_point() -> None:
+    from pathlib import Path
+
     from pydrill import _core
 
+    tally = pydrill.load_tally(
+        Path(__file__).resolve().parents[1] / "examples/tallies/paper-eq53.toml"
+    )
+    # around the first Hopf crossing and far past it; a real string's δ at W_ob 20 ... 200 kN
+    small = [0.001, 0.0107, 0.05, 0.5]
+    strings = [
+        (f"{n} pipes", pydrill.preset("reduced-scale", pipes=n), small) for n in (50, 100, 200, 300)
+    ]
+    strings += [
+        (f"tally {d:.0f} m", tally.at_depth(d).to_params(), [1.0, 100.0, 1e4])
+        for d in (1000.0, 3000.0)
+    ]
     print(
-        f"\n{'pipes':>6s} {'dof':>5s} {'dense (ms)':>11s} {'structured (ms)':>16s} "
+        f"\n{'string':>14s} {'dof':>5s} {'dense (ms)':>11s} {'structured (ms)':>16s} "
         f"{'ratio':>7s} {'max |diff| / max |λ|':>21s}"
     )
-    for pipes in (50, 100, 200, 300):
-        p = pydrill.preset("reduced-scale", pipes=pipes)
+    for label, p, deltas in strings:
         core = p.to_core()
-        deltas = [0.001, 0.0107, 0.05, 0.5]  # around the first Hopf crossing, and far past it
         t_dense = t_fast = 0.0
         worst = 0.0
         for d in deltas:
@@ -82,13 +95,13 @@ def eigenvalues_at_a_point() -> None:
             t_dense += td
             t_fast += tf
             if fast is None:
-                print(f"{pipes:6d}: the structured solver declined at δ = {d}")
+                print(f"{label:>14s}: the structured solver declined at δ = {d}")
                 continue
             diff = np.abs(dense[:, None] - np.array(fast)[None, :]).min(axis=1).max()
             worst = max(worst, diff / np.abs(dense).max())
         n = len(deltas)
         print(
-            f"{pipes:6d} {p.dof:5d} {1e3 * t_dense / n:11.2f} {1e3 * t_fast / n:16.2f} "
+            f"{label:>14s} {p.dof:5d} {1e3 * t_dense / n:11.2f} {1e3 * t_fast / n:16.2f} "
             f"{t_dense / t_fast:6.1f}× {worst:21.1e}"
         )
 

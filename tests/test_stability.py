@@ -3,12 +3,15 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import pydrill
 from pydrill import stability as st
+
+PAPER_TALLY = Path(__file__).resolve().parents[1] / "examples" / "tallies" / "paper-eq53.toml"
 
 
 def test_general_method_equals_the_papers_closed_form():
@@ -160,8 +163,9 @@ def test_crossings_handed_in_give_the_points_computed_without_them():
 
 @pytest.mark.parametrize("dof", [2, 4, 23, 80])
 def test_the_cores_dense_eigenvalues_are_lapacks(dof):
-    """The core's dense solver (Eigen's, which short strings and overdamped ones get in every
-    sweep) against LAPACK's (numpy's, behind ``stability.eigenvalues``), in the same order."""
+    """The core's dense solver (Eigen's, which short strings get in every sweep, and long ones
+    where the structured solver declines) against LAPACK's (numpy's, behind
+    ``stability.eigenvalues``), in the same order."""
     from pydrill import _core
 
     p = pydrill.preset("reduced-scale", dof=dof)
@@ -190,6 +194,29 @@ def test_long_strings_get_the_dense_solvers_eigenvalues_faster():
             assert point.unstable == st.unstable_count(crossings, point.delta)
             checked += 1
     assert checked >= 3
+
+
+@pytest.mark.parametrize("depth", [1000.0, 3000.0])
+def test_a_real_strings_eigenvalues_come_from_the_structured_solver(depth):
+    """A tally's string (c = beta k: its pipes' modes overdamped, their roots bunched by the
+    dozen near -1/beta) gets its steady states' eigenvalues from the O(n'^2) solver too,
+    equal to LAPACK's: at 3000 m (334 inertias) 20 ms against 0.4 s a steady state."""
+    from pydrill import _core
+
+    p = pydrill.load_tally(PAPER_TALLY).at_depth(depth).to_params()
+    assert p.dof > 100
+    checked = 0
+    for wob in (20e3, 150e3):
+        for point in st.stability(p, wob, torque=float(p.static_torque(wob)) * 0.98):
+            assert _core.roots_of_impedance(p.to_core(), point.delta) is not None  # fast path
+            dense = st.eigenvalues(p, point.delta)
+            assert np.count_nonzero(dense.imag == 0) > p.dof  # overdamped indeed
+            fast = np.array(point.eigenvalues)
+            scale = np.abs(dense).max()
+            assert np.abs(dense[:, None] - fast[None, :]).min(axis=1).max() < 1e-12 * scale
+            assert abs(point.spectral_abscissa - dense[0].real) < 1e-12 * scale
+            checked += 1
+    assert checked >= 2
 
 
 def test_hopf_and_stability_commands(tmp_path):

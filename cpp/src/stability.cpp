@@ -442,8 +442,9 @@ int unstable_count(const std::vector<Crossing>& crossings, double delta) {
 
 namespace {
 
-// From this many inertias on, the structured eigenvalues beat the dense solver (measured:
-// 1.0 against 3.3 ms at dof 53, 43 against 670 ms at dof 303; even below).
+// From this many inertias on, steady states get the structured eigenvalues (measured: 0.12
+// against 0.29 ms at dof 24, 21 against 700 ms at dof 303). Below, both take a fraction of
+// a millisecond, far less than the simulation beside them, and the dense solver is kept.
 constexpr int kStructuredDof = 24;
 
 StabilityPoint point_at(const Params& p, double wob, double omega,
