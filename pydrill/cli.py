@@ -23,6 +23,7 @@ examples:
   pydrill simulate --wob 160 --torque 8.3 --json          # stuck bit, machine-readable
   pydrill simulate --pipes 10 --wob 100 --torque 8.3 --t-end 600 --plot run.png
   pydrill simulate --wob 40 --torque 8.3 --initial equilibrium --friction karnopp
+  pydrill simulate --tally examples/tallies/paper-eq53.toml --depth 3000m --wob 60kN --torque 9kN*m
 
 regimes (judged on the last --window fraction of the run):
   steady       the bit converges to the steady velocity Omega > 0
@@ -106,17 +107,82 @@ def _list(name: str):
 
 
 def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
-    group = parser.add_argument_group("string")
+    group = parser.add_argument_group(
+        "string",
+        "one of the paper's strings (--preset), or a real one from its pipe tally (--tally)",
+    )
     group.add_argument(
         "--preset",
         choices=presets,
-        default="reduced-scale",
+        default=None,
         help="parameter set (default: reduced-scale)",
     )
+    group.add_argument(
+        "--tally",
+        metavar="TALLY.toml",
+        help="the string of a pipe tally instead (see 'pydrill string'): one inertia per joint",
+    )
+    group.add_argument(
+        "--depth", help="with --tally: lengthen the drill pipe to this depth (3000m, 9800ft)"
+    )
+    group.add_argument(
+        "--lump", type=int, help="with --tally: drill-pipe joints per element (default 1)"
+    )
     size = group.add_mutually_exclusive_group()
-    size.add_argument("--dof", type=int, help="number of inertias, >= 2 (default 4)")
+    size.add_argument(
+        "--dof",
+        type=int,
+        help="number of inertias, >= 2 (default 4; with --tally: reduce its string to these)",
+    )
     size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
     return group
+
+
+def tally_params(path: str, depth: str | None, lump: int | None, dof: int | None):
+    """The tally at ``path`` (lengthened to ``depth``, e.g. ``"3000m"``), as a string of one
+    element per ``lump`` joints, reduced to ``dof`` inertias: ``(tally, params)``."""
+    from . import units
+    from .tally import load_tally
+
+    tally = load_tally(path)
+    if depth is not None:
+        tally = tally.at_depth(units.parse(depth, "length"))
+    lump = 1 if lump is None else lump
+    if lump < 1:
+        raise ValueError(f"--lump = {lump} is not allowed: >= 1")
+    return tally, tally.to_params(dof=dof, lump=lump)
+
+
+def string_params(args: argparse.Namespace):
+    """The string that ``_string_options`` name: a preset of ``--dof`` (or ``--pipes``)
+    inertias, or a tally's (``--tally``, ``--depth``, ``--lump``, reduced to ``--dof``)."""
+    from . import preset
+
+    if args.tally is None:
+        for option, value in (("--depth", args.depth), ("--lump", args.lump)):
+            if value is not None:
+                raise ValueError(
+                    f"{option} needs --tally: a preset's length is set by --dof or --pipes"
+                )
+        return preset(args.preset or "reduced-scale", dof=args.dof, pipes=args.pipes)
+    if args.preset is not None:
+        raise ValueError("give --preset or --tally, not both")
+    if args.pipes is not None:
+        raise ValueError(
+            "--pipes is not allowed with --tally: the tally's joints (and --depth) set them; "
+            "--dof N reduces its string to N inertias"
+        )
+    return tally_params(args.tally, args.depth, args.lump, args.dof)[1]
+
+
+def string_json(args: argparse.Namespace) -> dict[str, Any]:
+    """What ``--json`` adds about a tally's string (nothing for a preset)."""
+    if args.tally is None:
+        return {}
+    from . import units
+
+    depth = None if args.depth is None else units.parse(args.depth, "length")
+    return {"tally": {"file": args.tally, "depth": depth, "lump": args.lump or 1}}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -230,10 +296,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     for key in ("inertias", "stiffnesses", "dampings"):
         if getattr(args, key) is not None:
             overrides[key] = getattr(args, key)
+    if args.tally is not None:
+        string = {"params": string_params(args)}
+    else:
+        string = {"preset": args.preset or "reduced-scale", "dof": args.dof, "pipes": args.pipes}
     result = simulate(
-        preset=args.preset,
-        dof=args.dof,
-        pipes=args.pipes,
+        **string,
         wob=args.wob,
         torque=args.torque,
         t_end=args.t_end,
@@ -251,7 +319,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
         save(simulation_figure(result), args.plot)
     if args.json:
-        data = result.to_dict()
+        data = {**result.to_dict(), **string_json(args)}
         if args.plot:
             data["plot"] = args.plot
         print(json.dumps(data, indent=2, allow_nan=False))

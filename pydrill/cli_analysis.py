@@ -7,7 +7,7 @@ import argparse
 import json
 from collections.abc import Sequence
 
-from .cli import _finite, _positive, _string_options, figure_path
+from .cli import _finite, _positive, _string_options, figure_path, string_json, string_params
 from .cli_window import register_tally
 
 
@@ -46,7 +46,9 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         description="The steady state at (W_ob, Omega), or every steady state the torque u can "
         "hold at W_ob, its eigenvalues, whether it is stable, and how far it is from losing that.",
         epilog="examples:\n  pydrill stability --dof 4 --wob 40 --torque 8.3\n"
-        "  pydrill stability --dof 4 --wob 100 --omega 2 --json\n\n"
+        "  pydrill stability --dof 4 --wob 100 --omega 2 --json\n"
+        "  pydrill stability --tally examples/tallies/paper-eq53.toml --depth 3000m "
+        "--wob 60kN --omega 60rpm\n\n"
         "units: wob N, torque N*m, omega rad/s, eigenvalues 1/s.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -150,10 +152,9 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
 
 
 def _cmd_hopf(args: argparse.Namespace) -> int:
-    from . import preset
     from .stability import critical_deltas, criticality
 
-    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
+    params = string_params(args)
     crossings = critical_deltas(params)
     if args.plot:
         from .plot import save
@@ -163,6 +164,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
     if args.json:
         data = {
             "preset": params.name,
+            **string_json(args),
             "dof": params.dof,
             "crossings": [
                 {
@@ -207,10 +209,9 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
 
 
 def _cmd_stability(args: argparse.Namespace) -> int:
-    from . import preset
     from .stability import stability
 
-    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
+    params = string_params(args)
     points = stability(params, args.wob, omega=args.omega, torque=args.torque)
     if args.plot:
         from .plot import save
@@ -220,6 +221,7 @@ def _cmd_stability(args: argparse.Namespace) -> int:
     if args.json:
         data = {
             "preset": params.name,
+            **string_json(args),
             "dof": params.dof,
             "wob": args.wob,
             "equilibria": [pt.to_dict() for pt in points],
@@ -262,14 +264,13 @@ def _cmd_stability(args: argparse.Namespace) -> int:
 
 
 def _cmd_bifurcation(args: argparse.Namespace) -> int:
-    from . import preset
     from .bifurcation import branch
 
     if args.vary == "wob" and args.torque is None:
         raise ValueError("--vary wob needs --torque (the surface torque held fixed, N m)")
     if args.vary == "torque" and args.wob is None:
         raise ValueError("--vary torque needs --wob (the weight on bit held fixed, N)")
-    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
+    params = string_params(args)
     b = branch(params, vary=args.vary, torque=args.torque, wob=args.wob, omega_max=args.omega_max)
     if args.plot:
         from .plot import save
@@ -279,6 +280,7 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
     if args.json:
         data = {
             "preset": params.name,
+            **string_json(args),
             "dof": params.dof,
             **b.to_dict(),
             "units": {
@@ -317,13 +319,13 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
 def _cmd_map(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from . import preset, simulate
+    from . import simulate
     from .operating import CATEGORIES, operating_map
     from .stability import critical_deltas
 
     if args.check < 0 or args.check > 40:
         raise ValueError(f"--check = {args.check} is not allowed: need 0 <= K <= 40")
-    params = preset(args.preset, dof=args.dof, pipes=args.pipes)
+    params = string_params(args)
     wob_max = args.wob_max or (250.0 if params.name == "reduced-scale" else 2e5)
     torque_max = args.torque_max or 0.1 * wob_max
     wob = np.linspace(wob_max / 200, wob_max, 200)
@@ -344,6 +346,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     if args.json:
         data = {
             "preset": params.name,
+            **string_json(args),
             "dof": params.dof,
             "categories": list(CATEGORIES),
             "fractions": omap.fractions(),

@@ -106,15 +106,9 @@ def register_tally(sub) -> None:
 
 
 def _cmd_string(args: argparse.Namespace) -> int:
-    from . import units
-    from .tally import load_tally
+    from .cli import tally_params
 
-    tally = load_tally(args.tally)
-    if args.depth is not None:
-        tally = tally.at_depth(units.parse(args.depth, "length"))
-    if args.lump < 1:
-        raise ValueError(f"--lump = {args.lump} is not allowed: >= 1")
-    p = tally.to_params(dof=args.dof, lump=args.lump)
+    tally, p = tally_params(args.tally, args.depth, args.lump, args.dof)
     data = {
         "name": tally.name,
         "dof": p.dof,

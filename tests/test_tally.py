@@ -285,3 +285,76 @@ def test_shipped_tallies_are_the_designs_the_issue_names():
         collar = tally.sections[kinds.index("drill-collar")]
         assert tally.sections[0].od == pytest.approx(pipe_od * 0.0254)
         assert collar.od == pytest.approx(collar_od * 0.0254)
+
+
+# --- The analysis commands on a tally's string ------------------------------------------------
+
+
+def _pydrill(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "pydrill", *args], capture_output=True, text=True, timeout=300
+    )
+
+
+def test_stability_and_hopf_commands_take_a_tally():
+    """``--tally FILE --depth D`` gives the commands the string ``Tally.at_depth(D)`` builds,
+    at full resolution (334 inertias at 3000 m) or reduced (``--dof``)."""
+    from pydrill.stability import critical_deltas, stability
+
+    out = _pydrill(
+        "stability", "--tally", str(PAPER), "--depth", "3000m", "--wob", "60kN",
+        "--omega", "60rpm", "--json",
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    p = load_tally(PAPER).at_depth(3000.0).to_params()
+    assert data["dof"] == p.dof == 334
+    assert data["tally"] == {"file": str(PAPER), "depth": 3000.0, "lump": 1}
+    (want,) = stability(p, 60e3, omega=2 * math.pi)
+    (got,) = data["equilibria"]
+    assert got["delta"] == pytest.approx(want.delta, rel=1e-14)
+    assert got["spectral_abscissa"] == pytest.approx(want.spectral_abscissa, rel=1e-12)
+    assert got["stable"] == want.stable
+
+    out = _pydrill("hopf", "--tally", str(PAPER), "--depth", "9800ft", "--dof", "12", "--json")
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    p12 = load_tally(PAPER).at_depth(9800 * 0.3048).to_params(dof=12)
+    assert data["dof"] == 12
+    want = [c.delta for c in critical_deltas(p12)]
+    assert [c["delta"] for c in data["crossings"]] == pytest.approx(want, rel=1e-12)
+
+
+def test_simulate_command_takes_a_tally():
+    out = _pydrill(
+        "simulate", "--tally", str(PAPER), "--depth", "1000m", "--lump", "3", "--wob", "80kN",
+        "--torque", "9kN*m", "--t-end", "40", "--json",
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    p = load_tally(PAPER).at_depth(1000.0).to_params(lump=3)
+    r = pydrill.simulate(p, wob=80e3, torque=9e3, t_end=40.0, n_out=3001)
+    # top drive + 106 joints of drill pipe by 3 (36 elements) + the BHA's 5 = 42 inertias
+    assert data["inputs"]["dof"] == p.dof == 42
+    assert data["regime"] == r.regime
+    assert data["bit_velocity"]["mean"] == pytest.approx(r.summary.bit_mean, rel=1e-12)
+    assert data["tally"]["lump"] == 3
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--tally", str(PAPER), "--preset", "real-string"], "give --preset or --tally, not both"),
+        (["--depth", "3000m"], "--depth needs --tally"),
+        (["--lump", "2"], "--lump needs --tally"),
+        (["--tally", str(PAPER), "--pipes", "10"], "--pipes is not allowed with --tally"),
+        (["--tally", str(PAPER), "--lump", "0"], "--lump = 0 is not allowed"),
+        (["--tally", str(PAPER), "--depth", "3 parsecs"], "3 parsecs"),
+        (["--tally", "no-such-tally.toml"], "no-such-tally.toml"),
+    ],
+)
+def test_tally_options_that_cannot_work_are_refused(args, needle):
+    out = _pydrill("stability", *args, "--wob", "60kN", "--omega", "60rpm")
+    assert out.returncode == 2
+    assert needle in out.stderr and "Traceback" not in out.stderr
+    assert out.stdout == ""
