@@ -10,7 +10,7 @@
 // started from each mode of the free chain with its own modal damping: near ±iω_k
 // for lightly damped modes, on the real axis for overdamped ones (a real string's
 // pipes), whose roots bunch by the dozen near −k/c. From there it converges in
-// 2 … 12 sweeps. A dense O(n'³) eigensolver takes 0.8 s at dof 303, 0.45 s on a
+// 2 … 15 sweeps. A dense O(n'³) eigensolver takes 0.8 s at dof 303, 0.45 s on a
 // 3000 m string of 334 inertias; this takes 20 ms. Every result is checked
 // (convergence, the trace of the Jacobian, conjugate symmetry); on any doubt the
 // dense solver answers instead.
@@ -53,7 +53,7 @@ NewtonStep newton_step(const Params& p, double delta, complex lambda) {
     dnum = down * d_above + own * dd_above + dn_above;
     den = d_above;
     dden = dd_above;
-    // Looked at every 4th step (the look cost a third of the time): a step multiplies them
+    // Looked at every 4th step (looking at every one cost a sixth of the time): a step multiplies them
     // by far less than 1e50 on any string we know, and an overflow still shows as a
     // non-finite P below, where the dense solver takes over.
     if (i % 4 != 3 && i + 2 < n) continue;
