@@ -172,7 +172,9 @@ def string_params(args: argparse.Namespace):
             "--pipes is not allowed with --tally: the tally's joints (and --depth) set them; "
             "--dof N reduces its string to N inertias"
         )
-    return tally_params(args.tally, args.depth, args.lump, args.dof)[1]
+    tally, params = tally_params(args.tally, args.depth, args.lump, args.dof)
+    # Titles and reports say which depth: strings of one tally differ by it alone.
+    return params.replace(name=f"{tally.name} at {tally.length:.1f} m")
 
 
 def string_json(args: argparse.Namespace) -> dict[str, Any]:
