@@ -196,14 +196,26 @@ def test_long_strings_get_the_dense_solvers_eigenvalues_faster():
     assert checked >= 3
 
 
-@pytest.mark.parametrize("depth", [1000.0, 3000.0])
-def test_a_real_strings_eigenvalues_come_from_the_structured_solver(depth):
+@pytest.mark.parametrize(
+    ("tally", "depth", "beta"),
+    [
+        ("paper-eq53", 1000.0, None),
+        ("paper-eq53", 3000.0, None),
+        ("5.5in-dp-8in-collars", 4000.0, 1.0),
+    ],
+)
+def test_a_real_strings_eigenvalues_come_from_the_structured_solver(tally, depth, beta):
     """A tally's string (c = beta k: its pipes' modes overdamped, their roots bunched by the
-    dozen near -1/beta) gets its steady states' eigenvalues from the O(n'^2) solver too,
-    equal to LAPACK's: at 3000 m (334 inertias) 20 ms against 0.4 s a steady state."""
+    hundred near -1/beta) gets its steady states' eigenvalues from the O(n'^2) solver too,
+    equal to LAPACK's: at 3000 m (334 inertias) 20 ms against 0.4 s a steady state. With
+    beta = 1 s at 4000 m, 425 real roots lie within 0.11 of -1, some 1e-10 apart."""
+    from dataclasses import replace
+
     from pydrill import _core
 
-    p = pydrill.load_tally(PAPER_TALLY).at_depth(depth).to_params()
+    p = pydrill.load_tally(PAPER_TALLY.with_name(f"{tally}.toml")).at_depth(depth).to_params()
+    if beta is not None:
+        p = replace(p, dampings=tuple(beta * k for k in p.stiffnesses))
     assert p.dof > 100
     checked = 0
     for wob in (20e3, 150e3):
@@ -217,6 +229,12 @@ def test_a_real_strings_eigenvalues_come_from_the_structured_solver(depth):
             assert abs(point.spectral_abscissa - dense[0].real) < 1e-12 * scale
             checked += 1
     assert checked >= 2
+    for delta in (0.0, 10.0, 1e3):  # and at slopes away from these steady states
+        fast = _core.roots_of_impedance(p.to_core(), delta)
+        assert fast is not None, delta
+        dense = st.eigenvalues(p, delta)
+        err = np.abs(dense[:, None] - np.array(fast)[None, :]).min(axis=1).max()
+        assert err < 1e-12 * np.abs(dense).max(), delta
 
 
 def test_hopf_and_stability_commands(tmp_path):

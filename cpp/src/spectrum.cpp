@@ -191,10 +191,11 @@ bool converged_roots(const Params& p, double delta, std::vector<complex>& z) {
   std::vector<char> done(n, 0);
   std::vector<double> last(n, std::numeric_limits<double>::infinity());
   // From the modal starts, 2 … 15 sweeps (measured on preset strings of 24 … 400 inertias
-  // and real tallies to 5000 m, δ from 0 to 1e7). Past 30 the iteration is crawling
-  // through a cluster (e.g. a uniform string damped 60× past critical: dozens of roots
-  // within 1e-9), and the dense solver is the quicker answer.
-  for (int sweep = 0; sweep < 30; ++sweep) {
+  // and real tallies to 5000 m, δ from 0 to 1e7), and up to ~40 on a tally's string with a
+  // bit damped a hundred times more than usual. Past 60 the iteration is crawling through a
+  // cluster (e.g. a uniform string damped 60× past critical: dozens of roots within 1e-9,
+  // 69 sweeps), and the dense solver is the quicker answer.
+  for (int sweep = 0; sweep < 60; ++sweep) {
     // Roots are known to eps relative to the largest (as from a dense solver), so a small
     // one (0, at a fold) converges in absolute terms.
     double rho = 0.0;
@@ -253,12 +254,16 @@ bool roots_of_impedance(const Params& p, double delta, std::vector<complex>& out
   }
   if (ok) {
     // A real matrix: its eigenvalues are real or pairs of conjugates. Pair every root
-    // below the axis with one above; the pairs are then made exact conjugates.
+    // below the axis with one above; the pairs are then made exact conjugates. A root is
+    // real when its imaginary part is within what the iteration resolves: ~64 eps of the
+    // largest root (the convergence test above), i.e. 1e-13 of it. (In a cluster of real
+    // roots 1e-10 apart, as near -1/beta on a long string, one can come out with an
+    // imaginary part of 1.1e-14 of the largest.)
     double rho = 0.0;
     for (const complex& r : z) rho = std::max(rho, std::abs(r));
     std::vector<complex> real, above, below;
     for (const complex& r : z) {
-      if (std::fabs(r.imag()) <= 1e-12 * std::abs(r) + 1e-14 * rho) {
+      if (std::fabs(r.imag()) <= 1e-12 * std::abs(r) + 1e-13 * rho) {
         real.emplace_back(r.real(), 0.0);
       } else {
         (r.imag() > 0 ? above : below).push_back(r);
@@ -276,7 +281,7 @@ bool roots_of_impedance(const Params& p, double delta, std::vector<complex>& out
           best = a;
         }
       }
-      ok = best < above.size() && std::sqrt(dist) <= 1e-8 * std::abs(below[b]) + 1e-14 * rho;
+      ok = best < above.size() && std::sqrt(dist) <= 1e-8 * std::abs(below[b]) + 1e-13 * rho;
       if (ok) taken[best] = 1;
     }
     if (ok) {

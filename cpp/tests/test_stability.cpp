@@ -133,7 +133,7 @@ TEST_CASE("where the iteration crawls, the dense solver answers", "[stability]")
   // Every spring damped 60 times past critical, c = 120 sqrt(k J): as c = beta k on this
   // uniform string but for the bit's spring, which puts dozens of roots within 1e-9 of one
   // another near -k/c, away from where the modes start them. The iteration gives up after
-  // 30 sweeps.
+  // 60 sweeps (it would need 69).
   Params p = preset("reduced-scale", 40);
   for (std::size_t i = 0; i < p.dampings.size(); ++i) {
     p.dampings[i] = 120.0 * std::sqrt(p.stiffnesses[i] * std::min(p.inertias[i], p.inertias[i + 1]));
