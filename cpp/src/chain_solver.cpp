@@ -19,36 +19,42 @@ bool factor_band(std::vector<double>& a, int n, double gamma) {
   // Gaussian elimination without pivoting: for this mechanical chain M is
   // I plus γ times a matrix whose symmetric part (in energy coordinates) is
   // dissipative, which keeps pivots away from zero; a tiny pivot is reported
-  // as a recoverable failure so CVODES retries with a smaller step.
+  // as a recoverable failure so CVODES retries with a smaller step. The
+  // diagonal keeps 1/pivot: the solves, run several times per factorisation,
+  // then multiply where they would divide (a division's latency sat on the
+  // back substitution's critical path, a third of a long string's run time).
   for (int k = 0; k < n; ++k) {
     const double piv = a[5 * k + 2];
     double scale = 0.0;
     for (int d = 0; d < 5; ++d) scale = std::max(scale, std::fabs(a[5 * k + d]));
     if (!(std::fabs(piv) > 1e-14 * scale) || !std::isfinite(piv)) return false;
+    const double inv = 1.0 / piv;
     const int last = std::min(k + 2, n - 1);
     for (int r = k + 1; r <= last; ++r) {
       double& lrk = a[5 * r + (k - r + 2)];
       if (lrk == 0.0) continue;
-      lrk /= piv;
+      lrk *= inv;
       for (int c = k + 1; c <= last; ++c) a[5 * r + (c - r + 2)] -= lrk * a[5 * k + (c - k + 2)];
     }
+    a[5 * k + 2] = inv;
   }
   return true;
 }
 
-void solve_band(const std::vector<double>& a, int n, const double* b, double* x) {
+void solve_band(const std::vector<double>& lu, int n, const double* b, double* x) {
+  const double* a = lu.data();
   if (x != b) std::copy(b, b + n, x);
-  for (int r = 1; r < n; ++r) {  // forward: L z = b (unit diagonal)
-    const int first = std::max(0, r - 2);
-    double s = x[r];
-    for (int k = first; k < r; ++k) s -= a[5 * r + (k - r + 2)] * x[k];
-    x[r] = s;
+  // Row r holds (l_{r,r-2}, l_{r,r-1}, 1/u_rr, u_{r,r+1}, u_{r,r+2}).
+  if (n > 1) x[1] -= a[5 + 1] * x[0];
+  for (int r = 2; r < n; ++r) {  // forward: L z = b (unit diagonal)
+    const double* row = a + 5 * r;
+    x[r] -= row[0] * x[r - 2] + row[1] * x[r - 1];
   }
-  for (int r = n - 1; r >= 0; --r) {  // backward: U x = z
-    const int last = std::min(n - 1, r + 2);
-    double s = x[r];
-    for (int c = r + 1; c <= last; ++c) s -= a[5 * r + (c - r + 2)] * x[c];
-    x[r] = s / a[5 * r + 2];
+  x[n - 1] *= a[5 * (n - 1) + 2];
+  if (n > 1) x[n - 2] = (x[n - 2] - a[5 * (n - 2) + 3] * x[n - 1]) * a[5 * (n - 2) + 2];
+  for (int r = n - 3; r >= 0; --r) {  // backward: U x = z
+    const double* row = a + 5 * r;
+    x[r] = (x[r] - row[3] * x[r + 1] - row[4] * x[r + 2]) * row[2];
   }
 }
 
