@@ -32,7 +32,8 @@ struct ChainSolverData {
 
 SUNLinearSolver make_chain_solver(SUNContext ctx, ChainSolverData* data);
 
-// Factor M = I − γJ (J in band storage, see Chain::jacobian_band) in place.
+// Factor M = I − γJ (J in band storage, see Chain::jacobian_band) in place, without
+// pivoting: L below the diagonal, U above it, and 1/u_rr on it (for solve_band).
 // Returns false if a pivot is too small to trust.
 bool factor_band(std::vector<double>& band, int n, double gamma);
 // Solve with the factors from factor_band; x may alias b.

@@ -76,6 +76,27 @@ TEST_CASE("crossings found once serve every operating point of the string", "[st
   CHECK(points >= 6);  // steady states exist at most of these points
 }
 
+namespace {
+// The O(n'²) path answers at slope delta, with the dense solver's eigenvalues: every dense one
+// has a structured twin within 1e-12 of the largest, the leading one first in both. Returns
+// the dense eigenvalues.
+std::vector<complex> check_structured_equals_dense(const Params& p, double delta) {
+  std::vector<complex> fast;
+  REQUIRE(roots_of_impedance(p, delta, fast));
+  const auto dense = eigenvalues(p, delta);
+  REQUIRE(fast.size() == dense.size());
+  double scale = 0.0;
+  for (const auto& z : dense) scale = std::max(scale, std::abs(z));
+  for (const auto& z : dense) {
+    double best = 1e300;
+    for (const auto& f : fast) best = std::min(best, std::abs(f - z));
+    CHECK(best <= 1e-12 * scale);
+  }
+  CHECK(std::abs(fast.front() - dense.front()) <= 1e-12 * scale);
+  return dense;
+}
+}  // namespace
+
 TEST_CASE("structured eigenvalues equal the dense solver's on long strings", "[stability]") {
   for (int dof : {30, 80}) {
     const Params p = preset("reduced-scale", dof);
@@ -83,20 +104,7 @@ TEST_CASE("structured eigenvalues equal the dense solver's on long strings", "[s
     for (const auto& c : critical_deltas(p)) {
       if (deltas.size() < 8) deltas.push_back(c.delta * 1.001);
     }
-    for (double delta : deltas) {
-      std::vector<complex> fast;
-      REQUIRE(roots_of_impedance(p, delta, fast));  // the O(n'²) path answers here
-      const auto dense = eigenvalues(p, delta);
-      REQUIRE(fast.size() == dense.size());
-      double scale = 0.0;
-      for (const auto& z : dense) scale = std::max(scale, std::abs(z));
-      for (const auto& z : dense) {  // every dense eigenvalue has a structured twin
-        double best = 1e300;
-        for (const auto& f : fast) best = std::min(best, std::abs(f - z));
-        CHECK(best <= 1e-12 * scale);
-      }
-      CHECK(std::abs(fast.front() - dense.front()) <= 1e-12 * scale);  // the leading one
-    }
+    for (double delta : deltas) check_structured_equals_dense(p, delta);
   }
 }
 
@@ -109,21 +117,9 @@ TEST_CASE("an overdamped string's eigenvalues come from the structured solver to
       Params p = preset("reduced-scale", dof);
       for (std::size_t i = 0; i < p.dampings.size(); ++i) p.dampings[i] = beta * p.stiffnesses[i];
       for (double delta : {0.0, 0.01, 1.0}) {
-        std::vector<complex> fast;
-        REQUIRE(roots_of_impedance(p, delta, fast));
-        const auto dense = eigenvalues(p, delta);
-        REQUIRE(fast.size() == dense.size());
-        double scale = 0.0;
-        for (const auto& z : dense) scale = std::max(scale, std::abs(z));
-        int real = 0;
-        for (const auto& z : dense) {
-          double best = 1e300;
-          for (const auto& f : fast) best = std::min(best, std::abs(f - z));
-          CHECK(best <= 1e-12 * scale);
-          real += z.imag() == 0.0;
-        }
+        const auto dense = check_structured_equals_dense(p, delta);
+        const auto real = std::count_if(dense.begin(), dense.end(), [](complex z) { return z.imag() == 0.0; });
         CHECK(real > dof);  // overdamped indeed: most of the 2 dof - 1 roots are real
-        CHECK(std::abs(fast.front() - dense.front()) <= 1e-12 * scale);
       }
     }
   }
