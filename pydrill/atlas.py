@@ -9,6 +9,7 @@ Example (an atlas written by ``pydrill sweep``)::
 
 from __future__ import annotations
 
+import io
 import json
 import math
 from pathlib import Path
@@ -18,6 +19,7 @@ import h5py
 import numpy as np
 
 from . import atlas_format as fmt
+from .atlas_lock import snapshot
 from .journal import JOURNAL_SUFFIX, AtlasError, journaled
 from .spec import SpecError, parse_spec
 
@@ -37,8 +39,11 @@ class Atlas:
             raise AtlasError(f"{self.path}: no such atlas")
         if self.path.is_dir():
             raise AtlasError(f"{self.path} is a directory, not an atlas file")
+        # While a sweep writes the atlas, read a copy of its last complete write: the file
+        # itself may be half rewritten at any moment (atlas_lock).
+        self._image = snapshot(self.path)
         try:
-            self._f = h5py.File(self.path, "r")
+            self._f = h5py.File(self._source(), "r")
         except OSError as exc:
             raise AtlasError(
                 f"{self.path} is not a readable HDF5 atlas (truncated or corrupt?): {exc}"
@@ -54,11 +59,20 @@ class Atlas:
                 s.decode() if isinstance(s, bytes) else s for s in self._f["initial"][...]
             ]
             self.version = str(self._f.attrs.get("pydrill_version", "?"))
+            # Every dataset a query reads, up front: a missing one is a damaged atlas here,
+            # not a KeyError from deep inside info, plot or value later.
+            lost = [name for name in _DATASETS if name not in self._f]
+            if lost:
+                raise KeyError(f"no dataset {', '.join(lost)}")
             for name in ("status", "regime", "bit_mean"):
                 self._f[name].shape  # noqa: B018 - touch: a damaged file fails here, not later
-        except (KeyError, SpecError, OSError) as exc:
+        except (KeyError, SpecError, OSError, ValueError) as exc:  # ValueError: bad JSON
             self._f.close()
             raise AtlasError(f"{self.path} is damaged or incomplete: {exc}") from None
+
+    def _source(self) -> Path | io.BytesIO:
+        """What to open: the file, or the copy taken while a sweep was writing it."""
+        return self.path if self._image is None else io.BytesIO(self._image)
 
     def close(self) -> None:
         """Close the HDF5 file (done by ``with``)."""
@@ -96,6 +110,13 @@ class Atlas:
                     f"{name} = {v:g} is not on the grid (nearest {values[i]:g}); "
                     "use method='nearest' (--nearest)"
                 )
+            if (
+                method == "nearest"
+                and len(values) == 1
+                and not math.isclose(values[0], v, rel_tol=1e-9, abs_tol=1e-12)
+            ):
+                # One value: no grid step to be near within. Only that value is in the atlas.
+                raise KeyError(f"{name} = {v:g} is outside the atlas (only {values[0]:g})")
             if method == "nearest" and len(values) > 1:
                 # Beyond half a grid step past either end, the "nearest" point would answer
                 # for a place the sweep never went.
@@ -254,12 +275,30 @@ class Atlas:
         ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable)."""
         import xarray as xr
 
-        ds = xr.open_dataset(self.path, engine="h5netcdf")
+        ds = xr.open_dataset(self._source(), engine="h5netcdf")
+        if "message" in ds and ds["message"].dims != tuple(self.axes):
+            # Atlases written before ``message`` had its dimension scales: xarray guessed its
+            # dimensions from their lengths.
+            ds = ds.assign(message=(tuple(self.axes), ds["message"].values, ds["message"].attrs))
         if "regime" in ds:
             codes = sorted(fmt.REGIMES.items(), key=lambda kv: kv[1])
             ds["regime"].attrs["flag_values"] = np.array([c for _, c in codes], dtype="i1")
             ds["regime"].attrs["flag_meanings"] = " ".join(n.replace("-", "_") for n, _ in codes)
         return ds
+
+
+# What the queries read: a file without one of these is damaged, whatever else it holds.
+_DATASETS = (
+    "initial",
+    "status",
+    "message",
+    "regime",
+    *fmt.RUN_FIELDS,
+    *fmt.EQ_FIELDS,
+    "eigenvalues_real",
+    "eigenvalues_imag",
+    "coexistence",
+)
 
 
 def with_regime_names(ds):

@@ -139,6 +139,8 @@ class AtlasTable:
         for j, init in enumerate(self.spec.initials):
             run = runs.get(init)
             if run is None:
+                if rec["status"] == "failed":  # the point failed before this start ran
+                    self.regime.reshape(n, -1)[i, j] = REGIMES["failed"]
                 continue
             self.regime.reshape(n, -1)[i, j] = REGIMES[run["regime"]]
             for name, (_, fill, _, _) in RUN_FIELDS.items():
@@ -165,6 +167,13 @@ class AtlasTable:
 
 def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
     """A new atlas with every point missing (overwrites ``path``: callers check first)."""
+    from .atlas_lock import writing
+
+    with writing(path):
+        _create(path, spec, params_json, version)
+
+
+def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
     table = AtlasTable(spec)
     with h5py.File(path, "w", libver="latest", locking=WRITER_LOCKING) as f:
         f.attrs["format"] = FORMAT
@@ -237,7 +246,11 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
         )
         # Empty until a point fails (an unwritten string reads as ""): creating 10^6 empty
         # strings took 0.4 s.
-        f.create_dataset("message", shape=table.message.shape, dtype=h5py.string_dtype())
+        msg = f.create_dataset("message", shape=table.message.shape, dtype=h5py.string_dtype())
+        msg.attrs["long_name"] = "why the point failed (empty unless it did)"
+        # Its own axes, or xarray would guess them from the lengths (and pick wrongly).
+        for axis, scale in enumerate(scales):
+            msg.dims[axis].attach_scale(scale)
         for name, (_, _, unit, desc) in RUN_FIELDS.items():
             make(name, table.runs[name], [init], units=unit, long_name=desc)
         for name, (_, _, unit, desc) in EQ_FIELDS.items():
@@ -265,8 +278,10 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
 
 
 def write(path: Path, table: AtlasTable) -> None:
-    """Write the whole table into an existing atlas."""
-    with h5py.File(path, "r+", locking=WRITER_LOCKING) as f:
+    """Write the whole table into an existing atlas (readers see it whole: ``atlas_lock``)."""
+    from .atlas_lock import writing
+
+    with writing(path), h5py.File(path, "r+", locking=WRITER_LOCKING) as f:
         f["status"][...] = table.status
         if any(table.message.ravel()):  # messages are only ever added: all "" is as created
             f["message"][...] = table.message.astype(h5py.string_dtype())

@@ -21,6 +21,7 @@ from .journal import AtlasError
 
 LOCK_SUFFIX = ".lock"
 _held: list[int] = []  # this process's lock descriptors
+_held_by_atlas: dict[Path, int] = {}  # atlas (resolved) -> its lock's descriptor
 
 
 def _drop_in_child() -> None:
@@ -65,6 +66,7 @@ def writer_lock(atlas: Path) -> Iterator[None]:
             break
         os.close(fd)
     _held.append(fd)
+    _held_by_atlas[atlas.resolve()] = fd
     try:
         os.ftruncate(fd, 0)
         os.write(fd, f"{os.getpid()}\n".encode())
@@ -73,7 +75,48 @@ def writer_lock(atlas: Path) -> Iterator[None]:
         with contextlib.suppress(FileNotFoundError):
             path.unlink()
         _held.remove(fd)
+        _held_by_atlas.pop(atlas.resolve(), None)
         os.close(fd)
+
+
+# Reading an atlas while its sweep rewrites it: HDF5 has no safe way without SWMR (which
+# takes neither variable-length strings nor a rewrite of compressed chunks), and a reader
+# that meets a half-written chunk fails ("filter returned failure", "addr overflow") or,
+# worse, reads it. So the writer holds a POSIX record lock (fcntl) on the lock file, shared
+# by nobody, while it writes the atlas; a reader takes the same lock shared, copies the file
+# into memory and reads the copy: the state of the last complete write. Record locks are
+# independent of the flock above, and forked workers do not inherit them.
+
+
+@contextlib.contextmanager
+def writing(atlas: Path) -> Iterator[None]:
+    """Around every write of ``atlas`` by its sweep: readers wait until the write is whole.
+    Nothing to do for an atlas this process does not hold (tests, a one-off rebuild)."""
+    fd = _held_by_atlas.get(atlas.resolve())
+    if fd is None:
+        yield
+        return
+    fcntl.lockf(fd, fcntl.LOCK_EX)
+    try:
+        yield
+    finally:
+        fcntl.lockf(fd, fcntl.LOCK_UN)
+
+
+def snapshot(atlas: Path) -> bytes | None:
+    """The bytes of ``atlas`` as its last complete write left them, while a sweep is writing
+    it; None when none is (then read the file itself)."""
+    if writer_of(atlas) is None:
+        return None
+    try:
+        fd = os.open(atlas.with_name(atlas.name + LOCK_SUFFIX), os.O_RDONLY)
+    except OSError:  # the sweep ended, and removed its lock, since
+        return None
+    try:
+        fcntl.lockf(fd, fcntl.LOCK_SH)  # waits while the writer writes
+        return atlas.read_bytes()
+    finally:
+        os.close(fd)  # drops the lock
 
 
 def writer_of(atlas: Path) -> int | None:

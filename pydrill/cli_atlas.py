@@ -226,7 +226,13 @@ def _cmd_query(args: argparse.Namespace) -> int:
         for k in ("wob", "torque", "depth", "dof", "pipes")
         if getattr(args, k) is not None
     }
-    coords.update(_axis_values(args.set))
+    for name, value in _axis_values(args.set).items():
+        if name in coords:  # --wob 80 --set wob=120: which one was meant?
+            raise ValueError(
+                f"{name} is given twice (--{name} {coords[name]:g} and --set {name}={value:g}); "
+                "give it once"
+            )
+        coords[name] = value
     with Atlas(args.atlas) as atlas:
         try:
             v = atlas.value("nearest" if args.nearest else "exact", **coords)
@@ -255,6 +261,8 @@ def _cmd_query(args: argparse.Namespace) -> int:
         print(json.dumps(flat))
         return 0
     print(", ".join(f"{k} = {x:g}" for k, x in v["coords"].items()) + f": {v['status']}")
+    if "message" in v:
+        print(f"  {v['message']}")
     for init, regime in v["regime"].items():
         m = v["metrics"]
         period = m["period"][init]
@@ -295,6 +303,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
     out = Path(args.out)
     with Atlas(args.atlas) as atlas:
+        out.parent.mkdir(parents=True, exist_ok=True)  # as for every other output of pydrill
         ds = atlas.to_xarray()
         if out.suffix.lower() == ".nc":
             ds.load().to_netcdf(out, engine="h5netcdf")
@@ -307,7 +316,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
                 for v in ds.data_vars
                 if "eigenvalue" not in ds[v].dims
                 and "equilibrium" not in ds[v].dims
-                and (ds[v].dtype.kind != "O" or v == "regime_name")
+                and (ds[v].dtype.kind != "O" or v in ("regime_name", "message"))
             ]
             ds[keep].to_dataframe().to_csv(out)
         ds.close()

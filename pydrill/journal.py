@@ -130,12 +130,35 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
                     f"{out} is damaged (not a readable HDF5 atlas) and has no journal to "
                     "rebuild it from"
                 ) from None
-    if not resume:
+    if not out.exists():
+        # A journal alone (the atlas was removed, or a kill came before it was made): say so,
+        # and whose it is, before anything is created beside it.
+        digest = _journal_digest(jp)
+        if digest is not None and digest != spec.digest:
+            raise AtlasError(
+                f"{jp} belongs to another sweep (spec digest {digest} != {spec.digest}); "
+                "choose another --out, or remove the journal"
+            )
+        if not resume:
+            raise AtlasError(
+                f"{jp} holds an interrupted sweep of this spec (its atlas {out.name} is gone); "
+                "use --resume to complete it from the journal, or remove the journal to start over"
+            )
+    elif not resume:
         raise AtlasError(
             f"{out} already exists for this sweep; use --resume to complete it or remove it "
             "to start over"
         )
     return table
+
+
+def _journal_digest(jp: Path) -> str | None:
+    """The spec digest in a journal's first line; None if it has none readable."""
+    try:
+        with jp.open("rb") as fh:
+            return json.loads(fh.readline()).get("spec_digest")
+    except (OSError, ValueError, AttributeError):
+        return None
 
 
 def prepare(

@@ -307,25 +307,35 @@ def run_sweep(
             "base": base.to_dict(),
         }
     )
-    out.parent.mkdir(parents=True, exist_ok=True)  # as for every other output of pydrill
+    # The atlas's directory is made as for every other output of pydrill, and removed again
+    # if the sweep is refused before anything is written into it.
+    made = [d for d in (out.parent, *out.parent.parents) if not d.exists()]
+    out.parent.mkdir(parents=True, exist_ok=True)
     from .atlas_lock import writer_lock
 
-    with writer_lock(out):
-        return _sweep_locked(
-            spec,
-            out,
-            resume,
-            params_json,
-            __version__,
-            t0,
-            workers=workers,
-            scheduler=scheduler,
-            progress=progress,
-            serial=serial,
-            stop_on=stop_on,
-            dashboard=dashboard,
-            on_cluster=on_cluster,
-        )
+    try:
+        with writer_lock(out):
+            return _sweep_locked(
+                spec,
+                out,
+                resume,
+                params_json,
+                __version__,
+                t0,
+                workers=workers,
+                scheduler=scheduler,
+                progress=progress,
+                serial=serial,
+                stop_on=stop_on,
+                dashboard=dashboard,
+                on_cluster=on_cluster,
+            )
+    except BaseException:
+        if not (out.exists() or journal_path(out).exists()):
+            for d in made:  # deepest first; only empty ones go
+                with contextlib.suppress(OSError):
+                    d.rmdir()
+        raise
 
 
 def _sweep_locked(

@@ -73,12 +73,13 @@ class Dop853 final : public Integrator {
     double h_abs = std::min(h_, max_step);
     bool rejected = false;
     for (;;) {
-      // Ten ulps of t (scipy's floor), but never below 1e-14 of the span: near t = 0 the
-      // ulp is subnormal, and flushed to zero while a simulation runs, so a right-hand
-      // side gone infinite would shrink the step for ever.
-      const double min_step = std::max(10.0 * std::fabs(std::nextafter(t_, INFINITY) - t_),
-                                       1e-14 * std::max(1.0, std::fabs(t_end)));
-      if (h_abs < min_step || !std::isfinite(h_abs)) {
+      // Ten ulps of t (scipy's floor), but never below 1e-14 s: near t = 0 the ulp is
+      // subnormal, and flushed to zero while a simulation runs, so a right-hand side gone
+      // infinite would shrink the step for ever. The floor is absolute, not a fraction of
+      // the span: a long run (t_end = 1e10 s) needs steps as short as a short one. A last
+      // step cut short by t_end may be shorter still (t_end = 1e-20 s is a valid run).
+      const double min_step = std::max(10.0 * std::fabs(std::nextafter(t_, INFINITY) - t_), 1e-14);
+      if (!std::isfinite(h_abs) || (h_abs < min_step && h_abs < t_end - t_)) {
         std::ostringstream o;
         o << "DOP853 step size fell to " << h_abs << " s at t = " << t_
           << " s (below the floating-point resolution): the solution is not smooth or not "

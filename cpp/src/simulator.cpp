@@ -76,7 +76,20 @@ void SimulationOptions::validate(int dof) const {
   if (!(atol > 0) || !std::isfinite(atol)) refuse("atol = " + num(atol) + " is not allowed: must be a finite number > 0");
   if (!(max_step >= 0) || !std::isfinite(max_step)) refuse("max_step = " + num(max_step) + " is not allowed: must be >= 0 (0 = no limit)");
   if (max_steps < 1) refuse("max_steps = " + std::to_string(max_steps) + " is not allowed: must be >= 1");
-  if (max_order < 0 || max_order > 12) refuse("max_order = " + std::to_string(max_order) + " is not allowed: need 0 (method default) or 1..12 (Adams), 1..5 (BDF)");
+  // CVODES caps BDF at order 5 and Adams at 12; the explicit methods have a fixed order, so
+  // a max_order there would be silently ignored. "auto" may pick either family: it takes
+  // no order.
+  if (max_order != 0) {
+    const int cap = method == Method::BDF ? 5 : method == Method::Adams ? 12 : 0;
+    if (cap == 0) {
+      refuse("max_order = " + std::to_string(max_order) + " is not allowed with method '" + method_name(method) +
+             "': only 'bdf' (1..5) and 'adams' (1..12) take an order; use 0 (the method's default)");
+    }
+    if (max_order < 1 || max_order > cap) {
+      refuse("max_order = " + std::to_string(max_order) + " is not allowed with method '" + method_name(method) +
+             "': need 0 (the method's default) or 1.." + std::to_string(cap));
+    }
+  }
   if (!(window_fraction > 0) || !(window_fraction <= 1)) refuse("window_fraction = " + num(window_fraction) + " is not allowed: need 0 < window_fraction <= 1");
   if (!(max_switch_rate > 0) || std::isnan(max_switch_rate)) refuse("max_switch_rate = " + num(max_switch_rate) + " is not allowed: must be > 0 switches/s");
   if (!std::isfinite(perturbation) || std::fabs(perturbation) >= 1) refuse("perturbation = " + num(perturbation) + " is not allowed: need |perturbation| < 1 (relative to the steady bit velocity)");
@@ -99,6 +112,7 @@ void SimulationOptions::validate(int dof) const {
 }
 
 StiffnessEstimate estimate_stiffness(const Params& p) {
+  p.validate();
   const int N = p.dof();
   StiffnessEstimate e;
   // Gershgorin bounds on M⁻¹K (squared frequencies) and M⁻¹C (decay rates).

@@ -19,6 +19,8 @@
 #include <complex>
 #include <utility>
 #include <limits>
+#include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -238,6 +240,11 @@ bool converged_roots(const Params& p, double delta, std::vector<complex>& z) {
 
 bool roots_of_impedance(const Params& p, double delta, std::vector<complex>& out) {
   p.validate();
+  if (!std::isfinite(delta)) {
+    std::ostringstream o;
+    o << "delta = " << delta << " is not allowed: the Stribeck slope must be a finite number (N·m·s/rad)";
+    throw std::invalid_argument(o.str());
+  }
   std::vector<complex> z = starting_points(p, delta);
   bool ok = converged_roots(p, delta, z);
   if (ok) {

@@ -49,6 +49,12 @@ Fraction bit_fraction(const Params& p, complex lambda) {
   return {num, den};
 }
 
+// Z_b(λ) for a string already validated (the public bit_impedance checks first).
+complex impedance(const Params& p, complex lambda) {
+  const Fraction f = bit_fraction(p, lambda);
+  return f.num / f.den;
+}
+
 // Natural frequencies of the undamped chain, with the bit clamped (the poles
 // of Z_b, nearly) or free (its zeros, nearly): symmetric tridiagonal, O(dof²).
 std::vector<double> undamped_frequencies(const Params& p, bool clamped) {
@@ -125,11 +131,7 @@ double brent(F f, double a, double b, double fa, double fb) {
 // eigenvalues cross as δ grows.
 int crossing_direction(const Params& p, double omega) {
   const double h = 1e-6 * std::max(omega, 1e-3);
-  auto z = [&](complex l) {
-    const Fraction f = bit_fraction(p, l);
-    return f.num / f.den;
-  };
-  const complex dz = (z(complex(h, omega)) - z(complex(-h, omega))) / (2 * h);
+  const complex dz = (impedance(p, complex(h, omega)) - impedance(p, complex(-h, omega))) / (2 * h);
   const double re = std::real(1.0 / dz);
   return re > 0 ? 1 : (re < 0 ? -1 : 0);
 }
@@ -145,6 +147,16 @@ Poly times_linear(const Poly& a, double c0, double c1) {  // a·(c0 + c1 λ)
   return r;
 }
 
+// δ enters every linearisation as a number; a NaN or infinite one would come back as a
+// "did not converge", a NaN spectrum or a stable count, none of which names it.
+void check_delta(double delta) {
+  if (!std::isfinite(delta)) {
+    std::ostringstream o;
+    o << "delta = " << delta << " is not allowed: the Stribeck slope must be a finite number (N·m·s/rad)";
+    throw std::invalid_argument(o.str());
+  }
+}
+
 Poly add(Poly a, const Poly& b) {
   if (b.size() > a.size()) a.resize(b.size(), 0.0);
   for (std::size_t i = 0; i < b.size(); ++i) a[i] += b[i];
@@ -156,21 +168,38 @@ Poly add(Poly a, const Poly& b) {
 double stribeck_slope(const Params& p, double wob, double omega) {
   p.validate();
   check_operating_point(wob, 0.0);
-  if (!std::isfinite(omega)) throw std::invalid_argument("omega must be finite");
+  if (!std::isfinite(omega) || !(omega >= 0)) {
+    std::ostringstream o;
+    o << "omega = " << omega << " is not allowed: the Stribeck slope is defined at a finite bit velocity >= 0 rad/s";
+    throw std::invalid_argument(o.str());
+  }
   return wob * stribeck_factor(p) * std::exp(-p.stribeck_decay * omega / p.stribeck_velocity);
 }
 
 double boundary_wob(const Params& p, double delta, double omega) {
+  p.validate();
+  check_delta(delta);
+  if (!std::isfinite(omega) || !(omega >= 0)) {
+    std::ostringstream o;
+    o << "omega = " << omega << " is not allowed: a boundary is drawn at a finite bit velocity >= 0 rad/s";
+    throw std::invalid_argument(o.str());
+  }
   return delta * std::exp(p.stribeck_decay * omega / p.stribeck_velocity) / stribeck_factor(p);
 }
 
 complex bit_impedance(const Params& p, complex lambda) {
-  const Fraction f = bit_fraction(p, lambda);
-  return f.num / f.den;
+  p.validate();
+  if (!std::isfinite(lambda.real()) || !std::isfinite(lambda.imag())) {
+    std::ostringstream o;
+    o << "lambda = " << lambda << " is not allowed: the impedance is evaluated at a finite complex number";
+    throw std::invalid_argument(o.str());
+  }
+  return impedance(p, lambda);
 }
 
 std::vector<double> jacobian(const Params& p, double delta) {
   p.validate();
+  check_delta(delta);
   const int N = p.dof(), n = 2 * N - 1;
   std::vector<double> J(static_cast<std::size_t>(n) * n, 0.0);
   auto at = [&](int r, int c) -> double& { return J[static_cast<std::size_t>(r) * n + c]; };
@@ -211,6 +240,7 @@ std::vector<complex> eigenvalues(const Params& p, double delta) {
 
 std::vector<double> characteristic_polynomial(const Params& p, double delta) {
   p.validate();
+  check_delta(delta);
   const int N = p.dof();
   if (N > 12) {
     throw std::invalid_argument("dof = " + std::to_string(N) +
@@ -236,6 +266,19 @@ std::vector<double> characteristic_polynomial(const Params& p, double delta) {
 std::vector<double> hurwitz_determinants(const std::vector<double>& a) {
   const int n = static_cast<int>(a.size()) - 1;
   if (n < 1) throw std::invalid_argument("hurwitz_determinants needs a polynomial of degree >= 1");
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!std::isfinite(a[i])) {
+      std::ostringstream o;
+      o << "ascending[" << i << "] = " << a[i] << " is not allowed: coefficients must be finite";
+      throw std::invalid_argument(o.str());
+    }
+  }
+  if (!(a.back() > 0)) {
+    std::ostringstream o;
+    o << "ascending[" << n << "] = " << a.back()
+      << " is not allowed: the leading coefficient (last) must be > 0";
+    throw std::invalid_argument(o.str());
+  }
   auto b = [&](int k) { return (k < 0 || k > n) ? 0.0 : a[static_cast<std::size_t>(n - k)]; };
   std::vector<double> out;
   for (int m = 1; m < n; ++m) {
@@ -284,7 +327,7 @@ std::vector<Crossing> critical_deltas(const Params& p) {
   const double fold = p.top_damping + p.bit_damping;
   if (fold > 0) {
     const double h = 1e-7 * std::max(fold, 1e-12);
-    const double dz = (std::real(bit_impedance(p, complex(h, 0))) - std::real(bit_impedance(p, complex(-h, 0)))) / (2 * h);
+    const double dz = (std::real(impedance(p, complex(h, 0))) - std::real(impedance(p, complex(-h, 0)))) / (2 * h);
     out.push_back({"fold", fold, 0.0, dz > 0 ? 1 : -1, 1});
   }
 
@@ -339,7 +382,7 @@ std::vector<Crossing> critical_deltas(const Params& p) {
     // A zero of Im Z_b with Re Z_b > 0: the phase passes through 0.
     if ((ga < 0) == (gb < 0) || std::cos(pa) + std::cos(pb) <= 0) return;
     const double w = brent(g, wa, wb, ga, gb);
-    const complex z = bit_impedance(p, complex(0.0, w));
+    const complex z = impedance(p, complex(0.0, w));
     if (std::real(z) > 0 && std::fabs(std::imag(z)) <= 1e-6 * std::abs(z)) {
       out.push_back({"hopf", std::real(z), w, crossing_direction(p, w), 2});
     }
@@ -372,7 +415,11 @@ std::vector<Crossing> critical_deltas(const Params& p) {
 }
 
 double first_lyapunov_coefficient(const Params& p, double delta, double w) {
-  if (!(w > 0)) throw std::invalid_argument("a Hopf point needs a frequency > 0");
+  if (!std::isfinite(w) || !(w > 0)) {
+    std::ostringstream o;
+    o << "frequency = " << w << " is not allowed: a Hopf point needs a finite frequency > 0 rad/s";
+    throw std::invalid_argument(o.str());
+  }
   const int n = 2 * p.dof() - 1, b = n - 1;
   const std::vector<double> J = jacobian(p, delta);
   using CVec = std::vector<complex>;
@@ -433,6 +480,7 @@ double first_lyapunov_coefficient(const Params& p, double delta, double w) {
 }
 
 int unstable_count(const std::vector<Crossing>& crossings, double delta) {
+  check_delta(delta);
   int count = 0;
   for (const auto& c : crossings) {
     if (c.delta < delta) count += c.direction * c.multiplicity;

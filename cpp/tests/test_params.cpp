@@ -5,7 +5,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "pydrill/friction.hpp"
 #include "pydrill/params.hpp"
+#include "pydrill/simulator.hpp"
+#include "pydrill/stability.hpp"
 
 using pydrill::Params;
 using pydrill::preset;
@@ -70,4 +73,34 @@ TEST_CASE("bad parameters are refused with their name, value and range", "[param
 
   CHECK_THROWS_WITH(pydrill::check_operating_point(0.0, 8.3), Catch::Contains("wob = 0"));
   CHECK_THROWS_WITH(pydrill::check_operating_point(100.0, std::nan("")), Catch::Contains("torque"));
+}
+
+TEST_CASE("every public function that reads a string checks it first", "[params]") {
+  // A string whose vectors disagree with its dof: read blindly, it runs off the end of
+  // stiffnesses (a crash) or returns numbers made of stale memory.
+  Params p = preset("reduced-scale", 4);
+  p.stiffnesses.clear();
+  const auto names_it = Catch::Contains("stiffnesses has 0 entries");
+  CHECK_THROWS_WITH(pydrill::bit_impedance(p, {0.0, 1.0}), names_it);
+  CHECK_THROWS_WITH(pydrill::estimate_stiffness(p), names_it);
+  CHECK_THROWS_WITH(pydrill::stiffness_ratio(p), names_it);
+  CHECK_THROWS_WITH(pydrill::choose_method(p), names_it);
+  CHECK_THROWS_WITH(pydrill::boundary_wob(p, 1.0, 1.0), names_it);
+  CHECK_THROWS_WITH(pydrill::stribeck_slope(p, 100.0, 1.0), names_it);
+  CHECK_THROWS_WITH(pydrill::critical_deltas(p), names_it);
+
+  // A default-constructed Params has no string at all; its friction law has v_f = 1 but
+  // μ = 0, which a friction object would turn into zero torque without a word.
+  const Params empty;
+  CHECK_THROWS_WITH(pydrill::bit_impedance(empty, {0.0, 1.0}), Catch::Contains("dof = 0"));
+  CHECK_THROWS_WITH(pydrill::BitFriction(empty, 100.0), Catch::Contains("dof = 0"));
+  Params q = preset("reduced-scale", 4);
+  q.stribeck_velocity = 0.0;
+  CHECK_THROWS_WITH(pydrill::BitFriction(q, 100.0), Catch::Contains("stribeck_velocity = 0"));
+  CHECK_THROWS_WITH(pydrill::boundary_wob(q, 1.0, 1.0), Catch::Contains("stribeck_velocity = 0"));
+  CHECK_THROWS_WITH(pydrill::BitFriction(preset("reduced-scale", 4), -1.0), Catch::Contains("wob = -1"));
+  // The checked constructor still gives the law of DESIGN.md §2.
+  const pydrill::BitFriction f(preset("reduced-scale", 4), 100.0);
+  CHECK(f.static_torque() == Approx(0.8 * 100.0 * 0.1));
+  CHECK(f.magnitude(1.0) == Approx(100.0 * 0.1 * (0.5 + 0.3 * std::exp(-0.9))));
 }

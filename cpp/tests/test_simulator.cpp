@@ -136,4 +136,46 @@ TEST_CASE("bad options are refused before anything runs", "[simulator]") {
   CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::Contains("2*dof-1 = 7"));
   o.initial = Initial::Equilibrium;
   CHECK_THROWS_WITH(simulate(p, 160.0, 8.3, o), Catch::Contains("no steady rotation"));
+  // CVODES takes BDF up to order 5 and Adams up to 12; it used to refuse order 8 for BDF
+  // itself, as a runtime_error, after the run had started.
+  o.initial = Initial::Rest;
+  o.method = Method::BDF;
+  o.max_order = 8;
+  CHECK_THROWS_AS(simulate(p, 100.0, 8.3, o), std::invalid_argument);
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::Contains("max_order = 8") && Catch::Contains("1..5"));
+  o.method = Method::DOP853;  // a fixed order: the option would be ignored
+  o.max_order = 3;
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::Contains("max_order = 3") && Catch::Contains("dop853"));
+  o.method = Method::Auto;
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::Contains("max_order = 3"));
+  o.method = Method::Adams;
+  o.max_order = 8;
+  o.t_end = 5.0;
+  CHECK_NOTHROW(simulate(p, 100.0, 8.3, o));
+}
+
+TEST_CASE("DOP853's shortest step does not depend on how long the run is", "[simulator]") {
+  // The floor used to be 1e-14 of t_end: at t_end = 1e10 s a step of 1e-4 s, which the
+  // first stick of the bit needs to go below, so the run stopped at t = 0 with "step size
+  // fell". Now a long run goes as far as max_steps lets it, and says so.
+  const Params p = preset("reduced-scale", 4);
+  SimulationOptions o;
+  o.method = Method::DOP853;
+  o.t_end = 1e10;
+  o.max_steps = 20000;
+  o.t_out = {0.0, 1e10};
+  try {
+    simulate(p, 100.0, 8.3, o);
+    FAIL("20000 steps cannot reach t = 1e10 s in stick-slip");
+  } catch (const SolverError& e) {
+    CHECK(std::string(e.what()).find("max_steps = 20000") != std::string::npos);
+    CHECK(e.t_reached() > 100.0);  // well past the first stick-slip cycles
+  }
+  // A run shorter than the floor is a single short step, not a failure.
+  o.t_end = 1e-20;
+  o.t_out.clear();
+  o.max_steps = 50'000'000;
+  const Result r = simulate(p, 100.0, 8.3, o);
+  CHECK(r.t.back() == 1e-20);
+  CHECK(r.stats.steps >= 1);
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "pydrill/stability.hpp"
 
@@ -138,4 +140,33 @@ TEST_CASE("where the iteration crawls, the dense solver answers", "[stability]")
   CHECK_FALSE(roots_of_impedance(p, 0.01, unused));
   CHECK(unused.empty());
   CHECK(structured_eigenvalues(p, 0.01) == eigenvalues(p, 0.01));
+}
+
+TEST_CASE("a slope or frequency or coefficient that is not a number is refused by name", "[stability]") {
+  // Before, a NaN δ came back as "eigenvalue solver did not converge", a NaN spectrum, or
+  // an unstable count of 0 (stable); an infinite frequency as a NaN Lyapunov coefficient.
+  const Params p = preset("reduced-scale", 4);
+  const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
+  const auto names_delta = Catch::Contains("delta = nan");
+  CHECK_THROWS_WITH(jacobian(p, nan), names_delta);
+  CHECK_THROWS_WITH(eigenvalues(p, nan), names_delta);
+  CHECK_THROWS_WITH(structured_eigenvalues(p, nan), names_delta);
+  std::vector<complex> out;
+  CHECK_THROWS_WITH(roots_of_impedance(p, nan, out), names_delta);
+  CHECK_THROWS_WITH(characteristic_polynomial(p, nan), names_delta);
+  CHECK_THROWS_WITH(boundary_wob(p, nan, 1.0), names_delta);
+  CHECK_THROWS_WITH(unstable_count(critical_deltas(p), nan), names_delta);
+  CHECK_THROWS_WITH(first_lyapunov_coefficient(p, nan, 1.0), names_delta);
+  CHECK_THROWS_WITH(jacobian(p, inf), Catch::Contains("delta = inf"));
+  CHECK_THROWS_WITH(first_lyapunov_coefficient(p, 0.01, inf), Catch::Contains("frequency = inf"));
+  CHECK_THROWS_WITH(first_lyapunov_coefficient(p, 0.01, 0.0), Catch::Contains("frequency = 0"));
+  CHECK_THROWS_WITH(stribeck_slope(p, 100.0, -5.0), Catch::Contains("omega = -5"));
+  CHECK_THROWS_WITH(boundary_wob(p, 0.01, -1.0), Catch::Contains("omega = -1"));
+  CHECK_THROWS_WITH(bit_impedance(p, complex(nan, 1.0)), Catch::Contains("lambda"));
+  CHECK_THROWS_WITH(hurwitz_determinants({1.0, nan, 1.0}), Catch::Contains("ascending[1] = nan"));
+  CHECK_THROWS_WITH(hurwitz_determinants({1.0, 2.0, -1.0}), Catch::Contains("ascending[2] = -1"));
+  // The edges that are allowed still answer: δ = 0 (no Stribeck effect) and Ω = 0.
+  CHECK(unstable_count(critical_deltas(p), 0.0) == 0);
+  CHECK(stribeck_slope(p, 100.0, 0.0) == Approx(100.0 * 0.1 * 0.9 * 0.3));
+  CHECK(boundary_wob(p, stribeck_slope(p, 100.0, 2.0), 2.0) == Approx(100.0));
 }

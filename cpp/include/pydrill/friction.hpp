@@ -14,8 +14,10 @@ struct BitFriction {
   double mu_s;        // μ_sb
   double decay;       // γ_b / v_f, s/rad
 
+  // Checks the friction law and W_ob first (std::invalid_argument naming the bad one): a
+  // zero v_f or μ_sb < μ_cb would otherwise come back as silent NaN or negative torques.
   BitFriction(const Params& p, double wob)
-      : scale(wob * p.bit_radius),
+      : scale((check(p, wob), wob * p.bit_radius)),
         mu_c(p.mu_coulomb),
         mu_s(p.mu_static),
         decay(p.stribeck_decay / p.stribeck_velocity) {}
@@ -50,6 +52,13 @@ struct BitFriction {
 
   // Stribeck slope δ(Ω) = −dT_fb/dω at Ω > 0 (DESIGN.md §3).
   double delta(double omega) const { return -slip_slope(omega); }
+
+ private:
+  static int check(const Params& p, double wob) {
+    p.validate();
+    check_operating_point(wob, 0.0);
+    return 0;
+  }
 };
 
 }  // namespace pydrill

@@ -22,7 +22,7 @@ enum class Initial { Rest, Equilibrium, State };
 const char* method_name(Method m);
 Method parse_method(const std::string& s);            // "auto", "bdf", "adams", "erk", "dop853"
 FrictionLaw parse_friction(const std::string& s);     // "exact", "karnopp"
-Initial parse_initial(const std::string& s);          // "rest", "equilibrium"
+Initial parse_initial(const std::string& s);          // "rest", "equilibrium", "state"
 
 struct SimulationOptions {
   double t_end = 300.0;              // s
@@ -36,7 +36,7 @@ struct SimulationOptions {
   double rtol = 1e-8;
   double atol = 1e-8;
   double max_step = 0.0;             // 0: no limit
-  int max_order = 0;                 // 0: the method's default (BDF 5, Adams 12)
+  int max_order = 0;                 // 0: the method's default; BDF 1..5, Adams 1..12, others 0
   long max_steps = 50'000'000;       // internal steps over the whole run
   double window_fraction = 0.5;      // last fraction of the run judged for the regime
   double max_switch_rate = 1e4;      // switches per simulated second before it is chattering

@@ -1,0 +1,145 @@
+"""Atlas edges found by an audit: failed points, message coordinates, one-value axes,
+damaged attributes and datasets, journals without their atlas, refused sweeps' directories."""
+
+import csv
+import json
+import subprocess
+
+import dask
+import h5py
+import pytest
+import xarray as xr
+from sweeping import CMD, SMALL
+
+from pydrill.atlas import Atlas
+from pydrill.journal import journal_path
+from pydrill.spec import parse_spec
+from pydrill.sweep import AtlasError, run_sweep
+
+# Two of the three W_ob fail (stick-slip and steady need more than 900 steps; stuck does not).
+FAILING = SMALL.replace('initial = ["rest", "equilibrium"]', 'initial = ["rest"]\nmax_steps = 900')
+
+
+def run(*args):
+    return subprocess.run([*CMD, *map(str, args)], capture_output=True, text=True)
+
+
+@pytest.fixture(scope="module")
+def failing_atlas(tmp_path_factory):
+    out = tmp_path_factory.mktemp("failing") / "f.h5"
+    report = run_sweep(parse_spec(FAILING), out, serial=True)
+    assert 0 < report.failed < report.points
+    return out
+
+
+def test_a_failed_point_reads_as_failed_everywhere(failing_atlas, tmp_path):
+    with Atlas(failing_atlas) as atlas:
+        bad = atlas.value(wob=100.0, torque=8.3)
+        assert bad["status"] == "failed"
+        assert bad["regime"] == {"rest": "failed"}  # was "missing": as if never computed
+        assert atlas.summary()["regimes"]["rest"].get("missing", 0) == 0
+    text = run("atlas", "query", failing_atlas, "--wob", "100", "--torque", "8.3")
+    assert text.returncode == 0
+    assert "failed" in text.stdout and "max_steps" in text.stdout  # the message, not only JSON
+    out = tmp_path / "f.csv"
+    assert run("atlas", "export", failing_atlas, "--out", out).returncode == 0
+    with out.open() as fh:
+        rows = list(csv.DictReader(fh))
+    failed = [r for r in rows if r["regime_name"] == "failed"]
+    assert failed and all("max_steps" in r["message"] for r in failed)
+    assert all(r["message"] == "" for r in rows if r["regime_name"] != "failed")
+
+
+def test_message_has_the_atlas_axes_in_xarray(failing_atlas):
+    # Without its dimension scales h5netcdf named the dimensions of ``message`` after the
+    # first of the same length: ('eigenvalue', 'torque') for this 3 x 2 grid.
+    ds = xr.open_dataset(failing_atlas, engine="h5netcdf")
+    assert ds["message"].dims == ("wob", "torque")
+    assert "max_steps" in str(ds["message"].sel(wob=100.0, torque=8.3).item())
+    ds.close()
+
+
+def test_an_older_atlas_without_message_scales_still_gets_the_right_dimensions(
+    failing_atlas, tmp_path
+):
+    old = tmp_path / "old.h5"
+    old.write_bytes(failing_atlas.read_bytes())
+    with h5py.File(old, "r+") as f:
+        for axis, name in enumerate(("wob", "torque")):
+            f["message"].dims[axis].detach_scale(f[name])
+    with Atlas(old) as atlas:
+        ds = atlas.to_xarray()
+        assert ds["message"].dims == ("wob", "torque")
+        assert "max_steps" in str(ds["message"].sel(wob=100.0, torque=8.3).item())
+
+
+def test_nearest_on_a_one_value_axis_is_no_wider_than_that_value(tmp_path):
+    out = tmp_path / "one.h5"
+    spec = SMALL.replace("wob = [40.0, 100.0, 160.0]", "wob = [40.0]").replace(
+        "torque = [6.0, 8.3]", "torque = [8.3]"
+    )
+    run_sweep(parse_spec(spec.replace("t_end = 200.0", "t_end = 20.0")), out, serial=True)
+    with Atlas(out) as atlas:
+        assert atlas.value("nearest", wob=40.0, torque=8.3)["status"] == "done"
+        with pytest.raises(KeyError, match=r"wob = 99999 is outside the atlas \(only 40\)"):
+            atlas.value("nearest", wob=99999.0, torque=8.3)
+    proc = run("atlas", "query", out, "--wob", "99999", "--torque", "-500", "--nearest")
+    assert proc.returncode == 2 and "outside the atlas" in proc.stderr and not proc.stdout
+
+
+def test_a_damaged_attribute_or_a_lost_dataset_is_named(failing_atlas, tmp_path):
+    bad_attr = tmp_path / "attr.h5"
+    bad_attr.write_bytes(failing_atlas.read_bytes())
+    with h5py.File(bad_attr, "r+") as f:
+        f.attrs["axes"] = "not json"
+    with pytest.raises(AtlasError, match=r"attr\.h5 is damaged"):
+        Atlas(bad_attr)
+    lost = tmp_path / "lost.h5"
+    lost.write_bytes(failing_atlas.read_bytes())
+    with h5py.File(lost, "r+") as f:
+        del f["coexistence"]
+    with pytest.raises(AtlasError, match=r"lost\.h5 is damaged or incomplete: .*coexistence"):
+        Atlas(lost)
+    for command in ("info", "plot"):
+        extra = ["--out", tmp_path / "x.png"] if command == "plot" else []
+        proc = run("atlas", command, lost, *extra)
+        assert proc.returncode == 2, proc.stderr
+        assert "coexistence" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_a_journal_without_its_atlas_is_named_for_what_it_is(tmp_path):
+    out = tmp_path / "j.h5"
+    journal_path(out).write_text(json.dumps({"spec_digest": "0123456789abcdef"}) + "\n")
+    with pytest.raises(AtlasError, match=r"j\.h5\.journal belongs to another sweep"):
+        run_sweep(parse_spec(SMALL), out, serial=True, resume=True)
+    assert not out.exists()  # an empty atlas used to be left beside it
+    spec = parse_spec(SMALL)
+    journal_path(out).write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
+    with pytest.raises(AtlasError, match=r"holds an interrupted sweep of this spec.*--resume"):
+        run_sweep(spec, out, serial=True)
+    assert not out.exists()
+
+
+def test_a_refused_sweep_leaves_no_directory_behind(tmp_path):
+    out = tmp_path / "new" / "deeper" / "x.h5"
+    # Nothing listens on port 1; Dask's client would wait its 30 s for a scheduler to start.
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        with pytest.raises(ConnectionError):
+            run_sweep(parse_spec(SMALL), out, scheduler="tcp://127.0.0.1:1")
+    assert not (tmp_path / "new").exists()
+
+
+def test_an_axis_given_twice_to_query_is_refused(failing_atlas):
+    proc = run(
+        "atlas", "query", failing_atlas, "--wob", "40", "--torque", "8.3", "--set", "wob=160"
+    )
+    assert proc.returncode == 2 and not proc.stdout
+    assert "wob is given twice" in proc.stderr
+
+
+def test_export_makes_its_directory_as_sweep_does(failing_atlas, tmp_path):
+    out = tmp_path / "exports" / "f.nc"
+    assert run("atlas", "export", failing_atlas, "--out", out).returncode == 0
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert ds["regime"].dims == ("wob", "torque", "initial")
+    ds.close()

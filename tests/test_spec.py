@@ -1,0 +1,243 @@
+"""Sweep specs: every bad spec is refused with a SpecError naming the key (issue 4), axes are
+stored in increasing order, and the digest tells apart what would make a different atlas."""
+
+import subprocess
+
+import numpy as np
+import pytest
+from sweeping import CMD, ROOT
+
+from pydrill.spec import SpecError, load_spec, parse_spec
+
+# The smallest valid grid; each bad spec below changes one thing in it.
+GRID = "[axes]\nwob = [50.0]\ntorque = [6.0]\n"
+TALLY = (ROOT / "examples" / "tallies" / "paper-eq53.toml").read_text()
+DEPTHS = '[model]\ntally = "t.toml"\ndof = 6\ntorque = 9000.0\n[axes]\ndepth = [1000.0, 3000.0]\n'
+
+
+def refused(text: str, key: str, tally_text: str | None = None) -> str:
+    """The message of the SpecError ``text`` raises; it must name ``key``."""
+    with pytest.raises(SpecError) as err:
+        parse_spec(text, tally_text=tally_text)
+    assert key in str(err.value), str(err.value)
+    return str(err.value)
+
+
+# A. Malformed input: a SpecError naming the key, never a raw TypeError or MemoryError.
+
+
+@pytest.mark.parametrize(
+    ("text", "key"),
+    [
+        ("model = 5\n" + GRID, "model: 5 is not a table"),
+        ("axes = [1, 2]\n", "axes: [1, 2] is not a table"),
+        ('simulation = "fast"\n' + GRID, "simulation: 'fast' is not a table"),
+        ("record = 1\n" + GRID, "record: 1 is not a table"),
+    ],
+)
+def test_a_section_that_is_not_a_table_is_refused(text, key):
+    refused(text, key)
+
+
+@pytest.mark.parametrize("value", ['"0.5"', "true", "[0.5]"])
+def test_window_must_be_a_number(value):
+    msg = refused(GRID + f"[simulation]\nwindow = {value}\n", "simulation.window")
+    assert "0 < window <= 1" in msg
+
+
+@pytest.mark.parametrize(
+    ("line", "key"),
+    [
+        ("tally = 5", "model.tally: 5 is not allowed: a path"),
+        ("mu_static = [0.5]", "model.mu_static: [0.5] is not a finite number"),
+        ('bit_radius = "0.1"', "model.bit_radius: '0.1' is not a finite number"),
+        ("bit_radius = true", "model.bit_radius: True is not a finite number"),
+        ("bit_radius = " + "9" * 400, "model.bit_radius"),  # an integer beyond any float
+        ("inertias = [0.5, true, 0.03, 0.03]", "model.inertias: True is not a finite number"),
+        ('inertias = "heavy"', "model.inertias: 'heavy' is not allowed: a list of numbers"),
+    ],
+)
+def test_a_model_parameter_of_the_wrong_type_is_refused(line, key):
+    refused(f"[model]\n{line}\n" + GRID, key)
+
+
+def test_model_parameters_of_the_right_type_still_pass():
+    spec = parse_spec("[model]\nbit_radius = 0.12\ninertias = [0.5, 0.02, 0.03, 0.03]\n" + GRID)
+    assert spec.params_at(spec.coords(0)).bit_radius == 0.12
+
+
+@pytest.mark.parametrize(
+    ("text", "key"),
+    [
+        ("[axes]\ndof = [4, 1e12]\nwob = [50.0]\ntorque = [6.0]\n", "axes.dof"),
+        ("[axes]\npipes = [1, 99998]\nwob = [50.0]\ntorque = [6.0]\n", "axes.pipes"),
+        ("[model]\ndof = 400000000\n" + GRID, "model.dof"),
+        ("[model]\ndof = 100001\n" + GRID, "model.dof: 100001 is not allowed: an integer 2"),
+        ("[model]\npipes = 99998\n" + GRID, "model.pipes"),
+    ],
+)
+def test_a_string_beyond_the_largest_size_is_refused(text, key):
+    assert "100000" in refused(text, key)
+
+
+def test_the_largest_string_passes():
+    assert parse_spec("[model]\ndof = 100000\n" + GRID).dof == 100000
+
+
+def test_a_tally_string_beyond_the_largest_size_is_refused():
+    # 2000 km of 9 m joints: some 222000 inertias, unless lumped.
+    deep = DEPTHS.replace("3000.0]", "2.0e6]") + "wob = [5e4]\n"
+    assert "100000" in refused(deep, "axes.depth", tally_text=TALLY)
+    assert parse_spec(deep.replace("dof = 6", "dof = 6\nlump = 5"), tally_text=TALLY).size == 2
+
+
+def test_a_grid_of_too_many_points_is_refused():
+    text = (
+        "[axes]\nwob = { start = 1.0, stop = 2.0, num = 1000000 }\n"
+        "torque = { start = 1.0, stop = 2.0, num = 1000000 }\n"
+    )
+    msg = refused(text, "axes: 1000000 x 1000000 = 1000000000000 points")
+    assert "100000000" in msg
+
+
+@pytest.mark.parametrize("value", ["1e400", "9" * 400])
+def test_a_number_beyond_any_float_is_refused(value):
+    refused(f"[axes]\nwob = [{value}]\ntorque = [6.0]\n", "axes.wob")
+
+
+# B. Accepted before, failing at run time or silently ignored: refused now.
+
+
+@pytest.mark.parametrize("value", ["-5", "0", '"lots"', "1.5", "true", "4611686018427387904"])
+def test_max_steps_must_be_a_positive_integer(value):
+    msg = refused(GRID + f"[simulation]\nmax_steps = {value}\n", "simulation.max_steps")
+    assert "an integer >= 1" in msg
+
+
+def test_max_steps_is_kept():
+    assert parse_spec(GRID + "[simulation]\nmax_steps = 1000\n").simulation["max_steps"] == 1000
+
+
+def test_a_range_of_equal_ends_must_have_one_point():
+    refused("[axes]\nwob = { start = 50.0, stop = 50.0, num = 3 }\ntorque = [6.0]\n", "axes.wob")
+    one = parse_spec("[axes]\nwob = { start = 50.0, stop = 50.0, num = 1 }\ntorque = [6.0]\n")
+    assert one.axes["wob"].tolist() == [50.0]
+
+
+def test_a_range_of_one_point_must_not_drop_its_stop():
+    msg = refused(
+        "[axes]\nwob = { start = 40.0, stop = 80.0, num = 1 }\ntorque = [6.0]\n", "axes.wob"
+    )
+    assert "use a list" in msg
+
+
+def test_a_range_finer_than_its_numbers_is_refused():
+    text = (
+        "[axes]\nwob = { start = 1e16, stop = 1.0000000000000004e16, num = 100 }\ntorque = [6.0]\n"
+    )
+    assert "repeated values" in refused(text, "axes.wob")
+
+
+def test_a_malformed_tally_is_refused(tmp_path):
+    tally = tmp_path / "t.toml"
+    tally.write_text("steel = 5\n")  # a table of the wrong type
+    spec = DEPTHS + "wob = [5e4]\n"
+    refused(spec.replace('"t.toml"', f'"{tally}"'), "model.tally: malformed tally")
+    refused(spec.replace('"t.toml"', '"t\\u0000.toml"'), "model.tally: cannot read")  # a NUL
+
+
+def test_lump_needs_a_tally():
+    refused("[model]\nlump = 3\n" + GRID, "model.lump: lump needs tally")
+
+
+def test_a_parameter_both_in_model_and_axes_is_refused():
+    text = "[model]\nbit_radius = 0.12\n[axes]\nwob = [50.0]\ntorque = [6.0]\nbit_radius = [0.1]\n"
+    msg = refused(text, "model.bit_radius")
+    assert "give it in one place only" in msg
+
+
+def test_every_pair_of_friction_coefficients_on_the_grid_is_valid():
+    axes = "[axes]\nwob = [50.0]\ntorque = [6.0]\nmu_coulomb = [0.3, 0.7]\n"
+    # The corners (0.3, 0.6) and (0.7, 0.9) are valid; the point (0.7, 0.6) is not.
+    msg = refused(axes + "mu_static = [0.6, 0.9]\n", "axes.mu_static")
+    assert "mu_coulomb" in msg and "0.7" in msg and "0.6" in msg
+    assert parse_spec(axes + "mu_static = [0.75, 0.9]\n").size == 4
+    # One of the two in [model]: the largest mu_coulomb against it.
+    refused("[model]\nmu_static = 0.6\n" + axes, "mu_static")
+
+
+# C. Axes in increasing order.
+
+
+def test_axes_are_stored_in_increasing_order():
+    spec = parse_spec("[axes]\nwob = [160.0, 40.0, 120.0, 80.0]\ntorque = [8.0, 6.0]\n")
+    assert spec.axes["wob"].tolist() == [40.0, 80.0, 120.0, 160.0]
+    assert spec.axes["torque"].tolist() == [6.0, 8.0]
+    assert spec.coords(0) == {"wob": 40.0, "torque": 6.0}
+    assert spec.coords(7) == {"wob": 160.0, "torque": 8.0}
+    sizes = parse_spec("[axes]\ndof = [8, 2, 4]\nwob = [50.0]\ntorque = [6.0]\n")
+    assert sizes.axes["dof"].tolist() == [2, 4, 8] and sizes.coords(0)["dof"] == 2
+
+
+def test_a_reversed_range_is_the_same_grid_as_the_forward_one():
+    forward = parse_spec("[axes]\nwob = { start = 20.0, stop = 200.0, num = 19 }\ntorque = [6.0]\n")
+    back = parse_spec("[axes]\nwob = { start = 200.0, stop = 20.0, num = 19 }\ntorque = [6.0]\n")
+    assert np.all(np.diff(back.axes["wob"]) > 0)
+    assert back.axes["wob"].tolist() == forward.axes["wob"].tolist()
+    assert back.digest == forward.digest
+
+
+# D. The digest: the tally and lump of a tally string; nothing new for any other spec.
+
+
+def test_digests_of_specs_without_a_tally_are_unchanged():
+    # Computed before the tally entered the digest: existing atlases stay resumable.
+    assert load_spec(ROOT / "sweeps" / "paper-wob-torque.toml").digest == "81ca80b1a6f6e4c1"
+    assert load_spec(ROOT / "sweeps" / "minimal.toml").digest == "44c4413bd4277a8a"
+    text = (
+        '[model]\npreset = "reduced-scale"\ndof = 5\nbit_radius = 0.12\ntorque = 8.0\n'
+        "[axes]\nwob = { start = 40.0, stop = 160.0, num = 4 }\nmu_static = [0.8, 0.9]\n"
+        "[simulation]\nt_end = 100.0\nmax_steps = 100000\n[record]\neigenvalues = 2\n"
+    )
+    assert parse_spec(text).digest == "807684b1fab66d1f"
+    assert parse_spec("[axes]\ndof = [2, 4, 8]\n" + GRID[7:]).digest == "a8ddc8803623e4dd"
+
+
+def test_the_digest_of_a_tally_string_follows_lump_and_the_tally():
+    spec = DEPTHS + "wob = [5e4]\n"
+    base = parse_spec(spec, tally_text=TALLY).digest
+    assert parse_spec(spec, tally_text=TALLY).digest == base
+    assert parse_spec(spec.replace("dof = 6", "dof = 6\nlump = 2"), tally_text=TALLY).digest != base
+    other = TALLY.replace("beta = 0.2 ", "beta = 0.3 ")
+    assert other != TALLY
+    assert parse_spec(spec, tally_text=other).digest != base
+
+
+def test_the_depth_sweep_shipped_still_parses():
+    spec = load_spec(ROOT / "sweeps" / "paper-string-depth.toml")
+    assert spec.shape == (6, 6) and spec.lump == 1
+
+
+# The command: the formerly crashing specs end in a message, not a traceback; nothing written.
+
+
+@pytest.mark.parametrize(
+    ("text", "key"),
+    [("model = 5\n" + GRID, "model"), (GRID + "[simulation]\nwindow = '0.5'\n", "window")],
+)
+def test_the_command_refuses_them_before_writing(tmp_path, text, key):
+    spec_file = tmp_path / "bad.toml"
+    spec_file.write_text(text)
+    out = tmp_path / "bad.h5"
+    proc = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--out", str(out)], capture_output=True, text=True
+    )
+    assert proc.returncode == 2 and key in proc.stderr and "Traceback" not in proc.stderr
+    assert list(tmp_path.iterdir()) == [spec_file]
+
+
+def test_a_spec_file_that_is_not_text_is_refused(tmp_path):
+    spec_file = tmp_path / "bad.toml"
+    spec_file.write_bytes(b"\xff\xfe[axes]\n")
+    with pytest.raises(SpecError, match=r"bad\.toml"):
+        load_spec(spec_file)
