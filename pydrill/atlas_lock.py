@@ -49,7 +49,12 @@ class AtlasBusy(AtlasError):
 def writer_lock(atlas: Path) -> Iterator[None]:
     path = atlas.with_name(atlas.name + LOCK_SUFFIX)
     while True:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:  # say what it is for: the user named the atlas, not this
+            raise AtlasError(
+                f"{atlas}: cannot create its lock file {path.name} beside it ({exc.strerror})"
+            ) from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -86,12 +87,29 @@ FIGURE_SUFFIXES = tuple(".png .pdf .svg .svgz .eps .ps .jpg .jpeg .tif .tiff .we
 
 
 def figure_path(text: str) -> str:
-    """An argparse type for ``--plot FILE``: a suffix matplotlib can write."""
+    """An argparse type for ``--plot FILE``: a suffix matplotlib can write, in a directory
+    that is (or can be made) writable."""
     if Path(text).suffix.lower() not in FIGURE_SUFFIXES:
         raise argparse.ArgumentTypeError(
             f"{text!r}: a figure's format is its suffix, one of " + ", ".join(FIGURE_SUFFIXES)
         )
+    writable_place(text)
     return text
+
+
+def writable_place(text: str) -> None:
+    """Refuse, before any work, an output path under a file or in a directory this user may
+    not write (missing directories are made when the output is saved)."""
+    path = Path(text)
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is a directory; give a file name in it")
+    for parent in path.absolute().parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise argparse.ArgumentTypeError(f"{text!r}: {parent} is a file, not a directory")
+            if not os.access(parent, os.W_OK | os.X_OK):
+                raise argparse.ArgumentTypeError(f"{text!r}: cannot write in {parent}")
+            return
 
 
 def _list(name: str):
@@ -153,17 +171,22 @@ def tally_params(path: str, depth: str | None, lump: int | None, dof: int | None
     return tally, tally.to_params(dof=dof, lump=lump)
 
 
+def _no_tally_options(args: argparse.Namespace) -> None:
+    """Refuse the options of a tally's string when no tally is given."""
+    for option, value in (("--depth", args.depth), ("--lump", args.lump)):
+        if value is not None:
+            raise ValueError(
+                f"{option} needs --tally: a preset's length is set by --dof or --pipes"
+            )
+
+
 def string_params(args: argparse.Namespace):
     """The string that ``_string_options`` name: a preset of ``--dof`` (or ``--pipes``)
     inertias, or a tally's (``--tally``, ``--depth``, ``--lump``, reduced to ``--dof``)."""
     from . import preset
 
     if args.tally is None:
-        for option, value in (("--depth", args.depth), ("--lump", args.lump)):
-            if value is not None:
-                raise ValueError(
-                    f"{option} needs --tally: a preset's length is set by --dof or --pipes"
-                )
+        _no_tally_options(args)
         return preset(args.preset or "reduced-scale", dof=args.dof, pipes=args.pipes)
     if args.preset is not None:
         raise ValueError("give --preset or --tally, not both")
@@ -272,6 +295,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--atol", type=_positive("--atol"), default=1e-8, help="absolute tolerance")
     run.add_argument("--n-out", type=int, default=3001, help="number of output times")
     run.add_argument(
+        "--max-steps",
+        type=int,
+        default=50_000_000,
+        help="internal steps allowed over the whole run (default 5e7): a long run of a stiff "
+        "or chattering string may need more",
+    )
+    run.add_argument(
         "--window",
         type=_positive("--window"),
         default=0.5,
@@ -301,6 +331,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     if args.tally is not None:
         string = {"params": string_params(args)}
     else:
+        _no_tally_options(args)
         string = {"preset": args.preset or "reduced-scale", "dof": args.dof, "pipes": args.pipes}
     result = simulate(
         **string,
@@ -313,6 +344,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         rtol=args.rtol,
         atol=args.atol,
         n_out=args.n_out,
+        max_steps=args.max_steps,
         window_fraction=args.window,
         **overrides,
     )

@@ -143,7 +143,6 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     omap.add_argument(
         "--t-end",
         type=_positive("--t-end"),
-        default=300.0,
         help="simulated time of each check (s, default 300)",
     )
     omap.add_argument("--json", action="store_true", help="print one JSON object for scripts")
@@ -213,6 +212,12 @@ def _cmd_stability(args: argparse.Namespace) -> int:
 
     params = string_params(args)
     points = stability(params, args.wob, omega=args.omega, torque=args.torque)
+    if args.plot and not points:  # nothing to draw: say so rather than save empty axes
+        raise ValueError(
+            f"no figure: u = {args.torque:g} N m has no steady rotation at W_ob = "
+            f"{args.wob:g} N, so there are no eigenvalues to draw (run without --plot for the "
+            "verdict)"
+        )
     if args.plot:
         from .plot import save
         from .plot_analysis import eigenvalue_figure
@@ -270,6 +275,10 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         raise ValueError("--vary wob needs --torque (the surface torque held fixed, N m)")
     if args.vary == "torque" and args.wob is None:
         raise ValueError("--vary torque needs --wob (the weight on bit held fixed, N)")
+    if args.vary == "wob" and args.wob is not None:
+        raise ValueError("--wob is not allowed with --vary wob: the branch varies it")
+    if args.vary == "torque" and args.torque is not None:
+        raise ValueError("--torque is not allowed with --vary torque: the branch varies it")
     params = string_params(args)
     b = branch(params, vary=args.vary, torque=args.torque, wob=args.wob, omega_max=args.omega_max)
     if args.plot:
@@ -325,6 +334,8 @@ def _cmd_map(args: argparse.Namespace) -> int:
 
     if args.check < 0 or args.check > 40:
         raise ValueError(f"--check = {args.check} is not allowed: need 0 <= K <= 40")
+    if not args.check and args.t_end is not None:
+        raise ValueError("--t-end needs --check K: it is the simulated time of each check")
     params = string_params(args)
     wob_max = args.wob_max or (250.0 if params.name == "reduced-scale" else 2e5)
     torque_max = args.torque_max or 0.1 * wob_max
@@ -336,7 +347,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     if args.check:
         for w in np.linspace(wob_max / args.check, wob_max, args.check):
             for u in np.linspace(torque_max / args.check, torque_max, args.check):
-                r = simulate(params, wob=w, torque=u, t_end=args.t_end, n_out=301)
+                r = simulate(params, wob=w, torque=u, t_end=args.t_end or 300.0, n_out=301)
                 checks.append((float(w), float(u), r.regime))
     if args.plot:
         from .plot import save

@@ -236,8 +236,9 @@ def _cmd_query(args: argparse.Namespace) -> int:
     with Atlas(args.atlas) as atlas:
         try:
             v = atlas.value("nearest" if args.nearest else "exact", **coords)
-        except KeyError as exc:
-            raise ValueError(exc.args[0]) from None
+        except KeyError as exc:  # worded for the Python API: say the option instead
+            message = exc.args[0].replace("method='nearest' (--nearest)", "--nearest")
+            raise ValueError(message) from None
         initials = atlas.initials
     if args.json:
         first = initials[0]
@@ -302,6 +303,8 @@ def _cmd_export(args: argparse.Namespace) -> int:
     from .atlas import Atlas
 
     out = Path(args.out)
+    if out.resolve() == Path(args.atlas).resolve():
+        raise ValueError(f"--out {args.out} is the atlas itself; give another file")
     with Atlas(args.atlas) as atlas:
         out.parent.mkdir(parents=True, exist_ok=True)  # as for every other output of pydrill
         ds = atlas.to_xarray()

@@ -9,7 +9,7 @@ import signal
 import sys
 import time
 
-from .cli import figure_path
+from .cli import figure_path, writable_place
 from .cli_atlas import axis_line
 
 SWEEP_EPILOG = """\
@@ -163,6 +163,15 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         return _dry_run(args, spec)
     if args.out is None:
         raise ValueError("--out ATLAS.h5 is required: the atlas to write (or give --dry-run)")
+    try:
+        writable_place(args.out)
+    except argparse.ArgumentTypeError as exc:
+        raise ValueError(f"--out {exc}") from None
+    if args.plot and len(spec.axes) < 2:  # found out now, not after the whole sweep
+        raise ValueError(
+            f"--plot draws a map over two axes; this sweep has one ({next(iter(spec.axes))}): "
+            "drop --plot, or add an axis"
+        )
     bar = None
     if args.no_progress:
         pass

@@ -8,6 +8,30 @@ import json
 
 from .cli import _positive, figure_path
 
+
+def _kilonewtons(option: str):
+    """A weight on bit for a real string: a bare number is kN (as the chart and table show
+    it), or any force with its unit (60klbf, 60000N)."""
+
+    def parse(text: str) -> float:
+        from . import units
+
+        try:
+            value = float(text) * 1e3
+        except ValueError:
+            try:
+                value = units.parse(text, "force")
+            except ValueError as exc:
+                raise argparse.ArgumentTypeError(
+                    f"{option} must be a force (60 = 60 kN, or 60klbf), got {text!r} ({exc})"
+                ) from None
+        if not value > 0 or value == float("inf"):
+            raise argparse.ArgumentTypeError(f"{option} must be a finite force > 0, got {text}")
+        return value
+
+    return parse
+
+
 WINDOW_EPILOG = """\
 examples:
   pydrill window examples/tallies/paper-eq53.toml --depth 3000m --plot window-3000m.png
@@ -18,7 +42,8 @@ examples:
 reading it: SAFE = steady drilling is stable (no stick-slip grows from it) and the torque
 needed at that speed exceeds the bit's static friction (a stopped bit breaks free). With one
 depth the plot is the (W_ob, rpm) window; with several it is the window against depth.
-units: depth m or ft (500m:5000m:10 = 10 depths, ends included); wob kN or klbf; rpm."""
+units: depth m or ft (500m:5000m:10 = 10 depths, ends included); wob in kN (a bare number)
+or with its unit (60klbf); speeds in rpm."""
 
 
 def register_tally(sub) -> None:
@@ -58,9 +83,9 @@ def register_tally(sub) -> None:
     win.add_argument("--lump", type=int, default=1, help="drill-pipe joints per element")
     win.add_argument(
         "--wob-max",
-        type=_positive("--wob-max", "force"),
+        type=_kilonewtons("--wob-max"),
         default=3e5,
-        help="largest weight on bit on the chart (default 300kN; or 60klbf)",
+        help="largest weight on bit on the chart (kN: default 300; or 60klbf)",
     )
     win.add_argument(
         "--rpm-max",
@@ -76,7 +101,8 @@ def register_tally(sub) -> None:
     win.add_argument(
         "--at-wob",
         default="10kN,20kN,30kN,50kN,100kN",
-        help="weights on bit at which to report the slowest safe rpm (kN or klbf)",
+        help="weights on bit at which to report the slowest safe rpm (bare numbers are kN; "
+        "or 5klbf)",
     )
     win.add_argument(
         "--check",
@@ -96,7 +122,10 @@ def register_tally(sub) -> None:
         "(the start-up: tests the stall edge too)",
     )
     win.add_argument(
-        "--t-end", type=_positive("--t-end"), default=120.0, help="simulated s per check"
+        "--t-end",
+        type=_positive("--t-end"),
+        dest="t_end_given",
+        help="simulated s per check (default 120)",
     )
     win.add_argument("--json", action="store_true", help="print one JSON object")
     win.add_argument(
@@ -153,7 +182,14 @@ def _cmd_string(args: argparse.Namespace) -> int:
 def _values(text: str, kind: str, option: str) -> list[float]:
     from . import units
 
-    out = [units.parse(v.strip(), kind) for v in text.split(",") if v.strip()]
+    out = []
+    for v in (v.strip() for v in text.split(",")):
+        if not v:
+            continue
+        try:  # a bare number is kN, as on the chart (forces are the only kind asked here)
+            out.append(float(v) * 1e3)
+        except ValueError:
+            out.append(units.parse(v, kind))
     if not out or any(not v > 0 for v in out):
         raise ValueError(f"{option}: give a comma-separated list of values > 0, got {text!r}")
     return out
@@ -186,6 +222,10 @@ def _cmd_window(args: argparse.Namespace) -> int:
         raise ValueError(f"--lump = {args.lump} is not allowed: >= 1")
     if not 0 <= args.check <= 20:
         raise ValueError(f"--check = {args.check} is not allowed: 0 ... 20")
+    if not args.check:  # options of the check alone would be ignored without a check
+        for option, given in (("--check-dof", args.check_dof), ("--t-end", args.t_end_given)):
+            if given is not None:
+                raise ValueError(f"{option} needs --check K: it sets how the check simulates")
     tally = load_tally(args.tally)
     depths = parse_depths(args.depth)
     at_rpm = np.array(_rpms(args.at_rpm))
@@ -251,7 +291,8 @@ def _checks(tally, depth, args):
     for w in (np.arange(k) + 0.5) / k * args.wob_max:
         for r in (np.arange(k) + 0.5) / k * args.rpm_max:
             u = equilibrium_torque(p, w, r * RPM)
-            res = simulate(p, wob=w, torque=u, initial=args.check_from, t_end=args.t_end, n_out=2)
+            t_end = args.t_end_given or 120.0
+            res = simulate(p, wob=w, torque=u, initial=args.check_from, t_end=t_end, n_out=2)
             stable = bool(w < lim.wob_max_stable(r))
             unstuck = bool(w < lim.wob_max_unstuck(r))
             bit_rpm = res.summary.bit_mean / RPM

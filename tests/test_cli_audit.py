@@ -1,0 +1,107 @@
+"""Command-line edges found by a newcomer's audit: options that were silently ignored, units
+that meant something else than the help said, figures of nothing, outputs that could not be
+written found out only after the work."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from sweeping import SMALL
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "examples" / "tallies" / "paper-eq53.toml"
+CMD = [sys.executable, "-m", "pydrill"]
+
+
+def run(*args):
+    return subprocess.run([*CMD, *map(str, args)], capture_output=True, text=True)
+
+
+def refused(proc, *words):
+    assert proc.returncode == 2, (proc.returncode, proc.stderr)
+    assert not proc.stdout and "Traceback" not in proc.stderr
+    for w in words:
+        assert w in proc.stderr, proc.stderr
+    return True
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        # simulate took --depth/--lump without a tally and ran the laboratory rig
+        (("simulate", "--depth", "3000m", "--wob", "100", "--torque", "8.3"), ["--depth needs"]),
+        (("simulate", "--lump", "5", "--wob", "100", "--torque", "8.3"), ["--lump needs"]),
+        # the branch varies W_ob: a fixed --wob beside it was dropped
+        (
+            ("bifurcation", "--dof", "2", "--vary", "wob", "--torque", "8.1", "--wob", "100"),
+            ["--wob is not allowed with --vary wob"],
+        ),
+        (
+            ("bifurcation", "--dof", "2", "--vary", "torque", "--wob", "100", "--torque", "8"),
+            ["--torque is not allowed with --vary torque"],
+        ),
+        # options of the check alone, with no check
+        (("map", "--dof", "4", "--t-end", "50"), ["--t-end needs --check"]),
+        (("window", PAPER, "--depth", "3000m", "--t-end", "5"), ["--t-end needs --check"]),
+        (("window", PAPER, "--depth", "3000m", "--check-dof", "12"), ["--check-dof needs --check"]),
+    ],
+)
+def test_options_that_would_be_ignored_are_refused(args, words):
+    assert refused(run(*args), *words)
+
+
+def test_a_bare_weight_on_bit_in_window_is_kilonewtons_as_the_help_says():
+    def at_wob(text):
+        proc = run("window", PAPER, "--depth", "3000m", "--at-wob", text, "--json")
+        assert proc.returncode == 0, proc.stderr
+        return json.loads(proc.stdout)
+
+    bare, with_unit = at_wob("60,20"), at_wob("60kN,20000N")
+    assert bare["at_wob"] == with_unit["at_wob"] == [60e3, 20e3]
+    assert bare["windows"][0]["rpm_min"] == with_unit["windows"][0]["rpm_min"]
+    assert run("window", PAPER, "--depth", "3000m", "--wob-max", "0").returncode == 2
+
+
+def test_no_figure_is_written_where_there_is_nothing_to_draw(tmp_path):
+    png = tmp_path / "stab.png"
+    proc = run("stability", "--dof", "4", "--wob", "150", "--torque", "8.3", "--plot", png)
+    assert refused(proc, "no steady rotation", "no figure")
+    assert not png.exists()
+    # Without --plot the same point is a verdict, not an error.
+    assert run("stability", "--dof", "4", "--wob", "150", "--torque", "8.3").returncode == 0
+
+
+def test_an_output_that_cannot_be_written_is_refused_before_the_work(tmp_path):
+    blocker = tmp_path / "sim.json"
+    blocker.write_text("{}")
+    proc = run("simulate", "--wob", "100", "--torque", "8.3", "--plot", blocker / "a.png")
+    assert refused(proc, "is a file, not a directory")
+    spec = tmp_path / "one.toml"  # W_ob swept, the torque held fixed: one axis
+    spec.write_text(
+        SMALL.replace("torque = [6.0, 8.3]\n", "").replace("dof = 4", "dof = 4\ntorque = 8.3")
+    )
+    out = tmp_path / "one.h5"
+    proc = run("sweep", spec, "--out", out, "--serial", "--plot", tmp_path / "map.png")
+    assert refused(proc, "--plot draws a map over two axes", "(wob)")
+    assert not out.exists() and not Path(f"{out}.journal").exists()
+    proc = run("sweep", spec, "--out", blocker / "x.h5", "--serial")
+    assert refused(proc, "--out", "is a file, not a directory")
+
+
+def test_export_onto_the_atlas_itself_is_refused(tmp_path):
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    out = tmp_path / "a.nc"
+    run_sweep(parse_spec(SMALL.replace("t_end = 200.0", "t_end = 20.0")), out, serial=True)
+    before = out.read_bytes()
+    assert refused(run("atlas", "export", out, "--out", out), "is the atlas itself")
+    assert out.read_bytes() == before
+
+
+def test_simulate_takes_max_steps_as_its_solver_message_advises():
+    proc = run("simulate", "--wob", "100", "--torque", "8.3", "--max-steps", "1000")
+    assert proc.returncode == 3 and "max_steps = 1000" in proc.stderr
+    assert "--max-steps" in run("simulate", "--help").stdout
