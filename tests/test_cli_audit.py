@@ -105,3 +105,25 @@ def test_simulate_takes_max_steps_as_its_solver_message_advises():
     proc = run("simulate", "--wob", "100", "--torque", "8.3", "--max-steps", "1000")
     assert proc.returncode == 3 and "max_steps = 1000" in proc.stderr
     assert "--max-steps" in run("simulate", "--help").stdout
+
+
+@pytest.mark.parametrize(
+    "args, regime, note",
+    [
+        # 3 s of a 17.5 s stick-slip cycle read as an oscillation, and 0.3 us as steady: the
+        # verdicts stay what the window shows, but the note says the window cannot tell.
+        (["--window", "0.01"], "oscillation", "shorter than the string's slowest period"),
+        (["--window", "1e-9"], "steady", "shorter than the string's slowest period"),
+        # 18 s: the first break-away, no second stick yet.
+        (["--t-end", "18"], "stick-slip", "broke free once"),
+        ([], "stick-slip", None),  # 300 s, window 150 s: judged, no caveat
+    ],
+)
+def test_a_verdict_from_too_little_of_the_run_carries_a_note(args, regime, note):
+    proc = run("simulate", "--wob", "100", "--torque", "8.3", *args, "--json")
+    data = json.loads(proc.stdout)
+    assert data["regime"] == regime
+    if note is None:
+        assert data["note"] is None
+    else:
+        assert note in data["note"]

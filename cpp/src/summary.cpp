@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "pydrill/equilibrium.hpp"
+#include "pydrill/simulator.hpp"
 
 namespace pydrill::detail {
 namespace {
@@ -81,9 +83,6 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   const bool held_throughout = s.stuck_fraction >= 1.0 - 1e-12;
   if (held_throughout) {
     // In stick the string relaxes towards T_e = u. If |u| <= T_s the rock
-    // holds it for good; otherwise it must break free later: the window only
-    // caught one long stick phase of a stick-slip cycle.
-    // In stick the string relaxes towards T_e = u. If |u| <= T_s the rock
     // holds it for good. Otherwise it must break free later: if it already
     // did once, the window caught one long stick phase of a stick-slip cycle;
     // if it never did, the run ended inside the first wind-up.
@@ -102,6 +101,12 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     if (s.bit_max == 0.0) s.bit_top_ratio = 0.0;
   } else if (held > 0.0) {
     s.regime = "stick-slip";
+    if (onsets.empty()) {
+      // Held when the window opened, slipping ever since: one break-away, no stick after
+      // it. The next stick may be coming, or the bit may settle into steady drilling.
+      s.note = "the bit broke free once in the window and has not stuck again: simulate longer "
+               "to tell stick-slip from steady drilling";
+    }
   } else {
     // No sticking: steady if the bit velocity settles, oscillation if the
     // swing is sustained over the second half of the window.
@@ -114,6 +119,19 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       s.regime = "oscillation";
       s.period = crossing_period(tr, s.bit_mean);
     }
+  }
+  // A regime is judged from a window that holds at least one swing of the string's slowest
+  // mode: a shorter one sees part of a stick-slip cycle as an oscillation, or a slip phase
+  // as steady (a 3 s window of a 17.5 s cycle did both). Not for a bit held for good.
+  const bool settled_stuck = s.regime == "stuck" && s.note.empty();
+  const double slowest = 2.0 * 3.14159265358979323846 / estimate_stiffness(chain.params()).fundamental;
+  if (!settled_stuck && T < slowest && s.note.empty()) {
+    std::ostringstream o;
+    o.precision(3);
+    o << "the judged window (" << T << " s) is shorter than the string's slowest period (about "
+      << slowest << " s): too short to judge the regime; simulate longer, or judge a larger "
+      << "fraction of the run (window)";
+    s.note = o.str();
   }
   return s;
 }

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <sstream>
 
 #include "pydrill/model.hpp"
 #include "summary.hpp"
@@ -92,4 +93,46 @@ TEST_CASE("stick phases in the window make stick-slip; a stick covering it makes
   const Summary windup = detail::summarize(chain, s.trace, held, s.angles, false);
   CHECK(windup.regime == "stuck");
   CHECK_FALSE(windup.note.empty());
+}
+
+TEST_CASE("a window too short to judge says so", "[summary]") {
+  // The dof-4 laboratory string: springs 3 x 0.073 N m/rad in series against the inertias
+  // above the bit (0.518 + 0.025 + 0.0318 kg m^2): slowest period 2 pi sqrt(0.5748 * 3 / 0.073).
+  const double slowest = 2 * M_PI * std::sqrt((0.518 + 0.025 + 0.0318) * 3 / 0.073);
+  const Chain chain(preset("reduced-scale", 4), 100.0, 8.3);
+  const std::vector<detail::ModeChange> slipping{{0.0, Mode::SlipPositive}};
+  // 3 s of a 17.5 s stick-slip cycle's slip phase: looks like an oscillation, or steady.
+  const auto part = sine(3.0, 1.0, 0.0, 17.5, 297.0, 300.0);
+  const Summary r = detail::summarize(chain, part.trace, slipping, part.angles, false);
+  CHECK_THAT(r.note, Catch::Contains("shorter than the string's slowest period"));
+  std::ostringstream expected;
+  expected.precision(3);
+  expected << "(about " << slowest << " s)";
+  CHECK_THAT(r.note, Catch::Contains(expected.str()));
+  // The same swing judged over five slowest periods carries no such note.
+  const auto whole = sine(3.0, 1.0, 0.0, 17.5, 300.0 - 5 * slowest, 300.0);
+  CHECK(detail::summarize(chain, whole.trace, slipping, whole.angles, false).note.empty());
+  // A bit held for good (u < T_s at 160 N) is stuck however short the window.
+  const Chain heavy(preset("reduced-scale", 4), 160.0, 8.3);
+  const std::vector<detail::ModeChange> held{{0.0, Mode::Stick}};
+  const auto still = sine(0.0, 0.0, 0.0, 17.5, 297.0, 300.0);
+  const Summary stuck = detail::summarize(heavy, still.trace, held, still.angles, false);
+  CHECK(stuck.regime == "stuck");
+  CHECK(stuck.note.empty());
+}
+
+TEST_CASE("one break-away in the window and no stick after it is flagged", "[summary]") {
+  const auto s = sine(10.0, 1.0, 0.0, 10.0, 150.0, 300.0);
+  const Chain chain(preset("reduced-scale", 4), 100.0, 8.3);
+  // Stuck from before the window until 160 s, slipping to the end: stick-slip so far, with
+  // no stick event to show a cycle.
+  const std::vector<detail::ModeChange> once{{0.0, Mode::Stick}, {160.0, Mode::SlipPositive}};
+  const Summary r = detail::summarize(chain, s.trace, once, s.angles, false);
+  CHECK(r.regime == "stick-slip");
+  CHECK(r.stick_events == 0);
+  CHECK_THAT(r.note, Catch::Contains("broke free once"));
+  // A stick after it makes a cycle: no note.
+  const std::vector<detail::ModeChange> again{
+      {0.0, Mode::Stick}, {160.0, Mode::SlipPositive}, {200.0, Mode::Stick}, {210.0, Mode::SlipPositive}};
+  CHECK(detail::summarize(chain, s.trace, again, s.angles, false).note.empty());
 }
