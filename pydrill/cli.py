@@ -10,6 +10,7 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -37,6 +38,14 @@ units: wob N, torque N*m, time s, velocities rad/s.
 
 
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        # A value that starts with a minus and a digit is a value, not an option: argparse's
+        # own pattern takes "-1" and "-0.5" but not "-1e9", "-3000m" or "-1,1,1", and said
+        # "expected one argument" instead of the range check's message. (No option of
+        # pydrill starts with a digit.)
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
+
     def error(self, message: str) -> None:  # exit 2 with a one-line message
         self.print_usage(sys.stderr)
         sys.stderr.write(f"{self.prog}: error: {message}\n")

@@ -492,6 +492,12 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     allowed_axes = OPERATING_AXES + SIZE_AXES + SCALAR_AXES + (DEPTH_AXES if tally_text else ())
     axes: dict[str, np.ndarray] = {}
     for key, value in axes_doc.items():
+        if key in DEPTH_AXES and not tally_text:  # a preset's length is its dof or pipes
+            raise _fail(
+                f"axes.{key}",
+                'needs a tally string ([model] tally = "FILE.toml"); a preset\'s length is '
+                "swept with dof or pipes",
+            )
         if key not in allowed_axes:
             raise _fail(f"axes.{key}", "cannot be swept; allowed: " + ", ".join(allowed_axes))
         axes[key] = _axis(key, value)

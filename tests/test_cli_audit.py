@@ -127,3 +127,24 @@ def test_a_verdict_from_too_little_of_the_run_carries_a_note(args, regime, note)
         assert data["note"] is None
     else:
         assert note in data["note"]
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        # argparse took "-1e9" and "-1,1,1" for options: "expected one argument"
+        (("simulate", "--wob", "-1e9", "--torque", "8.3"), ["--wob must be a finite number > 0"]),
+        (("simulate", "--wob", "100", "--torque", "8.3", "--dampings", "-1,1,1"), ["dampings[0]"]),
+    ],
+)
+def test_a_negative_value_after_a_space_reaches_the_range_check(args, words):
+    assert refused(run(*args), *words)
+
+
+def test_a_depth_axis_without_a_tally_says_what_it_needs(tmp_path):
+    spec = tmp_path / "d.toml"
+    spec.write_text(
+        '[model]\npreset = "reduced-scale"\ndof = 4\ntorque = 8.3\n'
+        "[axes]\ndepth = [1000.0, 2000.0]\nwob = [50.0, 100.0]\n"
+    )
+    assert refused(run("sweep", spec, "--dry-run"), "axes.depth: needs a tally string")
