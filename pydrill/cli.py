@@ -47,7 +47,11 @@ class _Parser(argparse.ArgumentParser):
         self._negative_number_matcher = re.compile(r"^-\.?\d")
 
     def error(self, message: str) -> None:  # exit 2 with a one-line message
-        self.print_usage(sys.stderr)
+        # A bad value of a known option is said in one line (the check names the option and
+        # its range); the usage block, ten lines for simulate, only helps when the command
+        # line itself is malformed: an option missing, unknown, or a choice not offered.
+        if not message.startswith("argument ") or "invalid choice" in message:
+            self.print_usage(sys.stderr)
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         raise SystemExit(EXIT_USAGE)
 

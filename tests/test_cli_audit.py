@@ -148,3 +148,11 @@ def test_a_depth_axis_without_a_tally_says_what_it_needs(tmp_path):
         "[axes]\ndepth = [1000.0, 2000.0]\nwob = [50.0, 100.0]\n"
     )
     assert refused(run("sweep", spec, "--dry-run"), "axes.depth: needs a tally string")
+
+
+def test_a_bad_value_is_one_line_and_a_malformed_command_shows_the_usage():
+    bad_value = run("simulate", "--wob", "-5", "--torque", "8.3")
+    assert refused(bad_value, "--wob must be a finite number > 0")
+    assert bad_value.stderr.count("\n") == 1  # not the ten-line usage block first
+    missing = run("simulate", "--torque", "8.3")
+    assert refused(missing, "the following arguments are required: --wob", "usage: pydrill")
