@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass, field, replace
+from numbers import Integral, Real
 from pathlib import Path
 from typing import Any
 
@@ -41,10 +42,25 @@ import numpy as np
 
 from . import units
 from .model import Params
+from .spec import MAX_DOF  # a string's most inertias, as in sweeps (spec imports tally lazily)
 
 KINDS = ("drill-pipe", "heavy-weight", "drill-collar", "stabilizer", "bit", "other")
 STEEL_G = 79.3e9  # Pa, shear modulus of drill-pipe steel (11.5 Mpsi)
 STEEL_RHO = 7850.0  # kg/m³
+# The keys each table takes; any other is refused (a typo would silently keep the default).
+TOP_DRIVE_KEYS = ("inertia", "damping")
+BIT_KEYS = ("diameter", "damping", "mu_coulomb", "mu_static", "stribeck_decay", "stribeck_velocity")
+DAMPING_KEYS = ("model", "beta")
+STEEL_KEYS = ("shear_modulus", "density")
+SECTION_KEYS = ("kind", "count", "length", "od", "id", "shear_modulus", "density")
+# The widest pipe or bit: conductor casing is some 1 m across, hole openers 1.5 m; more is a
+# unit mistake (and OD⁴ of an absurd diameter overflows).
+MAX_DIAMETER = 5.0  # m
+# The deepest string: beyond the Earth's radius no string can reach. The deepest borehole ever
+# drilled (Kola SG-3) is 12.3 km, but sweeps may go far deeper with lumped joints
+# (tests/test_spec.py builds one of 2000 km); MAX_DOF bounds what a string costs.
+MAX_DEPTH = 6.371e6  # m
+_DEEPEST = " (the Earth's radius; the deepest borehole ever drilled is some 12.3 km)"
 
 
 class TallyError(ValueError):
@@ -107,6 +123,19 @@ class Tally:
     def at_depth(self, depth: float) -> Tally:
         """The string that reaches ``depth`` (m): the BHA as listed, drill pipe above it —
         joints added (or removed) from the first drill-pipe section."""
+        try:
+            value = (
+                float(depth) if isinstance(depth, Real) and not isinstance(depth, bool) else None
+            )
+        except OverflowError:  # an int beyond any float
+            value = math.inf
+        if value is None or not 0 < value <= MAX_DEPTH:
+            shown = _show(depth) if value is None else repr(value)
+            raise TallyError(
+                f"depth = {shown} m is not allowed: a finite depth > 0, at most {MAX_DEPTH:g} m"
+                + _DEEPEST
+            )
+        depth = value
         pipe = [i for i, s in enumerate(self.sections) if s.kind == "drill-pipe"]
         if not pipe:
             raise TallyError("at_depth needs a drill-pipe section to lengthen")
@@ -124,7 +153,19 @@ class Tally:
 
     def elements(self, lump: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Element stiffnesses, inertias and lengths, top down (``lump`` drill-pipe joints per
-        element)."""
+        element). Refuses a string of more than ``MAX_DOF`` inertias, naming the lump that fits."""
+        if isinstance(lump, bool) or not isinstance(lump, Integral) or lump < 1:
+            raise TallyError(
+                f"lump = {_show(lump)} is not allowed: an integer >= 1 "
+                "(drill-pipe joints per element)"
+            )
+        lump = int(lump)
+        n = self._inertias(lump)
+        if n > MAX_DOF:
+            raise TallyError(
+                f"lump = {lump}: the string ({self.length:g} m) has {n} inertias, "
+                f"at most {MAX_DOF} are allowed: {self._lump_hint()}"
+            )
         k, j, length = [], [], []
         for s in self.sections:
             per = lump if s.kind == "drill-pipe" else 1
@@ -137,12 +178,34 @@ class Tally:
                 left -= n
         return np.array(k), np.array(j), np.array(length)
 
+    def _inertias(self, lump: int) -> int:
+        """How many inertias ``elements(lump)`` makes, top drive included (without making them)."""
+        return 1 + sum(
+            -(-s.count // (lump if s.kind == "drill-pipe" else 1)) for s in self.sections
+        )
+
+    def _lump_hint(self) -> str:
+        """What to do about a string of more than MAX_DOF inertias."""
+        pipe = max((s.count for s in self.sections if s.kind == "drill-pipe"), default=0)
+        if pipe == 0 or self._inertias(pipe) > MAX_DOF:
+            return "its sections other than drill pipe are one inertia a joint: list fewer joints"
+        low, high = 1, pipe  # the smallest lump that fits: inertias fall as the lump grows
+        while low < high:
+            mid = (low + high) // 2
+            low, high = (low, mid) if self._inertias(mid) <= MAX_DOF else (mid + 1, high)
+        return (
+            f"lump more drill-pipe joints into each element (lump >= {low}; --lump {low} on the "
+            "command line) or reduce the depth"
+        )
+
     def to_params(self, dof: int | None = None, lump: int = 1) -> Params:
         """The lumped chain (see the module docstring for the rule)."""
         k, j, _ = self.elements(lump)
         if dof is not None:
-            if dof < 2 or dof > len(k) + 1:
-                raise TallyError(f"dof = {dof} is not allowed: 2 ... {len(k) + 1} for this tally")
+            if isinstance(dof, bool) or not isinstance(dof, Integral) or not 2 <= dof <= len(k) + 1:
+                raise TallyError(
+                    f"dof = {_show(dof)} is not allowed: 2 ... {len(k) + 1} for this tally"
+                )
             groups = np.array_split(np.arange(len(k)), dof - 1)
             k = np.array([1.0 / np.sum(1.0 / k[g]) for g in groups])
             j = np.array([np.sum(j[g]) for g in groups])
@@ -161,22 +224,117 @@ class Tally:
         )
 
 
-def _get(table: dict, key: str, where: str, kind: str | None, default: Any = None) -> Any:
+def _show(value: Any) -> str:
+    """A value as the tally wrote it (TOML numbers print as written: 0.3, not 0.2999…)."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _refuse(key: str, value: Any, allowed: str) -> TallyError:
+    return TallyError(f"{key} = {_show(value)} is not allowed: {allowed}")
+
+
+def _table(doc: dict, key: str, allowed: tuple[str, ...]) -> dict:
+    """``doc[key]``, a table of only ``allowed`` keys (empty when absent)."""
+    table = doc.get(key, {})
+    if not isinstance(table, dict):
+        # "malformed tally" leads: a spec naming this tally reports "model.tally: malformed tally".
+        raise TallyError(
+            f"malformed tally: {key} = {_show(table)} is not allowed: a table, [{key}]"
+        )
+    _known(table, key, allowed)
+    return table
+
+
+def _known(table: dict, where: str, allowed: tuple[str, ...]) -> None:
+    unknown = sorted(set(table) - set(allowed))
+    if unknown:
+        raise TallyError(f"{where}.{unknown[0]}: unknown; allowed: {', '.join(allowed)}")
+
+
+def _get(
+    table: dict,
+    key: str,
+    where: str,
+    kind: str,
+    default: float | None = None,
+    *,
+    zero: bool = False,
+    high: float = math.inf,
+    note: str = "",
+) -> float:
+    """A quantity in driller units, finite and > 0 (>= 0 with ``zero``), at most ``high``."""
     if key not in table:
         if default is None:
             raise TallyError(f"{where}.{key}: missing")
         return default
     value = table[key]
-    if kind is None:
-        return value
     try:
         v = units.parse(value, kind)
     except ValueError as exc:
-        raise TallyError(f"{where}.{key}: {exc}") from None
+        # units names the kind after "a": "a inertia" reads "an inertia".
+        raise TallyError(
+            f"{where}.{key}: {str(exc).replace(' a inertia', ' an inertia')}"
+        ) from None
+    if not (v >= 0 if zero else v > 0) or not v <= high:
+        unit = units.SI[kind]
+        bound = f", at most {high:g} {unit}" if high < math.inf else f" {unit}"
+        allowed = f"a finite {kind} {'>=' if zero else '>'} 0{bound}{note}"
+        raise _refuse(f"{where}.{key}", value, allowed)
     return v
 
 
+def _number(table: dict, key: str, where: str, default: float, allowed: str) -> float:
+    """A plain number (also one written as a string, "0.8", as float() always took)."""
+    value = table.get(key, default)
+    try:
+        if isinstance(value, bool) or not isinstance(value, int | float | str):
+            raise ValueError
+        v = float(value)
+    except (ValueError, OverflowError):
+        raise _refuse(f"{where}.{key}", value, allowed) from None
+    if not math.isfinite(v):
+        raise _refuse(f"{where}.{key}", value, allowed)
+    return v
+
+
+def _section(n: int, sec: Any, g: float, rho: float) -> Section:
+    where = f"section[{n}]"
+    if not isinstance(sec, dict):
+        raise TallyError(
+            f"malformed tally: {where} = {_show(sec)} is not allowed: a table, [[section]]"
+        )
+    _known(sec, where, SECTION_KEYS)
+    kind = sec.get("kind", "other")
+    if not isinstance(kind, str) or kind not in KINDS:
+        raise _refuse(f"{where}.kind", kind, f"choose one of {', '.join(KINDS)}")
+    count = sec.get("count", 1)
+    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+        raise _refuse(f"{where}.count", count, "an integer >= 1 (joints)")
+    od = _get(sec, "od", where, "length", high=MAX_DIAMETER)
+    inner = _get(sec, "id", where, "length", 0.0, zero=True)
+    if not inner < od:
+        raise _refuse(f"{where}.id", sec["id"], f"need 0 <= id < od = {_show(sec['od'])}")
+    s = Section(
+        kind,
+        count,
+        _get(sec, "length", where, "length"),
+        od,
+        inner,
+        _get(sec, "shear_modulus", where, "modulus", g),
+        _get(sec, "density", where, "density", rho),
+    )
+    k, j = s.joint_stiffness(), s.joint_inertia()
+    if not (0 < k < math.inf and 0 < j < math.inf):
+        raise TallyError(
+            f"{where}: a joint's stiffness G·I_p/L = {k:g} N·m/rad and inertia ρ·I_p·L = {j:g} "
+            "kg·m² must be finite and > 0: check its length, od, id, shear_modulus and density"
+        )
+    return s
+
+
 def parse_tally(text: str, name: str = "tally") -> Tally:
+    """A tally from its TOML text. Raises :class:`TallyError` naming the key at fault."""
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -187,61 +345,86 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
             f"{sorted(unknown)[0]}: unknown; allowed: [top_drive], [bit], "
             "[damping], [steel], [[section]]"
         )
-    steel = doc.get("steel", {})
+    steel = _table(doc, "steel", STEEL_KEYS)
     g = _get(steel, "shear_modulus", "steel", "modulus", STEEL_G)
     rho = _get(steel, "density", "steel", "density", STEEL_RHO)
-    top = doc.get("top_drive", {})
-    bit = doc.get("bit", {})
-    damp = doc.get("damping", {"model": "stiffness-proportional", "beta": 0.2})
-    if damp.get("model", "stiffness-proportional") != "stiffness-proportional":
-        raise TallyError("damping.model: only 'stiffness-proportional' (c = beta * k) is offered")
-    beta = float(damp.get("beta", 0.2))
-    if not beta >= 0:
-        raise TallyError(f"damping.beta = {beta!r}: must be >= 0 s")
-    sections = []
-    for n, sec in enumerate(doc.get("section", [])):
-        where = f"section[{n}]"
-        kind = sec.get("kind", "other")
-        if kind not in KINDS:
-            raise TallyError(f"{where}.kind = {kind!r}: choose one of {', '.join(KINDS)}")
-        count = sec.get("count", 1)
-        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-            raise TallyError(f"{where}.count = {count!r}: an integer >= 1")
-        s = Section(
-            kind,
-            count,
-            _get(sec, "length", where, "length"),
-            _get(sec, "od", where, "length"),
-            _get(sec, "id", where, "length", 0.0),
-            _get(sec, "shear_modulus", where, "modulus", g),
-            _get(sec, "density", where, "density", rho),
+    top = _table(doc, "top_drive", TOP_DRIVE_KEYS)
+    bit = _table(doc, "bit", BIT_KEYS)
+    damp = _table(doc, "damping", DAMPING_KEYS)
+    model = damp.get("model", "stiffness-proportional")
+    if model != "stiffness-proportional":
+        raise _refuse(
+            "damping.model", model, "only 'stiffness-proportional' (c = beta * k) is offered"
         )
-        for key in ("length", "od"):
-            if not getattr(s, key) > 0:
-                raise TallyError(f"{where}.{key} = {getattr(s, key)!r} m: must be > 0")
-        if not 0 <= s.id < s.od:
-            raise TallyError(f"{where}.id = {s.id:g} m: need 0 <= id < od = {s.od:g} m")
+    beta = _number(damp, "beta", "damping", 0.2, "a finite number of seconds >= 0 (c = beta * k)")
+    if not beta >= 0:
+        raise _refuse(
+            "damping.beta", damp["beta"], "a finite number of seconds >= 0 (c = beta * k)"
+        )
+    listed = doc.get("section", [])
+    if isinstance(listed, dict):
+        raise TallyError(
+            "malformed tally: section is a single table: write each one as [[section]]"
+        )
+    if not isinstance(listed, list):
+        raise TallyError(
+            f"malformed tally: section = {_show(listed)} is not allowed: "
+            "an array of tables, [[section]]"
+        )
+    sections = []
+    length = 0.0
+    for n, sec in enumerate(listed):
+        s = _section(n, sec, g, rho)
+        length += s.count * s.length
+        if not length <= MAX_DEPTH:
+            raise _refuse(
+                f"section[{n}].count",
+                s.count,
+                f"the string reaches {length:g} m here, beyond {MAX_DEPTH:g} m" + _DEEPEST,
+            )
         sections.append(s)
     if not sections:
         raise TallyError("section: the tally lists no sections ([[section]] tables)")
-    diameter = _get(bit, "diameter", "bit", "length")
-    if not diameter > 0:
-        raise TallyError("bit.diameter: must be > 0")
+    mu_coulomb = _number(bit, "mu_coulomb", "bit", 0.5, "a finite number > 0")
+    if not mu_coulomb > 0:
+        raise _refuse("bit.mu_coulomb", bit["mu_coulomb"], "need 0 < mu_coulomb < mu_static")
+    mu_static = _number(bit, "mu_static", "bit", 0.8, "a finite number > mu_coulomb")
+    if not mu_static > mu_coulomb:
+        if "mu_static" in bit:
+            raise _refuse(
+                "bit.mu_static", bit["mu_static"], f"need mu_static > mu_coulomb = {mu_coulomb!r}"
+            )
+        raise _refuse(
+            "bit.mu_coulomb",
+            bit["mu_coulomb"],
+            f"need mu_coulomb < mu_static = {mu_static!r} (the default; give bit.mu_static)",
+        )
+    decay = _number(bit, "stribeck_decay", "bit", 0.9, "a finite number > 0")
+    if not decay > 0:
+        raise _refuse("bit.stribeck_decay", bit["stribeck_decay"], "a finite number > 0")
+    label = doc.get("name", name)
+    if not isinstance(label, str):
+        raise _refuse("name", label, "a string (the string's name)")
     tally = Tally(
         sections=tuple(sections),
-        top_inertia=_get(top, "inertia", "top_drive", "inertia"),
-        top_damping=_get(top, "damping", "top_drive", "damping", 0.0),
-        bit_radius=diameter / 2,
-        bit_damping=_get(bit, "damping", "bit", "damping", 0.0),
+        top_inertia=_get(
+            top, "inertia", "top_drive", "inertia", note=" (inertias[0] of the chain)"
+        ),
+        top_damping=_get(top, "damping", "top_drive", "damping", 0.0, zero=True),
+        bit_radius=_get(bit, "diameter", "bit", "length", high=MAX_DIAMETER) / 2,
+        bit_damping=_get(bit, "damping", "bit", "damping", 0.0, zero=True),
         beta=beta,
-        mu_coulomb=float(bit.get("mu_coulomb", 0.5)),
-        mu_static=float(bit.get("mu_static", 0.8)),
-        stribeck_decay=float(bit.get("stribeck_decay", 0.9)),
-        stribeck_velocity=float(bit.get("stribeck_velocity", 1.0)),
-        name=str(doc.get("name", name)),
+        mu_coulomb=mu_coulomb,
+        mu_static=mu_static,
+        stribeck_decay=decay,
+        stribeck_velocity=_get(bit, "stribeck_velocity", "bit", "velocity", 1.0),
+        name=label,
     )
+    # Every parameter passes the model's own validation: one joint of each section is enough
+    # (the counts only scale them) and stays fast for a string of millions of joints.
+    probe = replace(tally, sections=tuple(replace(s, count=1) for s in sections))
     try:
-        tally.to_params(dof=2)  # every parameter passes the model's own validation
+        probe.to_params(dof=2)
     except ValueError as exc:
         raise TallyError(str(exc)) from None
     return tally
