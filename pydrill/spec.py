@@ -30,35 +30,31 @@ from typing import Any
 
 import numpy as np
 
-from .model import _LISTS, _SCALARS, PRESETS, Params, preset
-
-OPERATING_AXES = ("wob", "torque")
-SIZE_AXES = ("dof", "pipes")
-DEPTH_AXES = ("depth",)  # m, strings built from a tally
-SCALAR_AXES = tuple(_SCALARS)
-SIMULATION_KEYS = {
-    "t_end": 300.0,
-    "initial": ["rest"],
-    "friction": "exact",
-    "method": "auto",
-    "rtol": 1e-8,
-    "atol": 1e-8,
-    "window": 0.5,
-    "max_steps": 5_000_000,
-}
-RECORD_KEYS = {"stability": True, "eigenvalues": 4}
-# The largest string: a tally's at 10 km is some 1100 joints, the longest benchmarked 500 pipes;
-# beyond 100000 inertias a point would take hours and a mistyped size runs out of memory.
-MAX_DOF = 100_000
-# The largest grid: the client holds the whole atlas in memory, a few hundred bytes a point
-# (35 GB at 1e8 points with 2 starts and 4 eigenvalues), and 1e8 points at 10 ms each are a
-# month on a thousand cores: more is a typing mistake, not a sweep.
-MAX_POINTS = 100_000_000
-MAX_STEPS = 2**62  # simulate()'s own bound, below the C++ core's long
-
-
-class SpecError(ValueError):
-    """A sweep specification that cannot run; the message names the key."""
+from .model import PRESETS, Params, preset
+from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's API too
+    DEPTH_AXES,
+    MAX_DOF,
+    MAX_POINTS,
+    MAX_STEPS,
+    OPERATING_AXES,
+    RECORD_KEYS,
+    SCALAR_AXES,
+    SIMULATION_KEYS,
+    SIZE_AXES,
+    SpecError,
+    _axis,
+    _check_axes,
+    _check_grid,
+    _check_parameters,
+    _check_size,
+    _check_tally,
+    _check_tally_size,
+    _fail,
+    _read_tally,
+    _record,
+    _simulation,
+    _table,
+)
 
 
 @dataclass(frozen=True)
@@ -145,312 +141,6 @@ class SweepSpec:
         """(W_ob in N, surface torque in N·m) at a point: swept, or held fixed."""
         get = {**self.fixed, **coords}
         return float(get["wob"]), float(get["torque"])
-
-
-def _fail(key: str, problem: str) -> SpecError:
-    return SpecError(f"{key}: {problem}")
-
-
-def _is_number(v: Any) -> bool:
-    """A finite int or float: not a bool (an int to Python), a string or a list."""
-    if isinstance(v, bool) or not isinstance(v, int | float):
-        return False
-    try:
-        return math.isfinite(v)
-    except OverflowError:  # an integer beyond any float
-        return False
-
-
-def _table(doc: dict[str, Any], name: str) -> dict[str, Any]:
-    """Section ``name`` (empty if absent); ``model = 5`` is refused, not a TypeError later."""
-    value = doc.get(name, {})
-    if not isinstance(value, dict):
-        raise _fail(name, f"{value!r} is not a table: write [{name}] and its keys below it")
-    return dict(value)
-
-
-def _range(key: str, value: dict[str, Any]) -> np.ndarray:
-    if set(value) != {"start", "stop", "num"}:
-        raise _fail(
-            key,
-            "a range needs exactly start, stop and num, e.g. "
-            "{ start = 20.0, stop = 200.0, num = 19 }",
-        )
-    start, stop, num = value["start"], value["stop"], value["num"]
-    for k, v in (("start", start), ("stop", stop)):
-        if not _is_number(v):
-            raise _fail(f"{key}.{k}", f"{v!r} is not a finite number")
-    if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 1_000_000:
-        raise _fail(f"{key}.num", f"{num!r} is not allowed: an integer 1 ... 1000000")
-    if num > 1 and start == stop:
-        raise _fail(key, f"start = stop = {start:g} gives {num} equal values: give num = 1")
-    if num == 1 and start != stop:
-        raise _fail(
-            key,
-            f"num = 1 keeps start = {start:g} and drops stop = {stop:g}: give start = stop, "
-            "or use a list",
-        )
-    # Increasing order: from the top down, it is the same grid (the same values and digest).
-    low, high = sorted((float(start), float(stop)))
-    values = np.linspace(low, high, num)
-    if np.any(np.diff(values) <= 0):
-        raise _fail(key, f"repeated values: steps of {(high - low) / (num - 1):g} are too fine")
-    return values
-
-
-def _list(key: str, value: list[Any]) -> np.ndarray:
-    if not value:
-        raise _fail(key, "an empty list: give at least one value")
-    for v in value:
-        if not _is_number(v):
-            raise _fail(key, f"{v!r} is not a finite number")
-    values = np.array(value, dtype=float)
-    if len(np.unique(values)) != len(values):
-        raise _fail(key, "repeated values")
-    # Increasing order, as plots (pcolormesh) and xarray's sel(method="nearest") need.
-    return np.sort(values)
-
-
-def _axis(name: str, value: Any) -> np.ndarray:
-    key = f"axes.{name}"
-    if isinstance(value, dict):
-        values = _range(key, value)
-    elif isinstance(value, list):
-        values = _list(key, value)
-    elif _is_number(value):
-        values = np.array([float(value)])
-    else:
-        raise _fail(key, f"{value!r}: give a list of numbers or {{ start, stop, num }}")
-    if name == "wob" and np.any(values <= 0):
-        raise _fail(key, "weights on bit must be > 0 (N)")
-    if name in SIZE_AXES:
-        if np.any(values != np.round(values)):
-            raise _fail(key, "must be whole numbers")
-        low = 2 if name == "dof" else 1
-        high = MAX_DOF if name == "dof" else MAX_DOF - 3
-        if np.any(values < low):
-            raise _fail(key, f"must be >= {low}")
-        if np.any(values > high):
-            raise _fail(key, f"{values.max():g} is not allowed: {low} ... {high}" + _LARGEST)
-        # Counts: whole numbers in the atlas too (xarray's dof coordinate reads 2, 4, 8).
-        values = values.astype(np.int64)
-    return values
-
-
-_LARGEST = f" (a string has at most {MAX_DOF} inertias; pipes P means dof = P + 3)"
-
-
-def _read_tally(tally_path: Any, base: Path | None) -> str:
-    if not isinstance(tally_path, str):
-        raise _fail(
-            "model.tally",
-            f"{tally_path!r} is not allowed: a path to a tally file, e.g. 'well.toml'",
-        )
-    path = Path(tally_path)
-    if not path.is_absolute() and base is not None and (base / path).exists():
-        path = base / path
-    try:
-        return path.read_text()
-    except UnicodeDecodeError:
-        raise _fail("model.tally", f"cannot read {tally_path}: not UTF-8 text") from None
-    except OSError as exc:
-        raise _fail("model.tally", f"cannot read {tally_path}: {exc.strerror}") from None
-    except ValueError as exc:  # a NUL in the name
-        raise _fail("model.tally", f"cannot read {tally_path!r}: {exc}") from None
-
-
-def _check_tally(tally_text: str) -> None:
-    from .tally import TallyError, parse_tally
-
-    try:
-        parse_tally(tally_text)
-    except TallyError as exc:
-        raise _fail("model.tally", str(exc)) from None
-    except (TypeError, AttributeError, ValueError) as exc:
-        # A table or value of the wrong type that the tally's own checks miss: still the
-        # tally's fault, not a traceback.
-        raise _fail("model.tally", f"malformed tally: {exc}") from None
-
-
-def _check_size(dof: Any, pipes: Any) -> int | None:
-    """The string's size from [model] dof or pipes, if given: ``dof``."""
-    if dof is not None and pipes is not None:
-        raise _fail("model.pipes", "give dof or pipes, not both")
-    if pipes is not None:
-        if isinstance(pipes, bool) or not isinstance(pipes, int) or not 1 <= pipes <= MAX_DOF - 3:
-            raise _fail(
-                "model.pipes",
-                f"{pipes!r} is not allowed: an integer 1 ... {MAX_DOF - 3}" + _LARGEST,
-            )
-        return pipes + 3
-    if dof is not None and (
-        isinstance(dof, bool) or not isinstance(dof, int) or not 2 <= dof <= MAX_DOF
-    ):
-        raise _fail("model.dof", f"{dof!r} is not allowed: an integer 2 ... {MAX_DOF}" + _LARGEST)
-    return dof
-
-
-def _check_parameters(model: dict[str, Any]) -> None:
-    """Each model parameter of its type: a number, or a list of numbers; what values are
-    allowed is the model's to say (on the corners, in :func:`parse_spec`)."""
-    for key, value in model.items():
-        if key not in _LISTS + _SCALARS:
-            raise _fail(
-                f"model.{key}",
-                "unknown parameter; allowed: preset, dof, pipes, tally, lump, wob, "
-                "torque, " + ", ".join(_LISTS + _SCALARS),
-            )
-        if key in _SCALARS and not _is_number(value):
-            raise _fail(f"model.{key}", f"{value!r} is not a finite number")
-        if key in _LISTS and not isinstance(value, list):
-            raise _fail(f"model.{key}", f"{value!r} is not allowed: a list of numbers")
-        for v in value if key in _LISTS else ():
-            if not _is_number(v):
-                raise _fail(f"model.{key}", f"{v!r} is not a finite number")
-
-
-def _check_grid(axes: dict[str, np.ndarray]) -> None:
-    shape = [len(v) for v in axes.values()]
-    if math.prod(shape) > MAX_POINTS:
-        raise _fail(
-            "axes",
-            f"{' x '.join(map(str, shape))} = {math.prod(shape)} points is too many: "
-            f"at most {MAX_POINTS} in one sweep",
-        )
-
-
-def _check_friction_pair(axes: dict[str, np.ndarray]) -> None:
-    """mu_coulomb < mu_static at every point, not only at the corners. The model checks every
-    other parameter alone, within an interval, so that an axis whose ends pass passes whole
-    (:func:`_corners`); this pair is the one constraint that couples two axes."""
-    if "mu_coulomb" not in axes or "mu_static" not in axes:
-        return  # one of them fixed: the corners of the other one are the worst cases
-    highest, lowest = axes["mu_coulomb"].max(), axes["mu_static"].min()
-    if not highest < lowest:
-        raise _fail(
-            "axes.mu_static",
-            f"its smallest value {lowest:g} is not above the largest axes.mu_coulomb "
-            f"{highest:g}: every pair of the grid is run, and each needs mu_coulomb < mu_static",
-        )
-
-
-def _check_tally_size(tally_text: str, lump: int, depths: np.ndarray | None) -> None:
-    """The deepest string of a tally within MAX_DOF inertias, counted without building it
-    (``Tally.elements``: one per ``lump`` drill-pipe joints, one per other joint)."""
-    from .tally import TallyError, parse_tally
-
-    tally = parse_tally(tally_text)
-    if depths is not None:
-        try:
-            tally = tally.at_depth(float(depths.max()))
-        except TallyError:
-            return  # no drill pipe to lengthen: the corners say so
-    per = {True: lump, False: 1}
-    n = 1 + sum(-(-s.count // per[s.kind == "drill-pipe"]) for s in tally.sections)
-    if n > MAX_DOF:
-        key, where = (
-            ("axes.depth", f" at {depths.max():g} m") if depths is not None else ("model.tally", "")
-        )
-        raise _fail(
-            key,
-            f"the string{where} has {n} inertias with lump = {lump}, at most {MAX_DOF} are "
-            "allowed: lump more drill-pipe joints (model.lump) or reduce the depth",
-        )
-
-
-def _check_axes(
-    axes: dict[str, np.ndarray],
-    model: dict[str, Any],
-    dof: int | None,
-    fixed: dict[str, Any],
-    tally_text: str | None,
-) -> None:
-    """What the axes may not be together, or with [model]."""
-    if "depth" in axes and np.any(axes["depth"] <= 0):
-        raise _fail("axes.depth", "depths must be > 0 (m)")
-    if tally_text is not None and ("dof" in axes or "pipes" in axes):
-        raise _fail("axes.dof", "a tally string grows with depth: sweep depth, not dof/pipes")
-    if "dof" in axes and "pipes" in axes:
-        raise _fail("axes.pipes", "sweep dof or pipes, not both")
-    if ("dof" in axes or "pipes" in axes) and (dof is not None or any(k in model for k in _LISTS)):
-        raise _fail(
-            "model.dof",
-            "the size is swept in [axes]: remove dof/pipes and per-element lists from [model]",
-        )
-    for key in SCALAR_AXES:
-        if key in axes and key in model:
-            raise _fail(f"model.{key}", f"{key} is also an axis: give it in one place only")
-    for key in OPERATING_AXES:
-        if key in axes and key in fixed:
-            raise _fail(f"model.{key}", f"{key} is also an axis: give it in one place only")
-        if key not in axes and key not in fixed:
-            raise _fail(f"axes.{key}", f"missing: {key} must be an axis or fixed in [model]")
-        if key in fixed:
-            v = fixed[key]
-            if not _is_number(v):
-                raise _fail(f"model.{key}", f"{v!r} is not a finite number")
-            if key == "wob" and v <= 0:
-                raise _fail("model.wob", "must be > 0 (N)")
-    _check_friction_pair(axes)
-
-
-def _simulation(doc: dict[str, Any]) -> dict[str, Any]:
-    sim = dict(SIMULATION_KEYS)
-    for key, value in doc.items():
-        if key not in SIMULATION_KEYS:
-            raise _fail(f"simulation.{key}", "unknown; allowed: " + ", ".join(SIMULATION_KEYS))
-        sim[key] = value
-    initial = sim["initial"]
-    if isinstance(initial, str):
-        initial = [initial]
-    if (
-        not isinstance(initial, list)
-        or not initial
-        or any(i not in ("rest", "equilibrium") for i in initial)
-        or len(set(initial)) != len(initial)
-    ):
-        raise _fail(
-            "simulation.initial",
-            f"{sim['initial']!r}: a list of distinct values from 'rest', 'equilibrium'",
-        )
-    sim["initial"] = initial
-    for key in ("t_end", "rtol", "atol"):
-        v = sim[key]
-        if not _is_number(v) or not v > 0:
-            raise _fail(f"simulation.{key}", f"{v!r} is not allowed: a finite number > 0")
-        sim[key] = float(v)
-    # window and max_steps kept as written (1, not 1.0): the digest of existing specs with them.
-    if not _is_number(sim["window"]) or not 0 < sim["window"] <= 1:
-        raise _fail("simulation.window", f"{sim['window']!r} is not allowed: 0 < window <= 1")
-    steps = sim["max_steps"]
-    if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps < MAX_STEPS:
-        raise _fail(
-            "simulation.max_steps", f"{steps!r} is not allowed: an integer >= 1 (below 2**62)"
-        )
-    if sim["friction"] not in ("exact", "karnopp"):
-        raise _fail("simulation.friction", f"{sim['friction']!r}: choose 'exact' or 'karnopp'")
-    if sim["method"] not in ("auto", "dop853", "bdf", "adams", "erk"):
-        raise _fail(
-            "simulation.method", f"{sim['method']!r}: choose auto, dop853, bdf, adams or erk"
-        )
-    return sim
-
-
-def _record(doc: dict[str, Any]) -> dict[str, Any]:
-    rec = dict(RECORD_KEYS)
-    for key, value in doc.items():
-        if key not in RECORD_KEYS:
-            raise _fail(f"record.{key}", "unknown; allowed: " + ", ".join(RECORD_KEYS))
-        rec[key] = value
-    if not isinstance(rec["stability"], bool):
-        raise _fail("record.stability", "true or false")
-    if (
-        isinstance(rec["eigenvalues"], bool)
-        or not isinstance(rec["eigenvalues"], int)
-        or not (0 <= rec["eigenvalues"] <= 64)
-    ):
-        raise _fail("record.eigenvalues", "an integer 0 ... 64")
-    return rec
 
 
 def parse_spec(text: str, tally_text: str | None = None, base: Path | None = None) -> SweepSpec:

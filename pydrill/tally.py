@@ -42,7 +42,7 @@ import numpy as np
 
 from . import units
 from .model import Params
-from .spec import MAX_DOF  # a string's most inertias, as in sweeps (spec imports tally lazily)
+from .spec_rules import MAX_DOF  # a string's most inertias, as in sweeps
 
 KINDS = ("drill-pipe", "heavy-weight", "drill-collar", "stabilizer", "bit", "other")
 STEEL_G = 79.3e9  # Pa, shear modulus of drill-pipe steel (11.5 Mpsi)
