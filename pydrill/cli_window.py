@@ -370,7 +370,7 @@ def _print_window(tally, dw, checks, args) -> None:
             cells.append(
                 f"{w / 1e3:6.0f}({w / LBF / 1e3:3.0f}){star}" if w < 1e7 else f"{'-':>12s}"
             )
-        print(f"{d:8.0f} {d / FT:6.0f} {int(dw.dof[i]):4d} " + " ".join(cells))
+        print((f"{d:8.0f} {d / FT:6.0f} {int(dw.dof[i]):4d} " + " ".join(cells)).rstrip())
     print("slowest safe surface speed, rpm, at weight on bit")
     print(f"{'depth m':>8s} " + " ".join(f"{w / 1e3:>7.4g} kN" for w in dw.wob))
     for i, d in enumerate(dw.depth):
@@ -378,7 +378,7 @@ def _print_window(tally, dw, checks, args) -> None:
         for k in range(dw.wob.size):
             star = "*" if dw.rpm_min_stable[i, k] > dw.rpm_min_unstuck[k] else " "
             cells.append(f"{dw.rpm_min[i, k]:9.0f}{star}")
-        print(f"{d:8.0f} " + " ".join(cells))
+        print((f"{d:8.0f} " + " ".join(cells)).rstrip())
     for d, pts in checks.items():
         counts: dict[str, int] = {}
         for _, _, g, *_ in pts:
