@@ -10,6 +10,7 @@ import matplotlib
 matplotlib.use("Agg")  # files only: works on servers and in CI
 import matplotlib.pyplot as plt
 from matplotlib.patches import Patch
+from matplotlib.ticker import Formatter
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -27,6 +28,57 @@ REGIME_COLORS = {
     "stuck": "#7f8c8d",
     "oscillation": "#8e44ad",
 }
+
+
+#: above this many N (or N·m) a string is a real one: its forces in kN (torques in kN·m)
+KILO = 5000.0
+
+
+def unit_scale(values, unit: str) -> tuple[float, str]:
+    """(1e3, "kN") for the forces of a real string (any above ``KILO`` N), (1.0, "N") for the
+    laboratory string's; the same for "N·m"."""
+    import numpy as np
+
+    v = np.abs(np.asarray(values, dtype=float))
+    big = v.size and np.isfinite(v).any() and np.nanmax(v) > KILO
+    return (1e3, "k" + unit) if big else (1.0, unit)
+
+
+def quantity(value: float, unit: str, scale: float | None = None) -> str:
+    """``60000, "N"`` → "60 kN", ``8.1, "N·m"`` → "8.1 N·m": in the units of ``unit_scale``
+    (of ``value`` alone unless ``scale`` is given)."""
+    if scale is None:
+        scale, shown = unit_scale(value, unit)
+    else:
+        shown = unit if scale == 1.0 else "k" + unit
+    return f"{value / scale:g} {shown}"
+
+
+class _Scaled(Formatter):
+    """Tick labels of an axis in N shown in kN: the labels its own formatter would write (or
+    leave out), divided by ``scale``."""
+
+    def __init__(self, inner: Formatter, scale: float) -> None:
+        self.inner, self.scale = inner, scale
+
+    def set_axis(self, axis) -> None:
+        super().set_axis(axis)
+        self.inner.set_axis(axis)
+
+    def set_locs(self, locs) -> None:
+        super().set_locs(locs)
+        self.inner.set_locs(locs)
+
+    def __call__(self, x, pos=None) -> str:
+        return f"{x / self.scale:g}" if self.inner(x, pos) else ""
+
+
+def scale_ticks(axis, scale: float) -> None:
+    """Label the ticks of ``axis`` (ax.xaxis, ...) whose data are in N (N·m) in kN (kN·m):
+    the data stay in SI, only the numbers written change. Call after setting its scale."""
+    if scale != 1.0:
+        axis.set_major_formatter(_Scaled(axis.get_major_formatter(), scale))
+        axis.set_minor_formatter(_Scaled(axis.get_minor_formatter(), scale))
 
 
 def simulation_figure(result: SimulationResult) -> Figure:
@@ -72,7 +124,9 @@ def simulation_figure(result: SimulationResult) -> Figure:
     ax_t.axhline(result.torque, color="0.4", ls="-.", lw=1, label="surface torque $u$")
     if held.any():
         ax_t.plot(t[held], te[held], ".", color=STICK, ms=2, label="held by the rock")
-    ax_t.set_ylabel("torque at the bit (N·m)")
+    scale, unit = unit_scale([result.torque, s.static_torque], "N·m")
+    scale_ticks(ax_t.yaxis, scale)
+    ax_t.set_ylabel(f"torque at the bit ({unit})")
     ax_t.set_xlabel("time (s)")
     ax_t.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9)
     ax_t.set_xlim(t[0], t[-1])
@@ -80,8 +134,8 @@ def simulation_figure(result: SimulationResult) -> Figure:
     p = result.params
     period = f", period {s.period:.3g} s" if s.period else ""
     fig.suptitle(
-        f"{s.regime.upper()} — {p.name}, dof {p.dof}, $W_{{ob}}$ = {result.wob:g} N, "
-        f"$u$ = {result.torque:g} N·m",
+        f"{s.regime.upper()} — {p.name}, dof {p.dof}, $W_{{ob}}$ = {quantity(result.wob, 'N')}, "
+        f"$u$ = {quantity(result.torque, 'N·m', scale)}",
         color=REGIME_COLORS.get(s.regime, "black"),
         fontweight="bold",
     )

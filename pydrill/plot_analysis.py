@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import itertools
+import math
 from typing import TYPE_CHECKING
 
-from .plot import plt
+from .plot import plt, quantity, scale_ticks, unit_scale
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -19,13 +21,21 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
 
     from .stability import boundary_wob, stability_map
 
-    omega = np.linspace(0.0, omega_max, n)
     first = next((c for c in crossings if c.direction > 0), crossings[0])
-    w_lo = float(boundary_wob(params, first.delta, 0.0)) / 3.0
+    w0 = float(boundary_wob(params, first.delta, 0.0))  # the first Hopf curve at Ω = 0
+    w_lo = w0 / 3.0
+    # ln W_ob grows by γ/v_f per rad/s along a Hopf curve: in log space, as e^{γΩ/v_f}
+    # overflows past Ω ≈ 700 v_f/γ.
+    rate = params.stribeck_decay / params.stribeck_velocity
     # Up to the boundary at Ω_max, but no more than four decades: beyond, no drill string goes.
-    w_hi = min(
-        max(float(boundary_wob(params, first.delta, omega_max)) * 3.0, 30.0 * w_lo), 1e4 * w_lo
-    )
+    log_hi = math.log(3.0 * w0) + rate * omega_max
+    w_hi = math.exp(min(max(log_hi, math.log(30.0 * w_lo)), math.log(1e4 * w_lo)))
+    # Where the first Hopf curve leaves the top of the map, every W_ob drawn has a smaller
+    # slope than δ_1: the map is one colour from there on. Draw a little past it, not on to
+    # an Ω_max thousands of times further (an empty map).
+    omega_top = math.log(w_hi / w0) / rate if rate > 0 else math.inf
+    omega_shown = min(omega_max, 1.25 * omega_top)
+    omega = np.linspace(0.0, omega_shown, n)
     wob = np.geomspace(w_lo, w_hi, n)
     counts = stability_map(params, omega, wob, crossings)
     top = max(int(counts.max()), 1)
@@ -56,10 +66,12 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
             )
             shown += 1
     ax.set_yscale("log")
-    ax.set_xlim(0, omega_max)
+    ax.set_xlim(0, omega_shown)
     ax.set_ylim(w_lo, w_hi)
+    scale, unit = unit_scale(w_hi, "N")
+    scale_ticks(ax.yaxis, scale)
     ax.set_xlabel("steady bit velocity $\\Omega$ (rad/s)")
-    ax.set_ylabel("weight on bit $W_{ob}$ (N)")
+    ax.set_ylabel(f"weight on bit $W_{{ob}}$ ({unit})")
     cbar = fig.colorbar(mesh, ax=ax, ticks=range(0, top + 1, max(1, top // 10)))
     cbar.set_label("unstable eigenvalues of the steady state")
     legend = [
@@ -76,9 +88,15 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
     ]
     ax.legend(handles=legend, loc="lower right", fontsize=9, framealpha=0.95)
     n_hopf = sum(c.type == "hopf" for c in crossings)
+    cut = (
+        f"\nΩ up to {omega_shown:.3g} rad/s of the {omega_max:g} asked: further on, the first Hopf "
+        f"curve is above the largest $W_{{ob}}$ drawn, {w_hi / scale:.3g} {unit}"
+        if omega_shown < omega_max
+        else ""
+    )
     ax.set_title(
         f"{params.name}, dof {params.dof}: steady drilling is stable below the first Hopf curve "
-        f"({n_hopf} Hopf crossings in all)",
+        f"({n_hopf} Hopf crossings in all){cut}",
         fontsize=10,
     )
     return fig
@@ -86,8 +104,7 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
 
 def eigenvalue_figure(params, points) -> Figure:
     """Eigenvalues of each steady state in the complex plane, the unstable half-plane shaded."""
-    fig, ax = plt.subplots(figsize=(8, 5.5), layout="constrained")
-    ax.axvspan(0, 1, color="#f5b7b1", alpha=0.5, lw=0, label="unstable half-plane")
+    fig, ax = plt.subplots(figsize=(9.5, 5.5), layout="constrained")
     markers = ["o", "s", "^"]
     for k, pt in enumerate(points):
         ev = pt.eigenvalues
@@ -104,14 +121,20 @@ def eigenvalue_figure(params, points) -> Figure:
     hi = max([*re, 0.0])
     span = hi - lo
     ax.set_xlim(lo - 0.05 * span, max(hi + 0.15 * span, 0.1 * span))
+    # All of Re λ > 0 that the axes show, drawn under the points (the limits are fixed now).
+    ax.axvspan(
+        0, ax.get_xlim()[1], color="#f5b7b1", alpha=0.5, lw=0, zorder=0, label="unstable half-plane"
+    )
     ax.axvline(0, color="black", lw=0.8)
     ax.set_xlabel("Re λ (1/s)")
     ax.set_ylabel("Im λ (rad/s)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=9, loc="upper left")
+    # Beside the axes: eigenvalues may sit anywhere in the plane, the legend covers none.
+    ax.legend(fontsize=9, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     if points:
         ax.set_title(
-            f"{params.name}, dof {params.dof}, $W_{{ob}}$ = {points[0].wob:g} N", fontsize=10
+            f"{params.name}, dof {params.dof}, $W_{{ob}}$ = {quantity(points[0].wob, 'N')}",
+            fontsize=10,
         )
     return fig
 
@@ -129,61 +152,48 @@ def bifurcation_figure(params, branch) -> Figure:
     unstable dashed, Hopf (HB) and fold (LP) points marked with their criticality. Long
     strings have hundreds of Hopf points: then only the first (highest Ω, where the stable
     branch ends) is labelled. Where the special points crowd into a small part of the range,
-    an inset zooms in on them."""
+    an inset zooms in on them. A real string's forces are in kN (torques in kN·m)."""
     import numpy as np
 
     fig, ax = plt.subplots(figsize=(9, 5.8), layout="constrained")
     x = branch.wob if branch.vary == "wob" else branch.torque
+    scale, unit = unit_scale(x, "N" if branch.vary == "wob" else "N·m")
     hb = sorted((pt for pt in branch.points if pt.type == "HB"), key=lambda pt: -pt.omega)
     few = len(hb) <= 4
+    # (axes, text, (x, y), colour) of each label: placed once the figure is laid out
+    labels: list[tuple] = []
 
-    def draw(ax, labels: bool, short: bool = False) -> None:
+    def draw(ax, label: bool, short: bool = False) -> None:
         stable = branch.unstable == 0
-        for mask, style, label in (
+        for mask, style, name in (
             (stable, "-", "stable steady state"),
             (~stable, "--", "unstable steady state"),
         ):
             y = np.where(mask, branch.omega, np.nan)
             color = "#1f618d" if style == "-" else "#922b21"
-            ax.plot(x, y, style, color=color, lw=2, label=label)
+            ax.plot(x, y, style, color=color, lw=2, label=name)
         for i, pt in enumerate(hb):
             px = pt.wob if branch.vary == "wob" else pt.torque
             color = "#27ae60" if pt.criticality == "supercritical" else "#c0392b"
             ax.plot(px, pt.omega, "s", color=color, ms=8 if few else 5, zorder=5)
-            if labels and (few or i == 0):
-                ax.annotate(
+            if label and (few or i == 0):
+                text = (
                     f"HB{i + 1}"
                     if short
-                    else f"HB{i + 1} ({pt.criticality[:3]}), {pt.frequency:.3g} rad/s",
-                    (px, pt.omega),
-                    textcoords="offset points",
-                    # Varying the torque, the stable branch leaves HB1 to the upper right;
-                    # close points get their labels one under the other.
-                    xytext=(8, 6 - 11 * (i % 3))
-                    if branch.vary == "wob"
-                    else (-8, 8 - 11 * (i % 3)),
-                    ha="left" if branch.vary == "wob" else "right",
-                    fontsize=8,
-                    color=color,
+                    else f"HB{i + 1} ({pt.criticality[:3]}), frequency {pt.frequency:.3g} rad/s"
                 )
+                labels.append((ax, text, (px, pt.omega), color))
         for pt in branch.points:
             if pt.type == "LP":
                 px = pt.wob if branch.vary == "wob" else pt.torque
                 ax.plot(px, pt.omega, "D", color="black", ms=7, zorder=5)
-                if labels:
-                    # Beside the fold, away from the branch's two arms.
-                    ax.annotate(
-                        "LP",
-                        (px, pt.omega),
-                        textcoords="offset points",
-                        xytext=(8, -12) if branch.vary == "wob" else (-10, -3),
-                        ha="left" if branch.vary == "wob" else "right",
-                        fontsize=8,
-                    )
+                if label:
+                    labels.append((ax, "LP", (px, pt.omega), "black"))
 
     xs = np.array([pt.wob if branch.vary == "wob" else pt.torque for pt in branch.points])
     zoom = len(xs) > 1 and np.ptp(xs) < 0.15 * np.ptp(x)
-    draw(ax, labels=not zoom)
+    draw(ax, label=not zoom)
+    scale_ticks(ax.xaxis, scale)
     if zoom:
         # The special points sit within a few per cent of the range: zoom in on them.
         pad = max(0.15 * np.ptp(xs), 0.01 * xs.max())
@@ -191,20 +201,27 @@ def bifurcation_figure(params, branch) -> Figure:
         ins = ax.inset_axes(
             [0.5, 0.4, 0.47, 0.42] if branch.vary == "wob" else [0.5, 0.08, 0.47, 0.42]
         )
-        draw(ins, labels=True, short=True)
+        draw(ins, label=True, short=True)
         ins.set_xlim(xs.min() - pad, xs.max() + 2 * pad)
         ins.set_ylim(0, top * 1.25 + 0.3)
+        scale_ticks(ins.xaxis, scale)
         ins.tick_params(labelsize=7)
         ins.grid(alpha=0.3)
-        first = f"; HB1 at {hb[0].frequency:.3g} rad/s, {hb[0].criticality}" if hb else ""
+        # HB1's place on the axis (Ω) and its oscillation's frequency: both in rad/s.
+        first = (
+            f"; HB1 at Ω = {hb[0].omega:.3g} rad/s\n"
+            f"(frequency {hb[0].frequency:.3g} rad/s, {hb[0].criticality})"
+            if hb
+            else ""
+        )
         ins.set_title(f"{len(hb)} Hopf points{first}", fontsize=8)
         ax.indicate_inset_zoom(ins, edgecolor="0.4")
     if branch.vary == "wob":
-        ax.set_xlabel("weight on bit $W_{ob}$ (N)")
-        fixed = f"$u$ = {branch.fixed:g} N·m"
+        ax.set_xlabel(f"weight on bit $W_{{ob}}$ ({unit})")
+        fixed = f"$u$ = {quantity(branch.fixed, 'N·m')}"
     else:
-        ax.set_xlabel("surface torque $u$ (N·m)")
-        fixed = f"$W_{{ob}}$ = {branch.fixed:g} N"
+        ax.set_xlabel(f"surface torque $u$ ({unit})")
+        fixed = f"$W_{{ob}}$ = {quantity(branch.fixed, 'N')}"
     ax.set_ylabel("steady bit velocity $\\Omega$ (rad/s)")
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
@@ -214,7 +231,89 @@ def bifurcation_figure(params, branch) -> Figure:
     ax.plot([], [], "D", color="black", label="limit point (fold)")
     ax.legend(fontsize=9, loc="upper left" if zoom else "best")
     ax.set_title(f"{params.name}, dof {params.dof}, {fixed}", fontsize=10)
+    # Varying the torque, the stable branch leaves HB1 to the upper right: labels go left.
+    _place_labels(fig, labels, right=branch.vary == "wob")
     return fig
+
+
+def _place_labels(fig, labels, right: bool = True) -> None:
+    """Write each (axes, text, (x, y), colour) of ``labels`` beside its point, at the first
+    of a few offsets (on the ``right`` of the points first, else on their left) where it
+    overlaps no marker of its axes and no label placed before, stays inside the axes and is
+    nearer its own point than any other marker; of those, one that crosses no curve if there
+    is one. Where none is clear, the offset that breaks the fewest of these. Lays the figure
+    out first: the boxes compared are the ones drawn."""
+    import numpy as np
+    from matplotlib.transforms import Bbox
+
+    if not labels:
+        return
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    points = fig.dpi / 72
+    near = [(8, 4), (8, -12), (-8, 4), (-8, -12), (0, 10), (0, -18)]
+    offsets = [(dx if right else -dx, dy) for dx, dy in near]
+    offsets += [(2 * dx, 2 * dy) for dx, dy in offsets]
+    placed: dict = {}
+
+    def distance(box, xy) -> float:
+        dx = max(box.x0 - xy[0], 0, xy[0] - box.x1)
+        return float(np.hypot(dx, max(box.y0 - xy[1], 0, xy[1] - box.y1)))
+
+    for ax, text, xy, color in labels:
+        markers, centres, curves = [], [], []
+        for line in ax.get_lines():
+            xyd = np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float)
+            xyd = ax.transData.transform(xyd[np.isfinite(xyd).all(axis=1)])
+            if line.get_marker() in ("None", "", None, " "):
+                # The curve's vertices and points between them, every few pixels.
+                for a, b in itertools.pairwise(xyd):
+                    n = int(np.hypot(*(b - a)) // (2 * points)) + 1
+                    curves.extend(a + (b - a) * t for t in np.arange(n) / n)
+                continue
+            half = (line.get_markersize() / 2 + line.get_markeredgewidth()) * points
+            for px, py in xyd:
+                markers.append(Bbox.from_extents(px - half, py - half, px + half, py + half))
+                centres.append((px, py))
+        curves = np.array(curves).reshape(-1, 2)
+        own = ax.transData.transform(xy)
+        others = [c for c in centres if np.hypot(*np.subtract(c, own)) > 0.5]
+        frame = ax.get_window_extent(renderer)
+        taken = placed.setdefault(ax, [])
+        best = None
+        for dx, dy in offsets:
+            note = ax.annotate(
+                text,
+                xy,
+                textcoords="offset points",
+                xytext=(dx, dy),
+                ha="left" if dx > 0 else "right" if dx < 0 else "center",
+                fontsize=8,
+                color=color,
+            )
+            note.set_in_layout(False)
+            box = note.get_window_extent(renderer).padded(points)
+            note.remove()
+            hard = (
+                (not (frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1)))
+                + sum(box.overlaps(m) for m in markers + taken)
+                + sum(distance(box, c) <= distance(box, own) for c in others)
+            )
+            soft = int(
+                np.sum(
+                    (curves[:, 0] > box.x0)
+                    & (curves[:, 0] < box.x1)
+                    & (curves[:, 1] > box.y0)
+                    & (curves[:, 1] < box.y1)
+                )
+            )
+            if best is None or (hard, soft) < best[0]:
+                best = ((hard, soft), note, box)
+            if (hard, soft) == (0, 0):
+                break
+        _, note, box = best
+        ax.add_artist(note)
+        taken.append(box)
 
 
 def operating_figure(params, omap, crossings, checks=None) -> Figure:
@@ -270,11 +369,16 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
                     s=26,
                     label=f"simulated from rest: {regime}",
                     zorder=5,
+                    clip_on=False,  # the check grid ends on the map's edges: markers whole
                 )
     ax.set_xlim(omap.wob.min(), omap.wob.max())
     ax.set_ylim(omap.torque.min(), omap.torque.max())
-    ax.set_xlabel("weight on bit $W_{ob}$ (N)")
-    ax.set_ylabel("surface torque $u$ (N·m)")
+    xscale, xunit = unit_scale(omap.wob, "N")
+    yscale, yunit = unit_scale(omap.torque, "N·m")
+    scale_ticks(ax.xaxis, xscale)
+    scale_ticks(ax.yaxis, yscale)
+    ax.set_xlabel(f"weight on bit $W_{{ob}}$ ({xunit})")
+    ax.set_ylabel(f"surface torque $u$ ({yunit})")
     handles, labels = ax.get_legend_handles_labels()
     handles += [Patch(color=c) for c in colors]
     labels += list(CATEGORIES)

@@ -6,7 +6,7 @@ import math
 from typing import TYPE_CHECKING
 
 from . import atlas_format as fmt
-from .plot import plt
+from .plot import plt, quantity, scale_ticks, unit_scale
 
 #: what ``atlas_figure(metric=...)`` can colour a map by: a simulation's summary values (from
 #: one start) and a steady state's (the fastest), each with its units and meaning
@@ -114,20 +114,29 @@ def atlas_figure(
         stuck = regime == fmt.REGIMES["stuck"] if metric in fmt.RUN_FIELDS else None
         handles, what = _metric_mesh(fig, ax, x, y, grid, metric, init, stuck)
     units = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
+    # A real string's forces in kN, torques in kN·m (the data stay in N and N·m).
+    scales = {
+        n: unit_scale(atlas.axes[n] if n in order else atlas.spec.fixed[n], units[n])
+        for n in ("wob", "torque")
+        if n in order or n in atlas.spec.fixed
+    }
+    units.update({n: unit for n, (_, unit) in scales.items()})
     label = {
         "wob": "weight on bit $W_{ob}$",
         "torque": "surface torque $u$",
         "dof": "degrees of freedom",
         "pipes": "drill pipes",
     }
-    for name, values, set_label, set_ticks in (
-        (xname, x, ax.set_xlabel, ax.set_xticks),
-        (yname, y, ax.set_ylabel, ax.set_yticks),
+    for name, values, set_label, set_ticks, axis in (
+        (xname, x, ax.set_xlabel, ax.set_xticks, ax.xaxis),
+        (yname, y, ax.set_ylabel, ax.set_yticks, ax.yaxis),
     ):
         unit = units.get(name, "SI")
         set_label(label.get(name, name) + (f" ({unit})" if unit else ""))
         if len(values) <= 12 and np.all(values == np.round(values)):
             set_ticks(values)  # a few whole numbers (dof, pipes): a tick on each
+        if name in scales:
+            scale_ticks(axis, scales[name][0])
     if {xname, yname} == {"wob", "torque"}:
         from .stability import critical_deltas
 
@@ -168,7 +177,10 @@ def atlas_figure(
     # An interrupted sweep's atlas: say so, or the white cells read as a regime of their own.
     count = f"{total - missing} of {total} points done" if missing else f"{total} points"
     # Everything a map holds constant: the held axes, and what the spec fixes (e.g. torque).
-    where = "".join(f", {n} = {v:.4g}" for n, v in {**s.fixed, **held}.items())
+    where = "".join(
+        f", {n} = " + (quantity(v, units[n], scales[n][0]) if n in scales else f"{v:.4g}")
+        for n, v in {**s.fixed, **held}.items()
+    )
     size = f", dof {s.dof}" if s.dof and "dof" not in atlas.axes else ""
     if s.tally_text:
         from .tally import parse_tally
@@ -220,7 +232,20 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     blank = "no steady state (or not computed)" if metric in fmt.EQ_FIELDS else "no value"
     handles = [Patch(color="#d5d8dc", label=blank)] if values.mask.any() else []
     if stuck is not None and stuck.any() and min(len(x), len(y)) >= 2:
-        ax.contourf(x, y, stuck.T.astype(float), levels=[0.5, 1.5], colors="none", hatches=["//"])
+        # Exactly the stuck cells, with the edges the colour mesh gives them (a contour would
+        # interpolate between grid points: a diagonal band across neighbouring cells).
+        from matplotlib.collections import PatchCollection
+        from matplotlib.patches import Rectangle
+
+        edges = mesh.get_coordinates()  # (len(y) + 1, len(x) + 1, 2)
+        cells = [
+            Rectangle(edges[i, j], *(edges[i + 1, j + 1] - edges[i, j]))
+            for i, j in zip(*np.nonzero(np.asarray(stuck).T), strict=True)
+        ]
+        ax.add_collection(
+            PatchCollection(cells, facecolor="none", edgecolor="0.3", lw=0, hatch="//"),
+            autolim=False,
+        )
         handles.append(Patch(facecolor="none", edgecolor="0.3", hatch="//", label="bit stuck"))
     steady = metric in fmt.EQ_FIELDS
     return handles, f"{metric} " + ("of the fastest steady state" if steady else f"from {init}")

@@ -22,21 +22,59 @@ STALL_EDGE = "#1c2833"
 KLBF = LBF  # kN per klbf (1 klbf = 4.448 kN)
 
 
-def _curve_label(ax, text: str, xy: tuple[float, float], color) -> None:
-    """Name a curve of the depth chart at its foot, written upwards along it."""
-    ax.annotate(
-        text,
-        xy,
-        xytext=(3, 0),
-        textcoords="offset points",
-        rotation=90,
-        va="bottom",
-        ha="left",
-        fontsize=8.5,
-        color=color,
-        weight="bold",
-        bbox=_BOX,
-    )
+def _curve_labels(fig, ax, curves) -> None:
+    """Name each (text, x, depth, colour) curve of the depth chart by its foot, written
+    upwards along it. Where neighbouring curves are closer than a label is wide, a label
+    goes up its curve, above the labels it would touch (the leftmost curve's stays at the
+    foot): no two touch. Lays the figure out first, to measure the labels as drawn."""
+    if not curves:
+        return
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    gap = 6 * fig.dpi / 72  # between two labels: clearly apart
+    top = ax.get_window_extent(renderer).y1
+    to_data = ax.transData.inverted()
+    deepest = max(float(np.max(d)) for _, _, d, _ in curves)
+    span = deepest - min(float(np.min(d)) for _, _, d, _ in curves)
+    foot = ax.transData.transform((0.0, deepest - 0.02 * span))[1]
+
+    def label(text, x, depth, color, y0):
+        y = to_data.transform((0.0, y0))[1]
+        order = np.argsort(depth)
+        note = ax.annotate(
+            text,
+            (float(np.interp(y, depth[order], x[order])), y),
+            xytext=(3, 0),
+            textcoords="offset points",
+            rotation=90,
+            va="bottom",
+            ha="left",
+            fontsize=8.5,
+            color=color,
+            weight="bold",
+            bbox=_BOX,
+        )
+        note.set_in_layout(False)
+        return note, note.get_window_extent(renderer).padded(pad)
+
+    pad = _BOX_PAD * 8.5 * fig.dpi / 72
+    placed: list = []
+    for text, x, depth, color in sorted(curves, key=lambda c: c[1][np.argmax(c[2])]):
+        note, box = label(text, x, depth, color, foot)
+        while clash := [b for b in placed if _beside(b, box, gap)]:
+            note.remove()
+            # Its box's foot (the text's less the padding) a gap above the highest it touches.
+            note, box = label(text, x, depth, color, max(b.y1 for b in clash) + gap + pad + 1)
+            if box.y1 > top:  # no room higher up: back to the foot
+                note.remove()
+                note, box = label(text, x, depth, color, foot)
+                break
+        placed.append(box)
+
+
+def _beside(a, b, gap: float) -> bool:
+    """Whether boxes ``a`` and ``b`` (display) overlap or are closer than ``gap``."""
+    return a.padded(gap / 2).overlaps(b.padded(gap / 2))
 
 
 def _klbf_axis(ax, where: str = "top"):
@@ -232,8 +270,8 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
     depth = dw.depth
     fig, (ax_w, ax_r) = plt.subplots(1, 2, figsize=(14, 8.2), sharey=True, layout="constrained")
     x_w = wob_max / 1e3
-    span = depth.max() - depth.min() or 1.0
-    label_y = depth.max() - 0.02 * span
+    names_w: list = []  # (text, x, depth, colour) of each curve: named once laid out
+    names_r: list = []
     colors = plt.cm.viridis(np.linspace(0.0, 0.8, max(dw.rpm.size, 2)))
     for k, r in enumerate(dw.rpm):
         w = np.minimum(dw.wob_max[:, k] / 1e3, x_w)
@@ -242,7 +280,7 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
         stable = dw.wob_max_stable[:, k] / 1e3
         ax_w.plot(np.where(stable < x_w, stable, np.nan), depth, color=colors[k], lw=0.9, ls=":")
         if w[-1] < 0.97 * x_w:
-            _curve_label(ax_w, f"{r:g} rpm", (w[-1], label_y), colors[k])
+            names_w.append((f"{r:g} rpm", w, depth, colors[k]))
     ax_w.plot([], [], color="#555555", lw=2.6, label="heaviest safe W_ob (left of it: safe)")
     ax_w.plot([], [], color="#555555", lw=0.9, ls=":", label="stick-slip edge alone")
     ax_w.set_xlim(0, x_w)
@@ -260,9 +298,7 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
             np.minimum(dw.rpm_min_stable[:, k], rpm_max), depth, color=colors[k], lw=0.9, ls=":"
         )
         if r[-1] < 0.97 * rpm_max:
-            _curve_label(
-                ax_r, f"{w / 1e3:g} kN ({w / LBF / 1e3:.3g} klbf)", (r[-1], label_y), colors[k]
-            )
+            names_r.append((f"{w / 1e3:g} kN ({w / LBF / 1e3:.3g} klbf)", r, depth, colors[k]))
     ax_r.plot([], [], color="#555555", lw=2.6, label="slowest safe speed (right of it: safe)")
     ax_r.plot([], [], color="#555555", lw=0.9, ls=":", label="stick-slip edge alone")
     ax_r.set_xlim(0, rpm_max)
@@ -281,7 +317,10 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
         "where a line bends, the stick-slip edge has taken over from the stall edge",
         fontsize=11.5,
     )
+    _curve_labels(fig, ax_w, names_w)
+    _curve_labels(fig, ax_r, names_r)
     return fig
 
 
-_BOX = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8}
+_BOX_PAD = 0.15  #: of the labels' white boxes, in font sizes
+_BOX = {"boxstyle": f"round,pad={_BOX_PAD}", "fc": "white", "ec": "none", "alpha": 0.8}

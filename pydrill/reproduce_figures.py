@@ -164,7 +164,8 @@ def fig5(out: Path, n: dict[str, Any], runs: dict[str, Any]) -> Path:
     ax.plot([qe], [0], [0], "*", color="black", ms=14, label="quasi-equilibrium (u/$k_t$, 0, 0)")
     ax.plot([], [], "o", color="black", ms=5, ls="none", label="$x_{in}$")
     ax.plot([], [], "D", color="black", ms=5, ls="none", label="$x_{out}$")
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(-0.15, 1.0))
+    # Beside the 3-D box, not on it: inside the axes it hid the box's upper corner.
+    fig.legend(*ax.get_legend_handles_labels(), fontsize=8, loc="outside lower left", ncol=5)
     ax.set_title("(a) each $W_{ob}$'s attractor from rest (last 40 s)", fontsize=10)
     ax.view_init(elev=22, azim=-62)
     ax_b = fig.add_subplot(122)

@@ -1,0 +1,251 @@
+"""The figures show what their data say: checked on the drawn artists (patch extents, text
+boxes, marker positions), against the plotted values and the axis limits."""
+
+import warnings
+from itertools import combinations
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+matplotlib.use("Agg")
+
+import pydrill
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _drawn(fig):
+    """Lay the figure out and draw it once: the positions below are the saved ones."""
+    fig.canvas.draw()
+    return fig.canvas.get_renderer()
+
+
+def _marker_boxes(ax):
+    """Display-space boxes of the single-point markers drawn by ``ax.plot``."""
+    from matplotlib.transforms import Bbox
+
+    boxes = []
+    for line in ax.get_lines():
+        if line.get_marker() in ("None", "", None) or len(line.get_xdata()) != 1:
+            continue
+        (x, y) = ax.transData.transform((line.get_xdata()[0], line.get_ydata()[0]))
+        half = (line.get_markersize() / 2 + line.get_markeredgewidth()) * ax.figure.dpi / 72
+        boxes.append(Bbox.from_extents(x - half, y - half, x + half, y + half))
+    return boxes
+
+
+def test_eigenvalue_plot_shades_all_of_re_above_zero_and_its_legend_hides_no_eigenvalue():
+    from pydrill.plot_analysis import eigenvalue_figure
+    from pydrill.stability import stability
+
+    p = pydrill.preset("reduced-scale", dof=4)
+    points = stability(p, 100.0, torque=5.9)
+    ev = np.array([z for pt in points for z in pt.eigenvalues])
+    assert ev.real.max() > 10  # the audit's eigenvalue far to the right (Re 14.7)
+    fig = eigenvalue_figure(p, points)
+    ax = fig.axes[0]
+    _drawn(fig)
+    (shade,) = [a for a in ax.patches if a.get_label() == "unstable half-plane"]
+    box = shade.get_window_extent()
+    zero, right = ax.transData.transform([(0.0, 0.0), (ax.get_xlim()[1], 0.0)])[:, 0]
+    assert box.x0 == pytest.approx(zero, abs=1.0)
+    assert box.x1 >= right - 1.0  # up to the right edge of the axes, whatever it is
+    shown = ax.transData.transform(np.column_stack([ev.real, ev.imag]))
+    unstable = shown[ev.real > 0]
+    assert np.all((unstable[:, 0] >= box.x0) & (unstable[:, 0] <= box.x1))
+    # No eigenvalue (nor the marker around it) under the legend.
+    legend = ax.get_legend().get_window_extent().padded(6 * fig.dpi / 72)
+    assert not [xy for xy in shown if legend.contains(*xy)]
+
+
+def test_severity_map_hatches_exactly_the_stuck_cells(tmp_path):
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import atlas_figure
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    spec = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = { start = 20.0, stop = 200.0, num = 10 }
+torque = { start = 4.0, stop = 14.0, num = 8 }
+[simulation]
+t_end = 200.0
+initial = ["rest"]
+"""
+    out = tmp_path / "small.h5"
+    run_sweep(parse_spec(spec), out, serial=True)
+    with Atlas(out) as atlas:
+        stuck = (atlas.regimes("rest") == "stuck").T  # (torque, wob), as the map's rows
+        fig = atlas_figure(atlas, metric="severity")
+    assert stuck.any() and not stuck.all()
+    ax = fig.axes[0]
+    corners = ax.collections[0].get_coordinates()  # the cells the colour mesh draws
+    hatched = [a for a in [*ax.collections, *ax.patches] if a.get_hatch()]
+    assert hatched
+    covered = np.zeros(stuck.shape, dtype=int)
+    for i in range(stuck.shape[0]):
+        for j in range(stuck.shape[1]):
+            (x0, y0), (x1, y1) = corners[i, j], corners[i + 1, j + 1]
+            # The centre and near each corner: a cell is hatched whole or not at all.
+            fx = np.array([0.5, 0.05, 0.95, 0.05, 0.95])
+            fy = np.array([0.5, 0.05, 0.05, 0.95, 0.95])
+            pts = ax.transData.transform(
+                np.column_stack([x0 + fx * (x1 - x0), y0 + fy * (y1 - y0)])
+            )
+            inside = np.zeros(len(pts), dtype=bool)
+            for artist in hatched:
+                paths = artist.get_paths() if hasattr(artist, "get_paths") else [artist.get_path()]
+                for path in paths:
+                    inside |= path.contains_points(pts, transform=artist.get_transform())
+            covered[i, j] = inside.sum()
+    np.testing.assert_array_equal(covered, np.where(stuck, 5, 0))
+
+
+def test_bifurcation_inset_names_the_hopf_velocity_and_its_labels_clear_markers_and_labels():
+    from pydrill.bifurcation import branch
+    from pydrill.plot_analysis import bifurcation_figure
+
+    p = pydrill.preset("reduced-scale", dof=2)
+    b = branch(p, vary="wob", torque=8.1)
+    hb1 = max((pt for pt in b.points if pt.type == "HB"), key=lambda pt: pt.omega)
+    fig = bifurcation_figure(p, b)
+    (inset,) = fig.axes[0].child_axes
+    title = inset.get_title()
+    assert f"Ω = {hb1.omega:.3g} rad/s" in title  # where it is on the axis: 6.49 rad/s
+    assert f"frequency {hb1.frequency:.3g} rad/s" in title  # and how fast it oscillates
+    renderer = _drawn(fig)
+    labels = [t for t in inset.texts if t.get_text() in ("HB1", "HB2", "LP")]
+    assert len(labels) == 3
+    boxes = [t.get_window_extent(renderer) for t in labels]
+    markers = _marker_boxes(inset)
+    assert len(markers) == 3
+    frame = inset.get_window_extent(renderer)
+    for text, box in zip(labels, boxes, strict=True):
+        assert not [m for m in markers if box.overlaps(m)], text.get_text()
+        assert frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1), text
+    for a, b_ in combinations(boxes, 2):
+        assert not a.overlaps(b_)
+
+
+def test_depth_window_curve_labels_do_not_touch_and_sit_by_their_curves():
+    from pydrill.plot_window import window_depth_figure
+    from pydrill.tally import load_tally
+    from pydrill.window import parse_depths, window_against_depth
+
+    tally = load_tally(ROOT / "examples/tallies/paper-eq53.toml")
+    rpm = [15, 20, 25, 30, 40, 60, 90, 120, 150]  # the command's defaults
+    wob = [10e3, 20e3, 30e3, 50e3, 100e3]
+    dw = window_against_depth(tally, parse_depths("500m:5000m:10"), rpm, wob)
+    fig = window_depth_figure(dw, 3e5, 200.0)
+    renderer = _drawn(fig)
+    for ax, unit in zip(fig.axes[:2], ("rpm", "kN"), strict=True):
+        labels = [t for t in ax.texts if unit in t.get_text()]
+        assert len(labels) >= 4
+        boxes = [t.get_bbox_patch().get_window_extent(renderer) for t in labels]
+        for a, b in combinations(boxes, 2):
+            assert not a.padded(1.0).overlaps(b), (ax.get_title(), a, b)
+        for text, box in zip(labels, boxes, strict=True):
+            # Beside the thick line of its own colour, at the label's height.
+            (curve,) = [
+                ln
+                for ln in ax.get_lines()
+                if ln.get_linewidth() > 2
+                and ln.get_color() is not None
+                and np.allclose(matplotlib.colors.to_rgba(ln.get_color()), text.get_color())
+                and len(ln.get_xdata())
+            ]
+            xy = ax.transData.transform(np.column_stack([curve.get_xdata(), curve.get_ydata()]))
+            order = np.argsort(xy[:, 1])
+            x = np.interp(box.y0, xy[order, 1], xy[order, 0])
+            assert 0 <= box.x0 - x <= 8 * fig.dpi / 72, text.get_text()
+
+
+def test_operating_map_markers_on_the_edges_are_drawn_whole():
+    from matplotlib.collections import PathCollection
+
+    from pydrill.operating import operating_map
+    from pydrill.plot_analysis import operating_figure
+    from pydrill.stability import critical_deltas
+
+    p = pydrill.preset("reduced-scale", dof=4)
+    wob, torque = np.linspace(1.25, 250.0, 40), np.linspace(0.125, 25.0, 40)
+    crossings = critical_deltas(p)
+    omap = operating_map(p, wob, torque, crossings)
+    regimes = ["steady", "stick-slip", "stuck", "oscillation"]
+    k = np.linspace(50.0, 250.0, 5)  # the command's --check 5 grid: its last row and column
+    checks = [
+        (w, u, regimes[(i + j) % 4])
+        for i, w in enumerate(k)
+        for j, u in enumerate(np.linspace(5.0, 25.0, 5))
+    ]
+    fig = operating_figure(p, omap, crossings, checks)
+    ax = fig.axes[0]
+    _drawn(fig)
+    scatters = [c for c in ax.collections if isinstance(c, PathCollection)]
+    assert sum(len(c.get_offsets()) for c in scatters) == len(checks)
+    for c in scatters:
+        if not c.get_clip_on():
+            continue
+        clip = c.get_clip_box()
+        half = np.sqrt(c.get_sizes()[0]) / 2 * fig.dpi / 72
+        for x, y in ax.transData.transform(c.get_offsets()):
+            assert clip.x0 <= x - half and x + half <= clip.x1
+            assert clip.y0 <= y - half and y + half <= clip.y1
+
+
+def test_hopf_map_far_past_the_boundary_warns_not_and_shows_the_boundary():
+    from pydrill.plot_analysis import hopf_figure
+    from pydrill.stability import critical_deltas
+
+    p = pydrill.preset("reduced-scale", dof=4)
+    crossings = critical_deltas(p)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # an overflow in exp is an error here
+        fig = hopf_figure(p, crossings, omega_max=1e6)
+        _drawn(fig)
+    ax = fig.axes[0]
+    mesh = ax.collections[0]
+    counts = np.asarray(mesh.get_array()).ravel()
+    centres = mesh.get_coordinates()[:-1, :-1].reshape(-1, 2)  # a corner of each cell
+    x0, x1 = ax.get_xlim()
+    shown = counts[(centres[:, 0] >= x0) & (centres[:, 0] < x1)]
+    assert 0.05 < np.mean(shown > 0) < 0.95  # both sides of the first Hopf curve are in view
+    first = max(ax.get_lines(), key=lambda ln: ln.get_linewidth())
+    y = np.asarray(first.get_ydata())
+    lo, hi = ax.get_ylim()
+    assert np.any((y > lo) & (y < hi))
+    assert "1e+06" in ax.get_title()  # says the range asked for is not the range shown
+
+
+def test_real_string_figures_are_in_kilonewtons_and_the_laboratory_string_in_newtons():
+    from pydrill.bifurcation import branch
+    from pydrill.plot import simulation_figure
+    from pydrill.plot_analysis import bifurcation_figure
+
+    real = pydrill.preset("real-string")
+    b = branch(real, vary="wob", torque=7662.0)
+    fig = bifurcation_figure(real, b)
+    ax = fig.axes[0]
+    _drawn(fig)
+    assert ax.get_xlabel().endswith("(kN)")
+    assert "7.662 kN·m" in ax.get_title()
+    lo, hi = ax.get_xlim()
+    ticks = [
+        (at, float(t.get_text().replace("−", "-")))
+        for at, t in zip(ax.get_xticks(), ax.get_xticklabels(), strict=True)
+        if lo <= at <= hi
+    ]
+    assert len(ticks) >= 3 and hi > 5e4  # data in N, labels the same values in kN
+    assert all(shown == pytest.approx(at / 1e3) for at, shown in ticks)
+    r = pydrill.simulate(real, wob=60000.0, torque=7662.0, t_end=30.0, n_out=301)
+    fig = simulation_figure(r)
+    assert "60 kN" in fig._suptitle.get_text() and "7.662 kN·m" in fig._suptitle.get_text()
+    assert fig.axes[1].get_ylabel().endswith("(kN·m)")
+    lab = pydrill.preset("reduced-scale", dof=2)
+    fig = bifurcation_figure(lab, branch(lab, vary="wob", torque=8.1))
+    assert fig.axes[0].get_xlabel().endswith("(N)") and "8.1 N·m" in fig.axes[0].get_title()
