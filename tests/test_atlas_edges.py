@@ -123,6 +123,11 @@ def test_a_journal_without_its_atlas_is_named_for_what_it_is(tmp_path):
 def test_a_refused_sweep_leaves_no_directory_behind(tmp_path):
     out = tmp_path / "new" / "deeper" / "x.h5"
     # Nothing listens on port 1; Dask's client would wait its 30 s for a scheduler to start.
+    # distributed first: a config.set of a key whose section is not loaded yet deletes the
+    # whole section on the way out, defaults loaded meanwhile included (then every later
+    # LocalCluster of the session fails with KeyError: 'distributed').
+    import distributed  # noqa: F401
+
     with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
         with pytest.raises(ConnectionError):
             run_sweep(parse_spec(SMALL), out, scheduler="tcp://127.0.0.1:1")
