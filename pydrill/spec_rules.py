@@ -288,12 +288,16 @@ def _check_axes(
     _check_friction_pair(axes)
 
 
+def _with_defaults(doc: dict[str, Any], section: str, defaults: dict[str, Any]) -> dict[str, Any]:
+    """A table's values over its defaults; a key it does not know is refused."""
+    unknown = [key for key in doc if key not in defaults]
+    if unknown:
+        raise _fail(f"{section}.{unknown[0]}", "unknown; allowed: " + ", ".join(defaults))
+    return {**defaults, **doc}
+
+
 def _simulation(doc: dict[str, Any]) -> dict[str, Any]:
-    sim = dict(SIMULATION_KEYS)
-    for key, value in doc.items():
-        if key not in SIMULATION_KEYS:
-            raise _fail(f"simulation.{key}", "unknown; allowed: " + ", ".join(SIMULATION_KEYS))
-        sim[key] = value
+    sim = _with_defaults(doc, "simulation", SIMULATION_KEYS)
     initial = sim["initial"]
     if isinstance(initial, str):
         initial = [initial]
@@ -331,11 +335,7 @@ def _simulation(doc: dict[str, Any]) -> dict[str, Any]:
 
 
 def _record(doc: dict[str, Any]) -> dict[str, Any]:
-    rec = dict(RECORD_KEYS)
-    for key, value in doc.items():
-        if key not in RECORD_KEYS:
-            raise _fail(f"record.{key}", "unknown; allowed: " + ", ".join(RECORD_KEYS))
-        rec[key] = value
+    rec = _with_defaults(doc, "record", RECORD_KEYS)
     if not isinstance(rec["stability"], bool):
         raise _fail("record.stability", "true or false")
     if (

@@ -44,6 +44,9 @@ def test_shipped_specs_parse():
         ),
         ("[axes]\nwob = [1.0]\ntorque = [1.0]\n[extras]\n", "extras"),
         ("[axes\n", "not valid TOML"),
+        # once tracebacks (tests/test_spec.py has the rest of their kind)
+        ("model = 5\n[axes]\nwob = [50.0]\ntorque = [6.0]\n", "model"),
+        ("[axes]\nwob = [50.0]\ntorque = [6.0]\n[simulation]\nwindow = '0.5'\n", "window"),
     ],
 )
 def test_bad_spec_is_refused_naming_the_key_and_nothing_is_written(tmp_path, text, key):
