@@ -99,12 +99,10 @@ def atlas_figure(
         colors = ["#58d68d", "#f5b041", "#85929e", "#af7ac5", "#e74c3c", "#ffffff", "#d6eaf8"]
         lut = {fmt.REGIMES[n]: k for k, n in enumerate(shown)}
         ax.pcolormesh(
-            x,
-            y,
+            *_cells(x, y),
             np.vectorize(lut.get)(grid).T,
             cmap=ListedColormap(colors),
             norm=BoundaryNorm(np.arange(-0.5, len(shown) + 0.5), len(shown)),
-            shading="nearest",
         )
         present = sorted({int(c) for c in np.unique(grid)}, key=lambda c: lut[c])
         handles = [Patch(color=colors[lut[c]], label=fmt.REGIME_NAMES[c]) for c in present]
@@ -157,8 +155,8 @@ def atlas_figure(
         for cw, cu, color, style, lab in curves:
             px, py = (cw, cu) if xname == "wob" else (cu, cw)
             ax.plot(px, py, style, color=color, lw=2, label=lab)
-        ax.set_xlim(x.min(), x.max())
-        ax.set_ylim(y.min(), y.max())
+        ax.set_xlim(*_extent(x))
+        ax.set_ylim(*_extent(y))
         handles += ax.get_legend_handles_labels()[0]
     if metric is None:
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9)
@@ -197,6 +195,34 @@ def atlas_figure(
     return fig
 
 
+def _edges(v):
+    """Cell edges about grid values ``v`` (increasing): halfway between neighbours, half a step
+    beyond the ends, as pcolormesh's shading="nearest" draws them. A single value gets a cell
+    of ±5 % (±0.5 about zero): "nearest" has no step to take and drew nothing."""
+    import numpy as np
+
+    v = np.asarray(v, dtype=float)
+    if len(v) == 1:
+        half = 0.05 * abs(v[0]) or 0.5
+        return np.array([v[0] - half, v[0] + half])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[v[0] - (mid[0] - v[0])], mid, [v[-1] + (v[-1] - mid[-1])]])
+
+
+def _cells(x, y):
+    """pcolormesh's coordinates: the cell edges along x and y."""
+    return _edges(x), _edges(y)
+
+
+def _extent(v) -> tuple[float, float]:
+    """Axis limits: the first and last grid values (edge cells show half, as in the paper's
+    maps), or a single value's whole cell."""
+    if len(v) == 1:
+        e = _edges(v)
+        return float(e[0]), float(e[-1])
+    return float(min(v)), float(max(v))
+
+
 def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tuple[list, str]:
     """Colour the map by ``metric`` with a colour bar; cells without a value (no steady state,
     a failed or missing point) in grey, ``stuck`` ones (a boolean grid) hatched. Returns the
@@ -221,7 +247,7 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     else:
         cmap, norm = colormaps["viridis"], Normalize(lo, hi if hi > lo else lo + 1)
     cmap = cmap.with_extremes(bad="#d5d8dc")
-    mesh = ax.pcolormesh(x, y, values.T, cmap=cmap, norm=norm, shading="nearest")
+    mesh = ax.pcolormesh(*_cells(x, y), values.T, cmap=cmap, norm=norm)
     shown_unit = "" if unit == "1" else f" ({unit.replace(' ', '·')})"
     bar = fig.colorbar(mesh, ax=ax, pad=0.01)
     bar.set_label(f"{metric}{shown_unit}: {meaning}", fontsize=9)
@@ -231,7 +257,7 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
         bar.set_ticks([-d for d in decades[::-1]] + [0.0] + decades)
     blank = "no steady state (or not computed)" if metric in fmt.EQ_FIELDS else "no value"
     handles = [Patch(color="#d5d8dc", label=blank)] if values.mask.any() else []
-    if stuck is not None and stuck.any() and min(len(x), len(y)) >= 2:
+    if stuck is not None and stuck.any():
         # Exactly the stuck cells, with the edges the colour mesh gives them (a contour would
         # interpolate between grid points: a diagonal band across neighbouring cells).
         from matplotlib.collections import PatchCollection

@@ -148,3 +148,30 @@ def test_export_makes_its_directory_as_sweep_does(failing_atlas, tmp_path):
     ds = xr.open_dataset(out, engine="h5netcdf")
     assert ds["regime"].dims == ("wob", "torque", "initial")
     ds.close()
+
+
+def test_a_map_with_a_one_value_axis_draws_its_cells(tmp_path):
+    # shading="nearest" has no step to take along a one-value axis: the map was empty, with a
+    # warning about identical limits. Now each value gets its cell.
+    from matplotlib.collections import QuadMesh
+
+    out = tmp_path / "row.h5"
+    spec = SMALL.replace("torque = [6.0, 8.3]", "torque = [8.3]").replace(
+        "t_end = 200.0", "t_end = 100.0"
+    )
+    run_sweep(parse_spec(spec), out, serial=True)
+    with Atlas(out) as atlas:
+        regimes = atlas.regimes("rest")[:, 0]
+        fig = atlas.plot()
+        metric_fig = atlas.plot("severity")
+    for f in (fig, metric_fig):
+        ax = f.axes[0]
+        (mesh,) = [c for c in ax.collections if isinstance(c, QuadMesh)]
+        assert mesh.get_array().size == 3  # W_ob 40, 100, 160 at u = 8.3
+        lo, hi = ax.get_ylim()
+        assert lo < 8.3 < hi and hi - lo > 0.1
+    # The cells' colours follow the regimes (steady, stick-slip, stuck: the regime map's first
+    # three colours), as the paper's Figs. 4, 7 and 9 have them at u = 8.3 N m.
+    assert list(regimes) == ["steady", "stick-slip", "stuck"]
+    (mesh,) = [c for c in fig.axes[0].collections if isinstance(c, QuadMesh)]
+    assert [int(v) for v in mesh.get_array().ravel()] == [0, 1, 2]
