@@ -30,7 +30,8 @@ examples:
 regimes (judged on the last --window fraction of the run):
   steady       the bit converges to the steady velocity Omega > 0
   stick-slip   the bit repeatedly sticks and slips
-  stuck        the bit sticks and stays stuck (u <= T_s = mu_s * W_ob * R_b)
+  stuck        the bit sticks and stays stuck (it needs u <= T_s = mu_s * W_ob * R_b;
+               from rest the string's overshoot can still break it free)
   oscillation  sustained torsional oscillation without sticking (a Hopf limit cycle)
 
 units: wob N, torque N*m, time s, velocities rad/s.
@@ -163,7 +164,8 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
     size.add_argument(
         "--dof",
         type=int,
-        help="number of inertias, >= 2 (default 4; with --tally: reduce its string to these)",
+        help="number of inertias, >= 2 (default 4, or 2 for --preset real-string; with --tally: "
+        "reduce its string to these)",
     )
     size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
     return group

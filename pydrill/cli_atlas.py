@@ -39,7 +39,8 @@ def register_atlas(sub) -> None:
         description=_para(
             "What an atlas holds: its axes (size and range), how many points are "
             "done, failed or still missing, the regimes counted for each initial condition, the "
-            "safe points (steady from rest, stable steady state) and where rest and equilibrium "
+            "safe points (steady from every start, and the fastest steady state stable) and "
+            "where rest and equilibrium "
             "starts disagree. A journal beside the atlas means a sweep into it is running or was "
             "stopped."
         ),

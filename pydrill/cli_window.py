@@ -8,6 +8,19 @@ import json
 
 from .cli import _positive, figure_path
 
+# No drill bit takes 2000 kN (200 t): a bare number that large was meant in newtons.
+LARGEST_BARE_KN = 2000.0
+
+
+def _bare_kn(value: float, option: str) -> float:
+    """A bare number of a weight-on-bit option, in kN, as newtons."""
+    if value > LARGEST_BARE_KN:
+        raise ValueError(
+            f"{option} {value:g}: bare numbers are kN here, and {value:g} kN is no weight on bit; "
+            f"write {value:g}N for newtons"
+        )
+    return value * 1e3
+
 
 def _kilonewtons(option: str):
     """A weight on bit for a real string: a bare number is kN (as the chart and table show
@@ -17,8 +30,15 @@ def _kilonewtons(option: str):
         from . import units
 
         try:
-            value = float(text) * 1e3
+            number = float(text)
         except ValueError:
+            number = None
+        if number is not None:
+            try:
+                value = _bare_kn(number, option)
+            except ValueError as exc:
+                raise argparse.ArgumentTypeError(str(exc)) from None
+        else:
             try:
                 value = units.parse(text, "force")
             except ValueError as exc:
@@ -187,9 +207,11 @@ def _values(text: str, kind: str, option: str) -> list[float]:
         if not v:
             continue
         try:  # a bare number is kN, as on the chart (forces are the only kind asked here)
-            out.append(float(v) * 1e3)
+            number = float(v)
         except ValueError:
             out.append(units.parse(v, kind))
+            continue
+        out.append(_bare_kn(number, option))
     if not out or any(not v > 0 for v in out):
         raise ValueError(f"{option}: give a comma-separated list of values > 0, got {text!r}")
     return out

@@ -156,3 +156,10 @@ def test_a_bad_value_is_one_line_and_a_malformed_command_shows_the_usage():
     assert bad_value.stderr.count("\n") == 1  # not the ten-line usage block first
     missing = run("simulate", "--torque", "8.3")
     assert refused(missing, "the following arguments are required: --wob", "usage: pydrill")
+
+
+def test_a_bare_weight_on_bit_too_large_for_kilonewtons_is_refused():
+    # 20000 meant in newtons would otherwise be a 20 MN column needing 18766 rpm
+    for option in ("--at-wob", "--wob-max"):
+        proc = run("window", PAPER, "--depth", "3000m", option, "20000")
+        assert refused(proc, "bare numbers are kN", "20000N")
