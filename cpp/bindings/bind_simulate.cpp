@@ -153,9 +153,23 @@ void bind_simulate(py::module_& m) {
   m.def(
       "simulate",
       [](const Params& p, double wob, double torque, const SimulationOptions& o) {
-        // The integration holds no Python objects: let other threads run.
-        py::gil_scoped_release release;
-        return std::make_shared<Result>(simulate(p, wob, torque, o));
+        // Ctrl-C: the run asks Python's signal handlers every 0.1 s (they run in the main
+        // thread only; elsewhere this is a no-op). A handler that raises, as the default
+        // KeyboardInterrupt does, stops the run and its exception is re-raised here.
+        SimulationOptions opt = o;
+        opt.interrupt = [] {
+          py::gil_scoped_acquire gil;
+          return PyErr_CheckSignals() != 0;
+        };
+        std::shared_ptr<Result> result;
+        try {
+          // The integration holds no Python objects: let other threads run.
+          py::gil_scoped_release release;
+          result = std::make_shared<Result>(simulate(p, wob, torque, opt));
+        } catch (const Interrupted&) {
+          throw py::error_already_set();  // what the handler raised, KeyboardInterrupt
+        }
+        return result;
       },
       py::arg("params"), py::arg("wob"), py::arg("torque"), py::arg("options"));
   m.def("stiffness_ratio", &stiffness_ratio, py::arg("params"));

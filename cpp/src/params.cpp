@@ -74,6 +74,12 @@ void check_operating_point(double wob, double torque) {
 std::vector<std::string> preset_names() { return {"reduced-scale", "real-string"}; }
 
 Params preset(const std::string& name, int dof) {
+  // A preset allocates its string: a mistyped size (1e9) would take all memory first.
+  constexpr int kMaxPresetDof = 100'000;
+  if (dof > kMaxPresetDof) {
+    throw std::invalid_argument("dof = " + std::to_string(dof) + " is not allowed: at most " +
+                                std::to_string(kMaxPresetDof) + " inertias");
+  }
   if (dof < 2) {
     throw std::invalid_argument("dof = " + std::to_string(dof) +
                                 " is not allowed: a string needs dof >= 2 (pipes >= 0 means dof = pipes + 3)");

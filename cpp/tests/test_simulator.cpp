@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cmath>
 
 #include "pydrill/equilibrium.hpp"
@@ -178,4 +179,43 @@ TEST_CASE("DOP853's shortest step does not depend on how long the run is", "[sim
   const Result r = simulate(p, 100.0, 8.3, o);
   CHECK(r.t.back() == 1e-20);
   CHECK(r.stats.steps >= 1);
+}
+
+TEST_CASE("a run asks options.interrupt and stops when it says so", "[simulator]") {
+  // 300 pipes sticking and slipping for 20000 s: over half a second here, several polls.
+  const Params p = preset("reduced-scale", 303);
+  SimulationOptions o;
+  o.t_end = 20000.0;
+  o.n_out = 11;
+  int asked = 0;
+  o.interrupt = [&asked] {
+    ++asked;
+    return false;
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result whole = simulate(p, 100.0, 8.3, o);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO("run took " << seconds << " s, asked " << asked << " times");
+  REQUIRE(seconds > 0.25);
+  CHECK(asked >= 1);
+  CHECK(asked <= static_cast<int>(seconds / 0.1) + 1);  // about every 0.1 s, not every step
+  // Saying yes at the first question stops the run there, well before t_end.
+  o.interrupt = [] { return true; };
+  try {
+    simulate(p, 100.0, 8.3, o);
+    FAIL("the run was not interrupted");
+  } catch (const Interrupted& e) {
+    CHECK(e.t_reached() > 0.0);
+    CHECK(e.t_reached() < 0.9 * o.t_end);
+  }
+  CHECK(whole.summary.regime == simulate(p, 100.0, 8.3, [&] {
+          SimulationOptions plain = o;
+          plain.interrupt = nullptr;
+          return plain;
+        }()).summary.regime);
+}
+
+TEST_CASE("a preset of an absurd size is refused before it is allocated", "[params]") {
+  CHECK_THROWS_WITH(preset("reduced-scale", 1'000'000'000), Catch::Contains("at most 100000"));
+  CHECK(preset("reduced-scale", 100'000).dof() == 100'000);
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -40,6 +41,10 @@ struct SimulationOptions {
   long max_steps = 50'000'000;       // internal steps over the whole run
   double window_fraction = 0.5;      // last fraction of the run judged for the regime
   double max_switch_rate = 1e4;      // switches per simulated second before it is chattering
+  // Asked about every 0.1 s of wall time while the run goes on; true stops it with
+  // Interrupted (a Ctrl-C from Python, a cancel button in a program that embeds pydrill).
+  // Empty: never asked.
+  std::function<bool()> interrupt;
   void validate(int dof) const;
 };
 
@@ -102,6 +107,17 @@ class SolverError : public std::runtime_error {
  public:
   SolverError(const std::string& what, double t_reached)
       : std::runtime_error(what), t_reached_(t_reached) {}
+  double t_reached() const { return t_reached_; }
+
+ private:
+  double t_reached_;
+};
+
+// A run stopped because options.interrupt said so; t_reached is where.
+class Interrupted : public std::runtime_error {
+ public:
+  explicit Interrupted(double t_reached)
+      : std::runtime_error("interrupted"), t_reached_(t_reached) {}
   double t_reached() const { return t_reached_; }
 
  private:
