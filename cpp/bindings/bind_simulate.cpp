@@ -153,14 +153,18 @@ void bind_simulate(py::module_& m) {
   m.def(
       "simulate",
       [](const Params& p, double wob, double torque, const SimulationOptions& o) {
-        // Ctrl-C: the run asks Python's signal handlers every 0.1 s (they run in the main
-        // thread only; elsewhere this is a no-op). A handler that raises, as the default
-        // KeyboardInterrupt does, stops the run and its exception is re-raised here.
+        // Ctrl-C: the run asks Python's signal handlers every 0.1 s. A handler that raises,
+        // as the default KeyboardInterrupt does, stops the run; its exception is re-raised.
         SimulationOptions opt = o;
-        opt.interrupt = [] {
-          py::gil_scoped_acquire gil;
-          return PyErr_CheckSignals() != 0;
-        };
+        // Only the main thread's run asks: elsewhere (Dask's worker threads) the answer is
+        // always no, and taking the GIL to hear it could wait on a busy event loop.
+        const py::module_ threading = py::module_::import("threading");
+        if (threading.attr("current_thread")().is(threading.attr("main_thread")())) {
+          opt.interrupt = [] {
+            py::gil_scoped_acquire gil;
+            return PyErr_CheckSignals() != 0;
+          };
+        }
         std::shared_ptr<Result> result;
         try {
           // The integration holds no Python objects: let other threads run.
