@@ -8,12 +8,20 @@ collars, bit).
 from __future__ import annotations
 
 import dataclasses
+import math
+import reprlib
 from dataclasses import dataclass, field
 from typing import Any
+
+import numpy as np
 
 from . import _core
 
 PRESETS = tuple(_core.preset_names())
+
+# The largest string: a tally's at 10 km is some 1100 joints, the longest benchmarked 500 pipes;
+# beyond 100000 inertias a point would take hours and a mistyped size runs out of memory.
+MAX_DOF = 100_000
 
 _SCALARS = (
     "top_damping",
@@ -26,6 +34,19 @@ _SCALARS = (
     "karnopp_band",
 )
 _LISTS = ("inertias", "stiffnesses", "dampings")
+_UNITS = {
+    "inertias": "kg·m²",
+    "stiffnesses": "N·m/rad",
+    "dampings": "N·m·s/rad",
+    "top_damping": "N·m·s/rad",
+    "bit_damping": "N·m·s/rad",
+    "bit_radius": "m",
+    "mu_coulomb": "friction coefficient",
+    "mu_static": "friction coefficient",
+    "stribeck_decay": "1",
+    "stribeck_velocity": "rad/s",
+    "karnopp_band": "rad/s",
+}
 
 
 @dataclass(frozen=True)
@@ -34,7 +55,9 @@ class Params:
 
     ``inertias[i]`` are top to bottom; spring ``i`` (``stiffnesses[i]``, ``dampings[i]``) joins
     inertia ``i`` and ``i + 1``. Build one with :func:`preset`, then change entries with
-    :meth:`replace` for non-uniform strings.
+    :meth:`replace` for non-uniform strings. Every entry is a real number (a Python or numpy
+    number, or a 0-d array): a string or a bool raises ``TypeError`` naming the field, a bad
+    value ``ValueError``; a string has at most ``MAX_DOF`` (100000) inertias.
     """
 
     inertias: tuple[float, ...]  #: J_i, kg·m², top drive first, bit last
@@ -52,9 +75,18 @@ class Params:
 
     def __post_init__(self) -> None:
         for key in _LISTS:
-            object.__setattr__(self, key, tuple(float(v) for v in getattr(self, key)))
+            values = getattr(self, key)
+            n = _length(values)
+            if n is not None and n > MAX_DOF:  # refused before a long list is converted
+                raise ValueError(
+                    f"{key} has {n} entries: a string has at most {MAX_DOF} inertias (MAX_DOF)"
+                )
+            object.__setattr__(self, key, _numbers(key, values))
+        if self.dof > MAX_DOF:  # from an iterator without a length
+            raise ValueError(f"inertias has {self.dof} entries: at most {MAX_DOF} (MAX_DOF)")
         for key in _SCALARS:
-            object.__setattr__(self, key, float(getattr(self, key)))
+            object.__setattr__(self, key, _number(key, getattr(self, key), _UNITS[key]))
+        _check_friction(self.mu_coulomb, self.mu_static, changed="mu_static")
         self.to_core().validate()  # raises ValueError naming the bad parameter
 
     @property
@@ -79,6 +111,12 @@ class Params:
                 f"unknown parameter {sorted(unknown)[0]!r}: allowed are "
                 + ", ".join(_LISTS + _SCALARS)
             )
+        mu = [k for k in ("mu_coulomb", "mu_static") if k in changes]
+        if len(mu) == 1:  # name the coefficient changed, not the one kept
+            value = _number(mu[0], changes[mu[0]], _UNITS[mu[0]])
+            coulomb = value if mu[0] == "mu_coulomb" else self.mu_coulomb
+            static = value if mu[0] == "mu_static" else self.mu_static
+            _check_friction(coulomb, static, changed=mu[0])
         return dataclasses.replace(self, **changes)
 
     def to_core(self) -> _core.Params:
@@ -98,20 +136,21 @@ class Params:
 
 
 def resolve_dof(dof: int | None, pipes: int | None, default: int | None = 4) -> int:
-    """``dof`` from either ``dof`` or ``pipes`` (``dof = pipes + 3``)."""
+    """``dof`` from either ``dof`` or ``pipes`` (``dof = pipes + 3``), each checked (an
+    integer, or a float of integer value; at most ``MAX_DOF`` inertias)."""
+    if dof is not None:
+        dof = _integer("dof", dof, 2, MAX_DOF, whole_floats=True, hint=_LARGEST)
+    if pipes is not None:
+        pipes = _integer("pipes", pipes, 1, MAX_DOF - 3, whole_floats=True, hint=_LARGEST)
     if dof is not None and pipes is not None and dof != pipes + 3:
         raise ValueError(f"dof = {dof} and pipes = {pipes} disagree: pipes P means dof = P + 3")
     if pipes is not None:
-        if isinstance(pipes, bool) or int(pipes) != pipes or pipes < 1:
-            raise ValueError(f"pipes = {pipes!r} is not allowed: need an integer >= 1")
-        return int(pipes) + 3
+        return pipes + 3
     if dof is None:
         if default is None:
             raise ValueError("give dof or pipes")
         return default
-    if isinstance(dof, bool) or int(dof) != dof or dof < 2:
-        raise ValueError(f"dof = {dof!r} is not allowed: need an integer >= 2")
-    return int(dof)
+    return dof
 
 
 def preset(
@@ -122,6 +161,21 @@ def preset(
 ) -> Params:
     """Named parameter set of DESIGN.md §4, optionally with some entries replaced.
 
+    Parameters:
+
+    - ``name``: one of :data:`PRESETS`: ``"reduced-scale"`` (the laboratory rig of the
+      paper's Eq. 14, 2 to any number of inertias) or ``"real-string"`` (Eq. 53, 2 inertias).
+    - ``dof``: the number of inertias, top drive first and bit last: an integer 2 ...
+      ``MAX_DOF`` (100000). Default 4 (2 for ``"real-string"``), or the length of a full
+      ``inertias`` list given as an override.
+    - ``pipes``: the number of drill pipes instead, 1 ... 99997: ``dof = pipes + 3`` (top
+      drive, pipes, drill collars, bit). Giving both, they must agree.
+    - ``overrides``: fields of :class:`Params` to replace, e.g. ``bit_radius=0.12`` or a
+      whole list ``stiffnesses=[...]`` (one entry per spring, ``dof − 1``).
+
+    Bad input raises ``TypeError`` (a wrong type) or ``ValueError`` (a bad value), naming
+    the parameter.
+
     >>> p = preset("reduced-scale", dof=4)
     >>> p.inertias
     (0.518, 0.025, 0.0318, 0.0318)
@@ -130,6 +184,15 @@ def preset(
     >>> preset("reduced-scale", dof=3, stiffnesses=[0.073, 0.2]).stiffnesses
     (0.073, 0.2)
     """
+    if not isinstance(name, str):
+        raise TypeError(
+            f"name must be a preset name, one of {', '.join(PRESETS)}, got {_show(name)}"
+        )
+    unknown = set(overrides) - set(_LISTS) - set(_SCALARS)
+    if unknown:
+        raise ValueError(
+            f"unknown parameter {sorted(unknown)[0]!r}: allowed are " + ", ".join(_LISTS + _SCALARS)
+        )
     default = 2 if name == "real-string" else 4
     if dof is None and pipes is None:
         # A full list of inertias (or springs) says how long the string is.
@@ -137,6 +200,10 @@ def preset(
             default = len(_as_list("inertias", overrides["inertias"], 0))
         elif "stiffnesses" in overrides:
             default = len(_as_list("stiffnesses", overrides["stiffnesses"], 0)) + 1
+        if default > MAX_DOF:
+            raise ValueError(
+                f"a string of {default} inertias is not allowed: at most {MAX_DOF} (MAX_DOF)"
+            )
     n = resolve_dof(dof, pipes, default)
     for key in _LISTS:
         if key in overrides:
@@ -158,9 +225,94 @@ def preset(
 def _as_list(key: str, value: Any, dof: int) -> Any:
     if key not in _LISTS:
         return value
-    if isinstance(value, (str, bytes)):
-        raise ValueError(f"{key} must be a list of numbers, got {value!r}")
+    return _numbers(key, value)
+
+
+# --- checks of single values, shared with pydrill.simulate -------------------------------------
+
+_LARGEST = f" (a string has at most {MAX_DOF} inertias; pipes P means dof = P + 3)"
+
+
+def _show(value: Any) -> str:
+    """``str 'abc'``: a value's type and a short repr, for a message."""
+    return f"{type(value).__name__} {reprlib.repr(value)}"
+
+
+def _plain(value: Any) -> Any:
+    """A numpy scalar or 0-d array as the Python object it holds."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, np.generic):
+        value = value.item()
+    return value
+
+
+def _number(name: str, value: Any, unit: str) -> float:
+    """``value`` as a float: a Python or numpy real number or a 0-d array, not a bool, a
+    string or a list (``TypeError`` naming ``name``)."""
+    if type(value) is float:  # the common case, fast
+        return value
+    plain = _plain(value)
+    if isinstance(plain, bool) or not isinstance(plain, (int, float)):
+        raise TypeError(f"{name} must be a number ({unit}), got {_show(value)}")
     try:
-        return tuple(float(v) for v in value)
+        return float(plain)
+    except OverflowError:  # an integer beyond any float
+        raise ValueError(
+            f"{name} = {reprlib.repr(plain)} is not allowed: beyond the range of a float ({unit})"
+        ) from None
+
+
+def _integer(
+    name: str, value: Any, low: int, high: int, *, whole_floats: bool = False, hint: str = ""
+) -> int:
+    """``value`` as an int in ``low ... high``: a Python or numpy integer or a 0-d array
+    (with ``whole_floats``, a float of integer value too); ``TypeError`` for another type,
+    ``ValueError`` out of range, both naming ``name``."""
+    plain = _plain(value)
+    kinds = (int, float) if whole_floats else (int,)
+    if isinstance(plain, bool) or not isinstance(plain, kinds):
+        raise TypeError(f"{name} must be an integer, got {_show(value)}")
+    if not (isinstance(plain, int) or (math.isfinite(plain) and plain == int(plain))) or not (
+        low <= plain <= high
+    ):
+        raise ValueError(
+            f"{name} = {reprlib.repr(plain)} is not allowed: need an integer {low} ... {high}{hint}"
+        )
+    return int(plain)
+
+
+def _numbers(key: str, values: Any) -> tuple[float, ...]:
+    """A list field (``inertias``, …) as a tuple of floats, each entry checked by name."""
+    if isinstance(values, np.ndarray) and values.ndim == 1 and values.dtype.kind in "iuf":
+        return tuple(values.astype(float).tolist())
+    if isinstance(values, np.ndarray) and values.ndim != 1:
+        raise ValueError(f"{key} must be a 1-D list of numbers, got an array of {values.shape}")
+    if isinstance(values, (str, bytes, dict)):
+        raise ValueError(f"{key} must be a list of numbers, got {_show(values)}")
+    try:
+        values = list(values)
     except TypeError:
-        raise ValueError(f"{key} must be a list of numbers, got {value!r}") from None
+        raise ValueError(f"{key} must be a list of numbers, got {_show(values)}") from None
+    unit = _UNITS[key]
+    return tuple(_number(f"{key}[{i}]", v, unit) for i, v in enumerate(values))
+
+
+def _length(values: Any) -> int | None:
+    try:
+        return len(values)
+    except TypeError:
+        return None
+
+
+def _check_friction(coulomb: float, static: float, changed: str) -> None:
+    """0 < μ_cb < μ_sb, blaming ``changed`` (the core names finiteness itself)."""
+    if not (math.isfinite(coulomb) and math.isfinite(static)) or 0 < coulomb < static:
+        return
+    if changed == "mu_coulomb" or not coulomb > 0:
+        raise ValueError(
+            f"mu_coulomb = {coulomb:g} is not allowed: need 0 < mu_coulomb < mu_static ({static:g})"
+        )
+    raise ValueError(
+        f"mu_static = {static:g} is not allowed: need mu_static > mu_coulomb ({coulomb:g})"
+    )

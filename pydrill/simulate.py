@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 import functools
 import math
 from dataclasses import asdict, dataclass
@@ -12,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from . import model as _model
-from .model import Params
+from .model import _LISTS, _SCALARS, PRESETS, Params, _integer, _number, _plain, _show
 
 Regime = Literal["steady", "stick-slip", "stuck", "oscillation"]
 REGIMES: tuple[str, ...] = ("steady", "stick-slip", "stuck", "oscillation")
@@ -90,6 +91,10 @@ class SimulationResult:
 
     ``states`` holds the twist coordinates ``(ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b)`` at times ``t``;
     ``omega`` and ``twist`` are strided views of it.
+
+    A result can be pickled (e.g. returned from a ``multiprocessing`` worker) and deep-copied:
+    the copy holds copies of the arrays (read-only too) and of every switch, not the core's
+    memory. To send less, send ``result.summary`` or ``result.to_dict()``.
     """
 
     def __init__(self, core: Any, params: Params, settings: dict[str, Any]) -> None:
@@ -110,6 +115,13 @@ class SimulationResult:
         summary = dict(core.summary)
         summary["omega_equilibrium"] = tuple(summary["omega_equilibrium"])
         self.summary = Summary(**summary)
+
+    def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
+        # The core's Result cannot be pickled: copy its data (the arrays, by pickle or deepcopy,
+        # and the switches) and leave the core behind.
+        state = {k: v for k, v in self.__dict__.items() if k != "_core"}
+        state["switches"] = self.switches
+        return _restore_result, (state,)
 
     @functools.cached_property
     def switches(self) -> list[Switch]:
@@ -180,28 +192,44 @@ class SimulationResult:
         return [MODES[i] for i in self.mode_index]
 
     def stick_intervals(self) -> list[tuple[float, float]]:
-        """Time intervals in which the rock holds the bit (stick, or the Karnopp band)."""
+        """Time intervals in which the rock holds the bit (stick, or the Karnopp band), within
+        the output span ``[t[0], t[-1]]`` (an interval under way at ``t[0]`` starts there, one
+        still under way at ``t[-1]`` ends there)."""
         held = {"stick", "band-enter"}
+        first, last = float(self.t[0]), float(self.t[-1])
         intervals: list[tuple[float, float]] = []
-        start = 0.0 if MODES[self.mode_index[0]] in ("stick", "band") else None
+        start = first if MODES[self.mode_index[0]] in ("stick", "band") else None
         for s in self.switches:
+            if s.t <= first:  # the mode at t[0] already tells what happened before
+                continue
+            if s.t > last:
+                break
             if s.kind in held and start is None:
                 start = s.t
             elif s.kind not in held and start is not None:
                 intervals.append((start, s.t))
                 start = None
         if start is not None:
-            intervals.append((start, float(self.t[-1])))
+            intervals.append((start, last))
         return intervals
 
     def energy_balance_error(self) -> float:
-        """Relative mismatch of work in = dissipation + Δ(kinetic + elastic energy)."""
-        work = self.work_input[-1]
-        out = self.viscous_loss[-1] + self.friction_loss[-1] + self.energy[-1] - self.energy[0]
-        return abs(work - out) / max(abs(work), 1e-300)
+        """Relative mismatch of work in = dissipation + Δ(kinetic + elastic energy): the largest,
+        over the output times after the first, of the balance between ``t[0]`` and that time,
+        relative to the largest work put in over that span (0.0 with a single output time)."""
+        work = self.work_input[1:] - self.work_input[0]
+        out = (
+            (self.viscous_loss[1:] - self.viscous_loss[0])
+            + (self.friction_loss[1:] - self.friction_loss[0])
+            + (self.energy[1:] - self.energy[0])
+        )
+        if len(work) == 0:
+            return 0.0
+        return float(np.max(np.abs(work - out)) / max(float(np.max(np.abs(work))), 1e-300))
 
     def to_dict(self) -> dict[str, Any]:
-        """The summary as plain JSON-ready data (see ``pydrill simulate --json``)."""
+        """The summary as plain JSON-ready data (see ``pydrill simulate --json``); its
+        ``inputs`` are :meth:`inputs`."""
         s = self.summary
 
         def num(x: float | None) -> float | None:
@@ -225,13 +253,7 @@ class SimulationResult:
                 for k, v in asdict(self.stats).items()
                 if k not in ("lin_setups", "nonlin_conv_fails")
             },
-            "inputs": {
-                "preset": self.params.name,
-                "dof": self.dof,
-                "wob": self.wob,
-                "torque": self.torque,
-                **self.settings,
-            },
+            "inputs": self.inputs(),
             "units": {
                 "bit_velocity": "rad/s",
                 "top_velocity": "rad/s",
@@ -246,6 +268,32 @@ class SimulationResult:
                 "severity": "1",
                 "stuck_fraction": "1",
             },
+        }
+
+    def inputs(self) -> dict[str, Any]:
+        """Everything the run was made from, as JSON-ready keyword arguments of
+        :func:`simulate`: ``simulate(**r.inputs())`` repeats the run. The string is ``preset``
+        and ``dof`` with the fields that differ from the preset (overrides); for a string that
+        is no preset's (its label, ``params.name``, is not in ``PRESETS``) ``preset`` is None
+        and every field is given. ``initial`` is ``"rest"``, ``"equilibrium"`` or the state
+        (a list), ``t_out`` None or the list of output times."""
+        p = self.params
+        try:
+            base = _model.preset(p.name, dof=p.dof) if p.name in PRESETS else None
+        except ValueError:  # e.g. a real-string preset made longer than its 2 inertias
+            base = None
+        model: dict[str, Any] = {}
+        for key in _LISTS + _SCALARS:
+            value = getattr(p, key)
+            if base is None or value != getattr(base, key):
+                model[key] = list(value) if key in _LISTS else value
+        return {
+            "preset": None if base is None else p.name,
+            "dof": p.dof,
+            "wob": self.wob,
+            "torque": self.torque,
+            **self.settings,
+            **model,
         }
 
     def __repr__(self) -> str:
@@ -277,7 +325,7 @@ def simulate(
     perturbation: float = 1e-3,
     window_fraction: float = 0.5,
     max_switch_rate: float = 1e4,
-    preset: str = "reduced-scale",
+    preset: str | None = None,
     dof: int | None = None,
     pipes: int | None = None,
     **overrides: Any,
@@ -294,63 +342,227 @@ def simulate(
     (explicit Runge–Kutta 8(5,3), non-stiff strings), ``"bdf"`` (CVODES, banded Newton, for
     stiff strings), ``"adams"`` (CVODES) or ``"erk"`` (ARKODE Runge–Kutta 7(8)).
 
-    Bad input raises ``ValueError`` naming the parameter; a solver failure raises
-    :class:`pydrill.SolverError` with the integrator's message and the time reached.
+    Parameters:
+
+    - ``params``: a :class:`Params` (from :func:`preset` or ``Params(...)``), or None to
+      build the string from ``preset``, ``dof``/``pipes`` and ``overrides``.
+    - ``wob`` (N), ``torque`` (N·m): the operating point, weight on bit > 0 and the torque
+      the top drive applies.
+    - ``t_end`` (s): simulated time, from t = 0; > 0.
+    - ``initial``: ``"rest"``, ``"equilibrium"`` or a 1-D state of ``2·dof − 1`` numbers
+      (ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b; rad/s and rad).
+    - ``t_out`` (s): the output times, a non-empty 1-D increasing list in ``[0, t_end]``;
+      None (default) for ``n_out`` uniform times from 0 to ``t_end``.
+    - ``n_out``: how many uniform output times, 2 ... 1e8 (without ``t_out``).
+    - ``rtol`` (0 < rtol < 1), ``atol`` (> 0, in the state's units): the integrator's
+      relative and absolute error tolerances per step.
+    - ``max_step`` (s): the longest internal step; 0 (default) for no limit.
+    - ``max_order``: the highest order of ``"bdf"`` (1 ... 5) or ``"adams"`` (1 ... 12);
+      0 (default) for the method's own. Other methods take only 0.
+    - ``max_steps``: internal steps allowed over the whole run before a
+      :class:`pydrill.SolverError`, 1 ... 2**62.
+    - ``perturbation``: relative kick of the bit velocity for ``initial="equilibrium"``,
+      ``|perturbation| < 1``.
+    - ``window_fraction``: the last fraction of the run the regime is judged on, in (0, 1].
+    - ``max_switch_rate`` (switches/s): more stick/slip switches per simulated second
+      than this is chattering, stopped with a :class:`pydrill.SolverError`.
+    - ``preset``: the name of the parameter set (:data:`PRESETS`); None (default) for
+      ``"reduced-scale"``. Only without ``params``, or equal to ``params.name``.
+    - ``dof``: the number of inertias, 2 ... ``MAX_DOF`` (100000); default 4. With
+      ``params`` it must agree with ``params.dof``.
+    - ``pipes``: the number of drill pipes instead: ``dof = pipes + 3``.
+    - ``overrides``: fields of :class:`Params` to replace, e.g. ``bit_radius=0.12``.
+
+    Every number may be a Python or numpy number or a 0-d array. A wrong type (a string, a
+    bool, a list for a number) raises ``TypeError`` and a bad value ``ValueError``, naming
+    the parameter; a solver failure raises :class:`pydrill.SolverError` with the
+    integrator's message and the time reached. The result's :meth:`SimulationResult.inputs`
+    repeats the run: ``simulate(**r.inputs())``.
 
     >>> r = simulate(wob=100, torque=8.3, dof=4, t_end=300)
     >>> r.regime
     'stick-slip'
     """
+    if preset is not None and not isinstance(preset, str):
+        raise TypeError(
+            f"preset must be a preset name, one of {', '.join(PRESETS)}, got {_show(preset)}"
+        )
+    _check_keys(overrides)
     if params is None:
-        params = _model.preset(preset, dof=dof, pipes=pipes, **overrides)
+        params = _model.preset(
+            "reduced-scale" if preset is None else preset, dof=dof, pipes=pipes, **overrides
+        )
+    elif not isinstance(params, Params):
+        hint = (
+            f" (for a preset by name, write preset={params!r})" if isinstance(params, str) else ""
+        )
+        raise TypeError(
+            "params must be a pydrill.Params (from pydrill.preset or Params(...)), got "
+            f"{_type_name(params)}{hint}"
+        )
     else:
-        if dof is not None or pipes is not None or overrides:
-            if dof is not None and dof != params.dof:
-                raise ValueError(f"dof = {dof} disagrees with params (dof = {params.dof})")
-            params = params.replace(**overrides) if overrides else params
+        if preset is not None and preset != params.name:
+            raise ValueError(
+                f"preset = {preset!r} disagrees with params (a {params.name!r} string): give "
+                "params or preset, not both"
+            )
+        if dof is not None or pipes is not None:
+            n = _model.resolve_dof(dof, pipes, params.dof)
+            if n != params.dof:
+                given = f"dof = {n}" if pipes is None else f"pipes = {n - 3} (dof = {n})"
+                raise ValueError(
+                    f"{given} disagrees with params (dof = {params.dof}, pipes = {params.pipes})"
+                )
+        params = params.replace(**overrides) if overrides else params
+    wob = _number("wob", wob, "N")
+    torque = _number("torque", torque, "N·m")
+    t_end = _number("t_end", t_end, "s")
+    settings: dict[str, Any] = {"t_end": t_end}
     opts = _core.SimulationOptions()
-    opts.t_end = float(t_end)
-    if t_out is not None:
-        opts.t_out = [float(v) for v in np.asarray(t_out, dtype=float).ravel()]
-    opts.n_out = _integer("n_out", n_out)
-    opts.method = _choice("method", method, ("auto", "bdf", "adams", "erk", "dop853"))
-    opts.friction = _choice("friction", friction, ("exact", "karnopp"))
-    if isinstance(initial, str):
-        opts.initial = _choice("initial", initial, ("rest", "equilibrium"))
-        initial_label = initial
+    opts.t_end = t_end
+    settings["initial"] = _initial(initial, params.dof)
+    if isinstance(settings["initial"], str):
+        opts.initial = settings["initial"]
     else:
         opts.initial = "state"
-        opts.state = [float(v) for v in np.asarray(initial, dtype=float).ravel()]
-        initial_label = "state"
-    opts.rtol = float(rtol)
-    opts.atol = float(atol)
-    opts.max_step = float(max_step)
-    opts.max_order = _integer("max_order", max_order)
-    opts.max_steps = _integer("max_steps", max_steps)
-    opts.perturbation = float(perturbation)
-    opts.window_fraction = float(window_fraction)
-    opts.max_switch_rate = float(max_switch_rate)
-    core = _core.simulate(params.to_core(), float(wob), float(torque), opts)
-    settings = {
-        "t_end": float(t_end),
-        "initial": initial_label,
-        "friction": friction,
-        "method": method,
-        "rtol": float(rtol),
-        "atol": float(atol),
-    }
+        opts.state = settings["initial"]
+    settings["friction"] = opts.friction = _choice("friction", friction, ("exact", "karnopp"))
+    settings["method"] = opts.method = _choice(
+        "method", method, ("auto", "bdf", "adams", "erk", "dop853")
+    )
+    settings["t_out"] = _times(t_out)
+    if settings["t_out"] is not None:
+        opts.t_out = settings["t_out"]
+    settings["n_out"] = opts.n_out = _integer("n_out", n_out, 2, 100_000_000)
+    for key, value, unit in (
+        ("rtol", rtol, "relative tolerance"),
+        ("atol", atol, "absolute tolerance"),
+        ("max_step", max_step, "s"),
+        ("perturbation", perturbation, "relative to the steady bit velocity"),
+        ("window_fraction", window_fraction, "a fraction of the run"),
+        ("max_switch_rate", max_switch_rate, "switches/s"),
+    ):
+        settings[key] = _number(key, value, unit)
+        setattr(opts, key, settings[key])
+    settings["max_order"] = opts.max_order = _integer(
+        "max_order", max_order, 0, 12, hint=" (0: the method's own; bdf 1 ... 5, adams 1 ... 12)"
+    )
+    settings["max_steps"] = opts.max_steps = _integer("max_steps", max_steps, 1, 2**62)
+    core = _core.simulate(params.to_core(), wob, torque, opts)
     return SimulationResult(core, params, settings)
 
 
+# simulate's own keyword arguments (what an unknown one is checked against)
+_OPTIONS = (
+    "wob",
+    "torque",
+    "t_end",
+    "initial",
+    "friction",
+    "method",
+    "t_out",
+    "n_out",
+    "rtol",
+    "atol",
+    "max_step",
+    "max_order",
+    "max_steps",
+    "perturbation",
+    "window_fraction",
+    "max_switch_rate",
+    "preset",
+    "dof",
+    "pipes",
+)
+
+
+def _check_keys(overrides: dict[str, Any]) -> None:
+    """Refuse a keyword that is neither an option of simulate nor a model parameter."""
+    if "name" in overrides:
+        raise ValueError(
+            f"name = {overrides['name']!r} is not an option of simulate: choose the parameter "
+            "set with preset=..., or label a string with Params.replace(name=...) and pass it"
+        )
+    for key in sorted(set(overrides) - set(_LISTS) - set(_SCALARS)):
+        close = difflib.get_close_matches(key, _OPTIONS + _LISTS + _SCALARS, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise ValueError(
+            f"unknown parameter {key!r}{hint}: not an option of simulate nor a model parameter; "
+            f"the options are {', '.join(_OPTIONS)}; the model parameters are "
+            + ", ".join(_LISTS + _SCALARS)
+        )
+
+
+def _initial(value: Any, dof: int) -> str | list[float]:
+    """``"rest"``, ``"equilibrium"`` or a checked state of ``2·dof − 1`` floats."""
+    if isinstance(value, str):
+        return _choice("initial", value, ("rest", "equilibrium"))
+    allowed = f"'rest', 'equilibrium' or a state of 2*dof-1 = {2 * dof - 1} numbers"
+    state = _vector("initial", value, allowed, "rad/s and rad")
+    if len(state) != 2 * dof - 1:
+        raise ValueError(
+            f"initial has {len(state)} entries: dof = {dof} needs 2*dof-1 = {2 * dof - 1} "
+            "(w_0, theta_0, ..., theta_{N-2}, w_bit)"
+        )
+    return state
+
+
+def _times(value: Any) -> list[float] | None:
+    """``t_out``: None, or a non-empty 1-D list of times as floats."""
+    if value is None:
+        return None
+    times = _vector("t_out", value, "a list of output times (s), or None", "s")
+    if not times:
+        raise ValueError(
+            "t_out is empty: give at least one output time in [0, t_end] (s), or None for "
+            "n_out uniform times"
+        )
+    return times
+
+
+def _vector(name: str, value: Any, allowed: str, unit: str) -> list[float]:
+    """A 1-D array-like of real numbers as a list of floats; ``TypeError`` for anything else
+    (None, a string, a number, booleans), ``ValueError`` for another shape."""
+    if value is None or isinstance(value, (str, bytes, dict)):
+        raise TypeError(f"{name} must be {allowed}, got {_show(value)}")
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):  # ragged nesting
+        raise TypeError(f"{name} must be {allowed}, got {_show(value)}") from None
+    if array.ndim == 0:
+        raise TypeError(f"{name} must be {allowed}, got {_show(_plain(value))}")
+    if array.dtype.kind not in "iuf":
+        for v in array.ravel():
+            entry = _plain(v)
+            if isinstance(entry, bool) or not isinstance(entry, (int, float)):
+                raise TypeError(f"{name} must be {allowed}: an entry is {_show(entry)}")
+        if array.dtype.kind == "O":  # Python integers beyond int64: as floats (or refused)
+            array = np.array([_number(name, v, unit) for v in array.ravel()]).reshape(array.shape)
+    if array.ndim != 1:
+        raise ValueError(f"{name} has shape {array.shape}, not 1-D: it must be {allowed}")
+    return array.astype(float).tolist()
+
+
+def _type_name(value: Any) -> str:
+    """``dict``, or ``pydrill._core.Params`` for a type that is no builtin."""
+    cls = type(value)
+    return cls.__name__ if cls.__module__ == "builtins" else f"{cls.__module__}.{cls.__qualname__}"
+
+
+def _restore_result(state: dict[str, Any]) -> SimulationResult:
+    """A pickled or deep-copied :class:`SimulationResult`: its data, without the core."""
+    result = SimulationResult.__new__(SimulationResult)
+    for value in state.values():
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+    result.__dict__.update(state)
+    result._core = None
+    return result
+
+
 def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be one of {', '.join(allowed)}, got {_show(value)}")
     if value not in allowed:
         raise ValueError(f"{name} = {value!r} is not allowed: choose one of {', '.join(allowed)}")
     return str(value)
-
-
-def _integer(name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} = {value!r} is not allowed: must be an integer")
-    if not -(2**62) < value < 2**62:
-        raise ValueError(f"{name} = {value!r} is not allowed: out of range")
-    return int(value)

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .model import _LISTS, _SCALARS
+from .model import _LISTS, _SCALARS, MAX_DOF  # MAX_DOF: the largest string, explained there
 
 OPERATING_AXES = ("wob", "torque")
 SIZE_AXES = ("dof", "pipes")
@@ -27,9 +27,6 @@ SIMULATION_KEYS = {
     "max_steps": 5_000_000,
 }
 RECORD_KEYS = {"stability": True, "eigenvalues": 4}
-# The largest string: a tally's at 10 km is some 1100 joints, the longest benchmarked 500 pipes;
-# beyond 100000 inertias a point would take hours and a mistyped size runs out of memory.
-MAX_DOF = 100_000
 # The largest grid: the client holds the whole atlas in memory, a few hundred bytes a point
 # (35 GB at 1e8 points with 2 starts and 4 eigenvalues), and 1e8 points at 10 ms each are a
 # month on a thousand cores: more is a typing mistake, not a sweep.
