@@ -12,7 +12,7 @@ from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, s
 from .spec import SpecError, SweepSpec, load_spec, parse_spec
 from .sweep import AtlasError, ClusterInfo, SchedulerError, SweepInterrupted, SweepReport, run_sweep
 from .sweep_plan import SweepPlan, plan_sweep
-from .tally import Tally, load_tally
+from .tally import Tally, TallyError, load_tally
 
 __version__: str = _core.__version__
 
@@ -53,6 +53,7 @@ __all__ = [
     "SweepSpec",
     "Switch",
     "Tally",
+    "TallyError",
     "equilibrium_torque",
     "equilibrium_velocities",
     "load_spec",

@@ -30,7 +30,8 @@ class Atlas:
     ``axes`` maps each swept axis to its values (grid order), ``initials`` lists the starts
     (``"rest"``, ``"equilibrium"``), ``spec`` is the sweep specification it was made from and
     ``version`` the pydrill that wrote it. A missing, damaged or foreign file raises
-    ``pydrill.sweep.AtlasError`` naming the problem.
+    ``pydrill.sweep.AtlasError`` naming the problem, and so does a read after :meth:`close`.
+    An Atlas pickles as its path: unpickled (e.g. on a Dask worker), it opens that file again.
     """
 
     def __init__(self, path: str | Path) -> None:
@@ -75,8 +76,27 @@ class Atlas:
         return self.path if self._image is None else io.BytesIO(self._image)
 
     def close(self) -> None:
-        """Close the HDF5 file (done by ``with``)."""
+        """Close the HDF5 file (done by ``with``); reading the atlas after raises AtlasError."""
         self._f.close()
+        self._image = None
+
+    @property
+    def closed(self) -> bool:
+        """True once :meth:`close` (or the end of ``with``) has closed the file."""
+        return not self._f
+
+    def _file(self) -> h5py.File:
+        """The open HDF5 file; AtlasError once closed (h5py's own error names no atlas)."""
+        if self.closed:
+            raise AtlasError(
+                f"{self.path}: this Atlas is closed; read it inside its `with` block, or open "
+                "it again with pydrill.Atlas(path)"
+            )
+        return self._f
+
+    def __reduce__(self) -> tuple[type[Atlas], tuple[str]]:
+        # h5py files cannot be pickled: an Atlas travels as its path and opens it again.
+        return (type(self), (str(self.path.absolute()),))
 
     def __enter__(self) -> Atlas:
         return self
@@ -105,18 +125,16 @@ class Atlas:
         for name, values in self.axes.items():
             v = float(coords[name])
             i = int(np.argmin(np.abs(values - v)))
-            if method == "exact" and not math.isclose(values[i], v, rel_tol=1e-9, abs_tol=1e-12):
+            if method == "exact" and not _on_grid(values, i, v):
+                shown, near = _distinct(v, values[i])
                 raise KeyError(
-                    f"{name} = {v:g} is not on the grid (nearest {values[i]:g}); "
+                    f"{name} = {shown} is not on the grid (nearest {near}); "
                     "use method='nearest' (--nearest)"
                 )
-            if (
-                method == "nearest"
-                and len(values) == 1
-                and not math.isclose(values[0], v, rel_tol=1e-9, abs_tol=1e-12)
-            ):
+            if method == "nearest" and len(values) == 1 and not _on_grid(values, 0, v):
                 # One value: no grid step to be near within. Only that value is in the atlas.
-                raise KeyError(f"{name} = {v:g} is outside the atlas (only {values[0]:g})")
+                shown, only = _distinct(v, values[0])
+                raise KeyError(f"{name} = {shown} is outside the atlas (only {only})")
             if method == "nearest" and len(values) > 1:
                 # Beyond half a grid step past either end, the "nearest" point would answer
                 # for a place the sweep never went.
@@ -140,8 +158,8 @@ class Atlas:
         ``spectral_abscissa``, ``hopf_margin``, ``unstable``, ``eigenvalues``) and
         ``coexistence`` (the starts disagree; ``None`` with one start).
         """
+        f = self._file()
         idx = self.index(method, **coords)
-        f = self._f
         status = {v: k for k, v in fmt.STATUS.items()}[int(f["status"][idx])]
         out: dict[str, Any] = {
             "coords": {
@@ -177,8 +195,9 @@ class Atlas:
 
     def regimes(self, initial: str | None = None) -> np.ndarray:
         """Regime names on the whole grid for one initial condition."""
+        f = self._file()
         j = self._initial_index(initial)
-        codes = self._f["regime"][..., j]
+        codes = f["regime"][..., j]
         names = np.array([fmt.REGIME_NAMES[c] for c in sorted(fmt.REGIME_NAMES)], dtype=object)
         return names[np.searchsorted(sorted(fmt.REGIME_NAMES), codes)]
 
@@ -191,16 +210,18 @@ class Atlas:
 
     def safe_region(self) -> np.ndarray:
         """Points where every start drills steadily and the fastest steady state is stable."""
-        codes = self._f["regime"][...]
+        f = self._file()
+        codes = f["regime"][...]
         steady = np.all(codes == fmt.REGIMES["steady"], axis=-1)
-        stable = self._f["unstable"][..., 0] == 0
+        stable = f["unstable"][..., 0] == 0
         return steady & stable
 
     def summary(self) -> dict[str, Any]:
         """What ``pydrill atlas info`` prints, as data: axes, point status, regime counts per
         start, safe and coexistence points, version and spec digest."""
-        status = self._f["status"][...]
-        codes = self._f["regime"][...]
+        f = self._file()
+        status = f["status"][...]
+        codes = f["regime"][...]
         journal = self.path.with_name(self.path.name + JOURNAL_SUFFIX)
         regimes = {}
         for j, init in enumerate(self.initials):
@@ -222,7 +243,7 @@ class Atlas:
             "status": {name: int(np.sum(status == code)) for name, code in fmt.STATUS.items()},
             "regimes": regimes,
             "safe_points": int(np.sum(self.safe_region())),
-            "coexistence_points": int(np.sum(self._f["coexistence"][...] == 1)),
+            "coexistence_points": int(np.sum(f["coexistence"][...] == 1)),
             # A journal beside the atlas: a sweep is running, or was stopped; what it holds
             # but the atlas does not yet is completed by --resume.
             "journal": str(journal) if journal.exists() else None,
@@ -267,6 +288,7 @@ class Atlas:
         the stuck boundary and the first Hopf curve are drawn on top."""
         from .plot_atlas import atlas_figure
 
+        self._file()  # closed: refused like every other read
         return atlas_figure(self, initial=initial, x=x, y=y, at=at, metric=metric)
 
     def to_xarray(self):
@@ -275,6 +297,7 @@ class Atlas:
         ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable)."""
         import xarray as xr
 
+        self._file()  # closed: refused like every other read
         ds = xr.open_dataset(self._source(), engine="h5netcdf")
         if "message" in ds and ds["message"].dims != tuple(self.axes):
             # Atlases written before ``message`` had its dimension scales: xarray guessed its
@@ -299,6 +322,24 @@ _DATASETS = (
     "eigenvalues_imag",
     "coexistence",
 )
+
+
+def _on_grid(values: np.ndarray, i: int, v: float) -> bool:
+    """Whether ``v`` is the grid value ``values[i]`` (its nearest): equal within 1e-6 of it,
+    float32's resolution (``np.float32(8.3)`` is 8.30000019), but never nearer than a quarter
+    of the step to its neighbours, so that no value names two grid points."""
+    g = float(values[i])
+    tol = max(1e-6 * abs(g), 1e-12)
+    if len(values) > 1:
+        others = np.delete(values, i).astype(float)
+        tol = min(tol, float(np.min(np.abs(others - g))) / 4)
+    return abs(v - g) <= tol
+
+
+def _distinct(a: float, b: Any) -> tuple[str, str]:
+    """``a`` and ``b`` printed briefly (``:g``), or in full when that shows them equal."""
+    short = f"{a:g}", f"{b:g}"
+    return short if short[0] != short[1] else (repr(float(a)), repr(float(b)))
 
 
 def with_regime_names(ds):

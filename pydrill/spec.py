@@ -67,7 +67,7 @@ class SweepSpec:
     preset: str  #: the parameter set (``pydrill.PRESETS``)
     dof: int | None  #: lumped elements, or None when an axis sets the size
     overrides: dict[str, Any]  #: model parameters changed from the preset
-    axes: dict[str, np.ndarray]  #: name -> values, in grid order
+    axes: dict[str, np.ndarray]  #: name -> values, in grid order (read-only arrays)
     simulation: dict[str, Any]  #: t_end, initial, friction, method, tolerances, window
     record: dict[str, Any]  #: stability (bool), eigenvalues (how many kept)
     fixed: dict[str, float] = field(default_factory=dict)  #: wob/torque held fixed, if any
@@ -195,6 +195,10 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     _check_axes(axes, model, dof, fixed, tally_text)
     if tally_text is not None:
         _check_tally_size(tally_text, lump, axes.get("depth"))
+    for values in axes.values():
+        # A frozen spec, frozen grid: an axis changed in place would make an atlas whose
+        # coordinates disagree with what its points computed (workers parse ``text``).
+        values.flags.writeable = False
     spec = SweepSpec(
         text,
         name,
@@ -228,6 +232,18 @@ def _corners(spec: SweepSpec) -> list[dict[str, float]]:
     lows = {k: float(spec.axes[k].min()) for k in keys}
     highs = {k: float(spec.axes[k].max()) for k in keys}
     return [lows, highs]
+
+
+def _require_spec(spec: object) -> SweepSpec:
+    """``spec`` if it is a :class:`SweepSpec`; a path or a TOML text is refused (TypeError)
+    with what to call, rather than an AttributeError from deep inside the sweep."""
+    if not isinstance(spec, SweepSpec):
+        shown = repr(spec) if len(repr(spec)) <= 80 else repr(spec)[:77] + "..."
+        raise TypeError(
+            f"spec = {shown} ({type(spec).__name__}) is not a SweepSpec: read one with "
+            "pydrill.load_spec(path), or pydrill.parse_spec(text) for TOML text"
+        )
+    return spec
 
 
 def load_spec(path: str | Path) -> SweepSpec:

@@ -9,6 +9,8 @@ at any point is a lookup.
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,6 +26,10 @@ def criticality(l1: float | None) -> str | None:
     "supercritical" (l₁ < 0: a small stable oscillation is born); None without one."""
     if l1 is None:
         return None
+    if isinstance(l1, bool) or not isinstance(l1, numbers.Real):
+        raise TypeError(f"l1 = {l1!r} is not allowed: a number (or None)")
+    if not math.isfinite(l1):
+        raise ValueError(f"l1 = {l1!r} is not allowed: must be a finite number (or None)")
     return "supercritical" if l1 < 0 else "subcritical"
 
 
@@ -86,22 +92,42 @@ class StabilityPoint:
         }
 
 
+def _checked(name: str, value: ArrayLike, low: float, strict: bool) -> NDArray[np.float64]:
+    """``value`` as a float array, every element finite and > ``low`` (>= with not
+    ``strict``); else a TypeError (not numbers) or ValueError naming ``name`` and the value."""
+    a = np.asarray(value)
+    if a.dtype.kind not in "iuf":
+        raise TypeError(f"{name} = {value!r} is not allowed: must be a number or an array of them")
+    a = a.astype(float, copy=False)
+    ok = np.isfinite(a) & ((a > low) if strict else (a >= low))
+    if not np.all(ok):
+        allowed = f"must be a finite number {'>' if strict else '>='} {low:g}"
+        if a.ndim == 0:
+            raise ValueError(f"{name} = {float(a):g} is not allowed: {allowed}")
+        where = np.unravel_index(int(np.argmin(ok)), a.shape)
+        at = ", ".join(map(str, where))
+        raise ValueError(f"{name}[{at}] = {float(a[where]):g} is not allowed: each {allowed}")
+    return a
+
+
 def stribeck_slope(params: Params, wob: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
-    """δ(Ω, W_ob) = −dT_fb/dω at Ω (N·m·s/rad); broadcasts over arrays."""
+    """δ(Ω, W_ob) = −dT_fb/dω at Ω (N·m·s/rad); broadcasts over arrays. Every W_ob must be
+    finite and > 0 (N), every Ω finite and >= 0 (rad/s)."""
     p = params
+    wob = _checked("wob", wob, 0.0, strict=True)
+    omega = _checked("omega", omega, 0.0, strict=False)
     factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
-    return (
-        np.asarray(wob)
-        * factor
-        * np.exp(-p.stribeck_decay * np.asarray(omega) / p.stribeck_velocity)
-    )
+    return wob * factor * np.exp(-p.stribeck_decay * omega / p.stribeck_velocity)
 
 
 def boundary_wob(params: Params, delta: float, omega: ArrayLike) -> NDArray[np.float64]:
-    """W_ob at which δ(Ω, W_ob) = delta (N); broadcasts over Ω."""
+    """W_ob at which δ(Ω, W_ob) = delta (N); broadcasts over Ω. ``delta`` must be finite and
+    > 0 (a crossing's, :func:`critical_deltas`), every Ω finite and >= 0 (rad/s)."""
     p = params
+    delta = _checked("delta", delta, 0.0, strict=True)
+    omega = _checked("omega", omega, 0.0, strict=False)
     factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
-    return delta * np.exp(p.stribeck_decay * np.asarray(omega) / p.stribeck_velocity) / factor
+    return delta * np.exp(p.stribeck_decay * omega / p.stribeck_velocity) / factor
 
 
 def critical_deltas(params: Params) -> list[Crossing]:
@@ -115,11 +141,47 @@ def critical_deltas(params: Params) -> list[Crossing]:
 
 
 def unstable_count(crossings: list[Crossing], delta: ArrayLike) -> NDArray[np.int64]:
-    """Eigenvalues in the right half-plane at slope(s) δ, from the crossings alone."""
-    deltas = np.array([c.delta for c in crossings])
+    """Eigenvalues in the right half-plane at slope(s) δ (finite, >= 0), from the crossings
+    alone: a string's :func:`critical_deltas`, in increasing order."""
+    crossings = _crossing_list(crossings)
+    deltas = np.array([c.delta for c in crossings], dtype=float)
+    if np.any(np.diff(deltas) < 0):
+        raise ValueError(
+            "crossings are not in increasing order of delta: give critical_deltas(params)"
+        )
+    delta = _checked("delta", delta, 0.0, strict=False)
     steps = np.array([c.direction * c.multiplicity for c in crossings], dtype=np.int64)
     cumulative = np.concatenate([[0], np.cumsum(steps)])
-    return cumulative[np.searchsorted(deltas, np.asarray(delta), side="left")]
+    return cumulative[np.searchsorted(deltas, delta, side="left")]
+
+
+def _crossing_list(crossings: list[Crossing]) -> list[Crossing]:
+    if isinstance(crossings, str) or not all(isinstance(c, Crossing) for c in crossings):
+        raise TypeError(
+            f"crossings = {crossings!r} is not allowed: a list of Crossing, as "
+            "critical_deltas(params) gives"
+        )
+    return list(crossings)
+
+
+def _check_crossings(params: Params, crossings: list[Crossing]) -> list[Crossing]:
+    """``crossings`` as given, refused when they cannot be the string's: every damped string
+    has its fold at δ = c_r + c_b (DESIGN.md §3), an undamped one none. Crossings carry
+    nothing else to compare: those of another string with the same damping pass."""
+    crossings = _crossing_list(crossings)
+    fold = params.top_damping + params.bit_damping
+    folds = [c.delta for c in crossings if c.type == "fold"]
+    expected = [fold] if fold > 0 else []
+    if len(folds) != len(expected) or not all(
+        math.isclose(a, b, rel_tol=1e-9) for a, b in zip(folds, expected, strict=True)
+    ):
+        had = f"a fold at delta = {folds[0]:g}" if folds else "no fold"
+        want = f"one at c_r + c_b = {fold:g}" if fold > 0 else "none"
+        raise ValueError(
+            f"crossings are not this string's ({had}; its own have {want}): give "
+            "critical_deltas(params) of the same params"
+        )
+    return crossings
 
 
 def eigenvalues(params: Params, delta: float) -> NDArray[np.complex128]:
@@ -164,9 +226,15 @@ def stability(
 
     ``crossings``: the string's ``critical_deltas(params)``, if already at hand. They depend
     on the string alone, and on a short one cost more than the rest: a loop over many
-    (W_ob, u) of one string computes them once."""
+    (W_ob, u) of one string computes them once. They must be *this* string's: the counts
+    of unstable eigenvalues and ``delta_margin`` come from them. They carry nothing that
+    names their string; those without this string's fold (δ = c_r + c_b), ``[]`` among
+    them, are refused, but those of another string of the same damping (another ``dof``)
+    would pass and answer for it."""
     if (omega is None) == (torque is None):
         raise ValueError("give exactly one of omega (rad/s) or torque (N·m)")
+    if crossings is not None:
+        crossings = _check_crossings(params, crossings)
     core = params.to_core()
     if omega is not None:
         points = [_core.stability_at_velocity(core, float(wob), float(omega))]
@@ -188,8 +256,21 @@ def stability_map(
     params: Params, omega: ArrayLike, wob: ArrayLike, crossings: list[Crossing] | None = None
 ) -> NDArray[np.int64]:
     """Unstable-eigenvalue counts on the grid ``omega`` × ``wob`` (shape (len(wob), len(omega)))
-    — one lookup per point, whatever the string's length."""
+    — one lookup per point, whatever the string's length. ``omega`` (rad/s, finite, >= 0) and
+    ``wob`` (N, finite, > 0) are 1-D, or numbers (an axis of one value); ``crossings``, if
+    given, this string's ``critical_deltas(params)`` (see :func:`stability`)."""
+    axes = []
+    for name, values, strict in (("omega", omega, False), ("wob", wob, True)):
+        a = _checked(name, values, 0.0, strict=strict)
+        if a.ndim > 1:
+            raise ValueError(
+                f"{name} has shape {a.shape}: must be 1-D (the grid's axis) or a number"
+            )
+        axes.append(np.atleast_1d(a))
+    omega, wob = axes
     if crossings is None:
         crossings = critical_deltas(params)
-    delta = stribeck_slope(params, np.asarray(wob)[:, None], np.asarray(omega)[None, :])
+    else:
+        crossings = _check_crossings(params, crossings)
+    delta = stribeck_slope(params, wob[:, None], omega[None, :])
     return unstable_count(crossings, delta)

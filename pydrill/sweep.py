@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import json
 import math
+import numbers
 import os
 import signal
 import time
@@ -27,7 +28,10 @@ from . import batching
 from .batching import Batcher, batches, dealing_order  # noqa: F401 (re-exported)
 from .interrupt import stop_between_batches
 from .journal import AtlasError, journal_path, prepare
-from .spec import SweepSpec, parse_spec
+from .spec import SweepSpec, _require_spec, parse_spec
+
+#: Most local workers ``run_sweep`` starts (as ``pydrill sweep --workers``).
+MAX_WORKERS = 256
 
 # The atlas is rewritten from the table every FLUSH_SECONDS at the soonest, and no sooner than
 # FLUSH_SPACING times the last rewrite took: a rewrite costs in proportion to the atlas (0.2 s
@@ -260,9 +264,20 @@ def run_sweep(
     Dask's dashboard from the local cluster while the sweep runs; it needs bokeh >= 3.1. An
     existing cluster serves its own. ``on_cluster`` is called with a :class:`ClusterInfo`
     (scheduler, workers, dashboard link) once a Dask sweep's points are submitted, and on an
-    existing cluster again whenever its number of workers changes (from another thread)."""
+    existing cluster again whenever its number of workers changes (from another thread).
+
+    ``spec`` is a :class:`SweepSpec` (``pydrill.load_spec(path)``), ``workers`` None or an
+    integer 1 ... ``MAX_WORKERS`` (256); both are checked before anything is written."""
     from . import __version__
 
+    _require_spec(spec)
+    if workers is not None:
+        allowed = f"None (one per core) or an integer 1 ... {MAX_WORKERS}"
+        if isinstance(workers, bool) or not isinstance(workers, numbers.Integral):
+            raise TypeError(f"workers = {workers!r} is not allowed: {allowed}")
+        if not 1 <= workers <= MAX_WORKERS:
+            raise ValueError(f"workers = {workers!r} is not allowed: {allowed}")
+        workers = int(workers)
     if (workers is not None) + bool(scheduler) + bool(serial) > 1:
         raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
     implicit = None  # where the sweep goes when told nowhere, as Dask's own work would

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,7 +20,7 @@ import numpy as np
 
 from . import atlas_format as fmt
 from .journal import journal_path, read_existing, read_journal
-from .spec import SweepSpec
+from .spec import SweepSpec, _require_spec
 
 #: two-sided 95 % normal quantile, for the range of the estimate
 Z95 = 1.96
@@ -55,8 +56,19 @@ class SweepPlan:
 
     def wall_seconds(self, workers: int) -> tuple[float, float, float]:
         """(low, estimate, high) wall time on ``workers`` cores at best: the computing
-        divided among them, without the cluster's start."""
-        return tuple(s / max(workers, 1) for s in self.compute_seconds)  # type: ignore[return-value]
+        divided among them, without the cluster's start. ``workers``: an integer >= 1."""
+        if isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1:
+            raise _refused("workers", workers, "an integer >= 1")
+        return tuple(s / int(workers) for s in self.compute_seconds)  # type: ignore[return-value]
+
+
+def _refused(name: str, value: object, allowed: str) -> Exception:
+    """The error for a refused ``value``: TypeError when it is not even the right type (not a
+    number, a bool, a float where an integer is asked), else ValueError."""
+    kind = numbers.Integral if "integer" in allowed else numbers.Real
+    wrong_type = isinstance(value, bool) or not isinstance(value, kind)
+    error = TypeError if wrong_type else ValueError
+    return error(f"{name} = {value!r} is not allowed: {allowed}")
 
 
 def _todo(spec: SweepSpec, out: Path | None, resume: bool) -> tuple[np.ndarray, str]:
@@ -95,8 +107,22 @@ def plan_sweep(
     """Check ``spec`` against the atlas ``out`` (refusing, with ``AtlasError``, what
     ``run_sweep`` would refuse) and time the points a run would compute, in the sweep's
     order: at least ``least`` (or all there are), then more until ``budget`` seconds have
-    gone or ``most`` are timed. Computes in this process; writes nothing."""
+    gone or ``most`` are timed. Computes in this process; writes nothing.
+
+    ``spec``: a :class:`SweepSpec` (``pydrill.load_spec(path)``); ``budget``: seconds,
+    finite and > 0; ``most``: an integer >= 1; ``least``: an integer >= 0."""
     from .sweep import dealing_order, evaluate_point
+
+    _require_spec(spec)
+    if (
+        isinstance(budget, bool)
+        or not isinstance(budget, numbers.Real)
+        or not (math.isfinite(budget) and budget > 0)
+    ):
+        raise _refused("budget", budget, "a finite number of seconds > 0")
+    for name, value, low in (("most", most, 1), ("least", least, 0)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+            raise _refused(name, value, f"an integer >= {low}")
 
     todo, state = _todo(spec, None if out is None else Path(out), resume)
     order = dealing_order(todo)

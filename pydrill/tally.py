@@ -272,10 +272,7 @@ def _get(
     try:
         v = units.parse(value, kind)
     except ValueError as exc:
-        # units names the kind after "a": "a inertia" reads "an inertia".
-        raise TallyError(
-            f"{where}.{key}: {str(exc).replace(' a inertia', ' an inertia')}"
-        ) from None
+        raise TallyError(f"{where}.{key}: {exc}") from None
     if not (v >= 0 if zero else v > 0) or not v <= high:
         unit = units.SI[kind]
         bound = f", at most {high:g} {unit}" if high < math.inf else f" {unit}"

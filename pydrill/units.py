@@ -7,7 +7,10 @@
 from __future__ import annotations
 
 import math
+import numbers
 import re
+
+import numpy as np
 
 LBF = 4.4482216152605  # N
 FT = 0.3048  # m
@@ -40,6 +43,7 @@ SI = {
     "density": "kg/m3",
     "inertia": "kg·m2",
     "damping": "N·m·s/rad",
+    "rate": "m/s",
 }
 
 _ALIASES = {
@@ -72,10 +76,10 @@ _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s
 
 def parse(value: float | int | str, kind: str) -> float:
     """``value`` in SI units; strings carry their unit. Raises ValueError naming the problem."""
-    if kind not in UNITS:
-        raise ValueError(f"unknown quantity kind {kind!r}")
+    _check_kind(kind)
+    a = _article(kind)
     if isinstance(value, bool):
-        raise ValueError(f"{value!r} is not a {kind}")
+        raise ValueError(f"{value!r} is not {a} {kind}")
     if isinstance(value, int | float):
         if not math.isfinite(value):
             raise ValueError(f"{value!r} is not a finite {kind}")
@@ -83,27 +87,62 @@ def parse(value: float | int | str, kind: str) -> float:
     match = _NUMBER.match(str(value))
     if not match:
         raise ValueError(
-            f"{value!r} is not a {kind}: write a number and a unit, e.g. '{_example(kind)}'"
+            f"{value!r} is not {a} {kind}: write a number and a unit, e.g. '{_example(kind)}'"
         )
     number, unit = float(match.group(1)), match.group(2)
     if unit == "":
         return number
+    factor = _factor(unit, kind)
+    if factor is None:
+        raise ValueError(
+            f"{value!r}: unit {unit!r} is not {a} {kind} unit; use one of " + ", ".join(UNITS[kind])
+        )
+    return number * factor
+
+
+def convert(si_value: float, kind: str, unit: str) -> float:
+    """An SI value expressed in ``unit``: any unit :func:`parse` reads for ``kind`` (e.g.
+    ``"rpm"``, ``"RPM"``, ``"kft-lbf"``). Raises ValueError for an unknown kind or unit,
+    listing the allowed ones, and TypeError for a value that is not a number (or array)."""
+    _check_kind(kind)
+    if (
+        isinstance(si_value, bool)
+        or not isinstance(si_value, numbers.Real | np.ndarray)
+        or (isinstance(si_value, np.ndarray) and si_value.dtype.kind not in "iuf")
+    ):
+        raise TypeError(f"si_value = {si_value!r} is not allowed: a number (or a numeric array)")
+    if not isinstance(unit, str):
+        raise TypeError(f"unit = {unit!r} is not allowed: a {kind} unit's name, e.g. {SI[kind]!r}")
+    factor = _factor(unit.strip(), kind)
+    if factor is None:
+        raise ValueError(
+            f"unit = {unit!r} is not {_article(kind)} {kind} unit; use one of "
+            + ", ".join(UNITS[kind])
+        )
+    return si_value / factor
+
+
+def _check_kind(kind: str) -> None:
+    if not isinstance(kind, str):
+        raise TypeError(f"kind = {kind!r} is not allowed: one of " + ", ".join(UNITS))
+    if kind not in UNITS:
+        raise ValueError(f"unknown quantity kind {kind!r}; use one of " + ", ".join(UNITS))
+
+
+def _factor(unit: str, kind: str) -> float | None:
+    """The factor to SI of ``unit`` (as written, in a canonical spelling, an alias, or in
+    another case when that names one unit of ``kind`` only); None if it is none of them."""
     table = UNITS[kind]
     canon = unit.replace("-", "·").replace("*", "·").replace(".", "·")
     for candidate in (unit, canon, _ALIASES.get(unit.lower(), ""), _ALIASES.get(canon.lower(), "")):
         if candidate in table:
-            return number * table[candidate]
-    lower = {k.lower(): v for k, v in table.items()}
-    if canon.lower() in lower:
-        return number * lower[canon.lower()]
-    raise ValueError(
-        f"{value!r}: unit {unit!r} is not a {kind} unit; use one of " + ", ".join(table)
-    )
+            return table[candidate]
+    matches = {v for k, v in table.items() if k.lower() == canon.lower()}
+    return matches.pop() if len(matches) == 1 else None
 
 
-def convert(si_value: float, kind: str, unit: str) -> float:
-    """An SI value expressed in ``unit``."""
-    return si_value / UNITS[kind][unit]
+def _article(kind: str) -> str:
+    return "an" if kind[:1] in "aeiou" else "a"
 
 
 def _example(kind: str) -> str:
@@ -116,4 +155,5 @@ def _example(kind: str) -> str:
         "density": "7850 kg/m3",
         "inertia": "2122 kg·m2",
         "damping": "50 N·m·s/rad",
+        "rate": "30 m/h",
     }[kind]

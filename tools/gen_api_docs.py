@@ -38,7 +38,7 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         "Strings",
         "Presets, explicit chains and pipe tallies. The guide: "
         "[Real strings](guide/real-strings.md).",
-        ["preset", "PRESETS", "Params", "Tally", "load_tally"],
+        ["preset", "PRESETS", "Params", "Tally", "load_tally", "TallyError"],
     ),
     (
         "Steady states",

@@ -1,0 +1,317 @@
+"""What a simulation returns: ``pydrill.SimulationResult`` and its parts (``Summary``,
+``Switch``, ``SolverStats``), plain data over the core's arrays."""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import asdict, dataclass
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import _core
+from . import model as _model
+from .model import _LISTS, _SCALARS, PRESETS, Params
+
+Regime = Literal["steady", "stick-slip", "stuck", "oscillation"]
+REGIMES: tuple[str, ...] = ("steady", "stick-slip", "stuck", "oscillation")
+MODES: tuple[str, ...] = tuple(_core.mode_names())  # index = value in SimulationResult.modes
+
+UNITS = {
+    "time": "s",
+    "velocity": "rad/s",
+    "angle": "rad",
+    "torque": "N·m",
+    "wob": "N",
+    "energy": "J",
+    "period": "s",
+    "wall_time": "s",
+}
+
+
+@dataclass(frozen=True)
+class Switch:
+    """One friction switch: the bit sticks, slips, or reverses."""
+
+    t: float  #: s
+    kind: str  #: "stick", "slip", "reversal" (exact) or "band-enter", "band-leave" (Karnopp)
+    direction: int  #: bit direction after the switch: +1, −1, or 0 when held
+    reaction_torque: float  #: T_e at the switch, N·m
+    root_residual: float  #: value of the root function that triggered it (≈ 0)
+
+
+@dataclass(frozen=True)
+class SolverStats:
+    """What the integrator did; counters are summed across re-initialisations."""
+
+    method: str
+    method_reason: str
+    stiffness_ratio: float
+    steps: int
+    rhs_evals: int
+    jac_evals: int
+    lin_setups: int
+    lin_solves: int
+    nonlin_iters: int
+    nonlin_conv_fails: int
+    err_test_fails: int
+    root_evals: int
+    reinits: int
+    switches: int
+    wall_time: float  #: s spent in the C++ core
+
+
+@dataclass(frozen=True)
+class Summary:
+    """The regime and its metrics, judged on the window ``[window_start, window_end]``."""
+
+    regime: str
+    window_start: float
+    window_end: float
+    bit_min: float
+    bit_max: float
+    bit_mean: float
+    top_min: float
+    top_max: float
+    top_mean: float
+    severity: float  #: (max ω_b − min ω_b) / (2 mean ω_b)
+    bit_top_ratio: float  #: max ω_b / mean ω_top
+    stuck_fraction: float
+    period: float | None  #: s, stick-slip or oscillation period
+    stick_events: int
+    static_torque: float  #: T_s = μ_sb W_ob R_b
+    omega_equilibrium: tuple[float, ...]  #: every steady velocity Ω > 0 for (W_ob, u)
+    note: str = ""  #: caveat about the judgement (e.g. the run was too short)
+
+
+class SimulationResult:
+    """Output of :func:`simulate`. Arrays are read-only views of the core's memory (no copies).
+
+    ``states`` holds the twist coordinates ``(ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b)`` at times ``t``;
+    ``omega`` and ``twist`` are strided views of it.
+
+    A result can be pickled (e.g. returned from a ``multiprocessing`` worker) and deep-copied:
+    the copy holds copies of the arrays (read-only too) and of every switch, not the core's
+    memory. To send less, send ``result.summary`` or ``result.to_dict()``.
+    """
+
+    def __init__(self, core: Any, params: Params, settings: dict[str, Any]) -> None:
+        self._core = core
+        self.params = params
+        self.settings = settings
+        self.wob: float = core.wob
+        self.torque: float = core.torque
+        self.t: NDArray[np.float64] = core.t
+        self.states: NDArray[np.float64] = core.states
+        self.top_angle: NDArray[np.float64] = core.top_angle
+        self.work_input: NDArray[np.float64] = core.work_input
+        self.viscous_loss: NDArray[np.float64] = core.viscous_loss
+        self.friction_loss: NDArray[np.float64] = core.friction_loss
+        self.energy: NDArray[np.float64] = core.energy
+        self.mode_index: NDArray[np.int32] = core.modes
+        self.stats = SolverStats(**core.stats)
+        summary = dict(core.summary)
+        summary["omega_equilibrium"] = tuple(summary["omega_equilibrium"])
+        self.summary = Summary(**summary)
+
+    def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
+        # The core's Result cannot be pickled: copy its data (the arrays, by pickle or deepcopy,
+        # and the switches) and leave the core behind.
+        state = {k: v for k, v in self.__dict__.items() if k != "_core"}
+        state["switches"] = self.switches
+        return _restore_result, (state,)
+
+    @functools.cached_property
+    def switches(self) -> list[Switch]:
+        """Every stick, slip and reversal of the bit, in time order. Built when first asked
+        for: a sweep reads only the summary, and a long stick-slip run has thousands."""
+        return [Switch(**s) for s in self._core.switches]
+
+    @property
+    def dof(self) -> int:
+        """Number of inertias of the simulated string (top drive first, bit last)."""
+        return self.params.dof
+
+    @property
+    def regime(self) -> str:
+        """``"steady"``, ``"stick-slip"``, ``"stuck"`` or ``"oscillation"`` (see :data:`REGIMES`),
+        judged on the last ``window_fraction`` of the run; the metrics are in :attr:`summary`."""
+        return self.summary.regime
+
+    @property
+    def omega(self) -> NDArray[np.float64]:
+        """Angular velocities, shape (len(t), dof), top drive first (rad/s)."""
+        return self.states[:, 0::2]
+
+    @property
+    def twist(self) -> NDArray[np.float64]:
+        """Twists θ_i = φ_i − φ_{i+1}, shape (len(t), dof − 1) (rad)."""
+        return self.states[:, 1::2]
+
+    @property
+    def bit_velocity(self) -> NDArray[np.float64]:
+        """ω_b, the bit's angular velocity at times ``t`` (rad/s)."""
+        return self.states[:, -1]
+
+    @property
+    def top_velocity(self) -> NDArray[np.float64]:
+        """ω_0, the top drive's angular velocity at times ``t`` (rad/s)."""
+        return self.states[:, 0]
+
+    @property
+    def angles(self) -> NDArray[np.float64]:
+        """Absolute angles φ_i, shape (len(t), dof), recovered by summing twists (rad)."""
+        phi = np.empty((len(self.t), self.dof))
+        phi[:, 0] = self.top_angle
+        phi[:, 1:] = self.top_angle[:, None] - np.cumsum(self.twist, axis=1)
+        return phi
+
+    @property
+    def bit_angle(self) -> NDArray[np.float64]:
+        """φ_b, the bit's absolute angle at times ``t`` (rad)."""
+        return self.top_angle - self.twist.sum(axis=1)
+
+    @property
+    def reaction_torque(self) -> NDArray[np.float64]:
+        """T_e = k θ_{N−2} + c (ω_{N−2} − ω_b) − c_b ω_b: what the rock must hold (N·m)."""
+        p = self.params
+        wb = self.bit_velocity
+        return (
+            p.stiffnesses[-1] * self.twist[:, -1]
+            + p.dampings[-1] * (self.omega[:, -2] - wb)
+            - p.bit_damping * wb
+        )
+
+    @property
+    def modes(self) -> list[str]:
+        """The friction mode at each output time: ``"slip+"``, ``"slip-"``, ``"stick"`` or
+        ``"band"`` (Karnopp); ``mode_index`` holds the same as codes into ``MODES``
+        (``from pydrill.simulate import MODES``)."""
+        return [MODES[i] for i in self.mode_index]
+
+    def stick_intervals(self) -> list[tuple[float, float]]:
+        """Time intervals in which the rock holds the bit (stick, or the Karnopp band), within
+        the output span ``[t[0], t[-1]]`` (an interval under way at ``t[0]`` starts there, one
+        still under way at ``t[-1]`` ends there)."""
+        held = {"stick", "band-enter"}
+        first, last = float(self.t[0]), float(self.t[-1])
+        intervals: list[tuple[float, float]] = []
+        start = first if MODES[self.mode_index[0]] in ("stick", "band") else None
+        for s in self.switches:
+            if s.t <= first:  # the mode at t[0] already tells what happened before
+                continue
+            if s.t > last:
+                break
+            if s.kind in held and start is None:
+                start = s.t
+            elif s.kind not in held and start is not None:
+                intervals.append((start, s.t))
+                start = None
+        if start is not None:
+            intervals.append((start, last))
+        return intervals
+
+    def energy_balance_error(self) -> float:
+        """Relative mismatch of work in = dissipation + Δ(kinetic + elastic energy): the largest,
+        over the output times after the first, of the balance between ``t[0]`` and that time,
+        relative to the largest work put in over that span (0.0 with a single output time)."""
+        work = self.work_input[1:] - self.work_input[0]
+        out = (
+            (self.viscous_loss[1:] - self.viscous_loss[0])
+            + (self.friction_loss[1:] - self.friction_loss[0])
+            + (self.energy[1:] - self.energy[0])
+        )
+        if len(work) == 0:
+            return 0.0
+        return float(np.max(np.abs(work - out)) / max(float(np.max(np.abs(work))), 1e-300))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The summary as plain JSON-ready data (see ``pydrill simulate --json``); its
+        ``inputs`` are :meth:`inputs`."""
+        s = self.summary
+
+        def num(x: float | None) -> float | None:
+            return None if x is None or not math.isfinite(x) else float(x)
+
+        return {
+            "regime": s.regime,
+            "bit_velocity": {"min": s.bit_min, "max": s.bit_max, "mean": s.bit_mean},
+            "top_velocity": {"min": s.top_min, "max": s.top_max, "mean": s.top_mean},
+            "severity": num(s.severity),
+            "bit_top_ratio": num(s.bit_top_ratio),
+            "stuck_fraction": s.stuck_fraction,
+            "period": num(s.period),
+            "stick_events": s.stick_events,
+            "static_torque": s.static_torque,
+            "omega_equilibrium": list(s.omega_equilibrium),
+            "window": [s.window_start, s.window_end],
+            "note": s.note or None,
+            "solver": {
+                k: v
+                for k, v in asdict(self.stats).items()
+                if k not in ("lin_setups", "nonlin_conv_fails")
+            },
+            "inputs": self.inputs(),
+            "units": {
+                "bit_velocity": "rad/s",
+                "top_velocity": "rad/s",
+                "omega_equilibrium": "rad/s",
+                "period": "s",
+                "static_torque": "N·m",
+                "window": "s",
+                "wob": "N",
+                "torque": "N·m",
+                "t_end": "s",
+                "wall_time": "s",
+                "severity": "1",
+                "stuck_fraction": "1",
+            },
+        }
+
+    def inputs(self) -> dict[str, Any]:
+        """Everything the run was made from, as JSON-ready keyword arguments of
+        :func:`simulate`: ``simulate(**r.inputs())`` repeats the run. The string is ``preset``
+        and ``dof`` with the fields that differ from the preset (overrides); for a string that
+        is no preset's (its label, ``params.name``, is not in ``PRESETS``) ``preset`` is None
+        and every field is given. ``initial`` is ``"rest"``, ``"equilibrium"`` or the state
+        (a list), ``t_out`` None or the list of output times."""
+        p = self.params
+        try:
+            base = _model.preset(p.name, dof=p.dof) if p.name in PRESETS else None
+        except ValueError:  # e.g. a real-string preset made longer than its 2 inertias
+            base = None
+        model: dict[str, Any] = {}
+        for key in _LISTS + _SCALARS:
+            value = getattr(p, key)
+            if base is None or value != getattr(base, key):
+                model[key] = list(value) if key in _LISTS else value
+        return {
+            "preset": None if base is None else p.name,
+            "dof": p.dof,
+            "wob": self.wob,
+            "torque": self.torque,
+            **self.settings,
+            **model,
+        }
+
+    def __repr__(self) -> str:
+        s = self.summary
+        period = f", period {s.period:.4g} s" if s.period else ""
+        return (
+            f"<SimulationResult dof={self.dof} wob={self.wob:g} N torque={self.torque:g} N·m: "
+            f"{s.regime}, bit {s.bit_min:.4g}..{s.bit_max:.4g} rad/s (mean {s.bit_mean:.4g})"
+            f"{period}; {self.stats.method}, {self.stats.steps} steps>"
+        )
+
+
+def _restore_result(state: dict[str, Any]) -> SimulationResult:
+    """A pickled or deep-copied :class:`SimulationResult`: its data, without the core."""
+    result = SimulationResult.__new__(SimulationResult)
+    for value in state.values():
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+    result.__dict__.update(state)
+    result._core = None
+    return result
