@@ -61,7 +61,10 @@ SPEC = (
     .replace("num = 29", "num = 40")
 )
 
-TINY = SPEC.replace("num = 50", "num = 2").replace("num = 40", "num = 1")
+TINY = SPEC.replace("num = 50", "num = 2").replace(
+    "torque = { start = 2.0, stop = 16.0, num = 40 }", "torque = [2.0]"
+)
+assert TINY.count("torque = [2.0]") == 1  # the 2-point sweep of the fixed-cost run
 
 BIG = """
 [model]
