@@ -65,10 +65,14 @@ Initial parse_initial(const std::string& s) {
 
 void SimulationOptions::validate(int dof) const {
   auto refuse = [](const std::string& what) { throw std::invalid_argument(what); };
-  auto num = [](double v) {
+  auto num = [](double v) {  // the shortest decimal that reads back as v
     std::ostringstream o;
-    o.precision(17);
-    o << v;
+    for (int digits = 6; digits <= 17; ++digits) {
+      o.str("");
+      o.precision(digits);
+      o << v;
+      if (!std::isfinite(v) || std::stod(o.str()) == v) break;
+    }
     return o.str();
   };
   if (!std::isfinite(t_end) || !(t_end > 0)) refuse("t_end = " + num(t_end) + " is not allowed: must be a finite time > 0 s");
