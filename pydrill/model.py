@@ -295,7 +295,11 @@ def _numbers(key: str, values: Any) -> tuple[float, ...]:
     except TypeError:
         raise ValueError(f"{key} must be a list of numbers, got {_show(values)}") from None
     unit = _UNITS[key]
-    return tuple(_number(f"{key}[{i}]", v, unit) for i, v in enumerate(values))
+    # Floats pass as they are; only another type has its entry named (and checked): a name
+    # built for each of a long string's entries cost more than the rest of the check.
+    return tuple(
+        v if type(v) is float else _number(f"{key}[{i}]", v, unit) for i, v in enumerate(values)
+    )
 
 
 def _length(values: Any) -> int | None:
