@@ -9,12 +9,21 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import re
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
+
+from .cli_options import (
+    _finite,
+    _list,
+    _no_tally_options,
+    _positive,
+    _string_options,
+    figure_path,
+    string_json,
+    string_params,
+)
 
 EXIT_USAGE = 2
 EXIT_SOLVER = 3
@@ -55,174 +64,6 @@ class _Parser(argparse.ArgumentParser):
             self.print_usage(sys.stderr)
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         raise SystemExit(EXIT_USAGE)
-
-
-def _number(name: str, text: str, kind: str | None) -> float:
-    """A plain number is SI; with ``kind``, a driller unit may follow (100kN, 120 rpm)."""
-    try:
-        return float(text)
-    except ValueError:
-        pass
-    if kind is not None:
-        from . import units
-
-        try:
-            return units.parse(text, kind)
-        except ValueError as exc:
-            raise argparse.ArgumentTypeError(
-                f"{name} must be a number, got {text!r} ({exc})"
-            ) from None
-    raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}")
-
-
-def _positive(name: str, kind: str | None = None):
-    def parse(text: str) -> float:
-        value = _number(name, text, kind)
-        if not math.isfinite(value) or value <= 0:
-            raise argparse.ArgumentTypeError(f"{name} must be a finite number > 0, got {text}")
-        return value
-
-    return parse
-
-
-def _finite(name: str, kind: str | None = None):
-    def parse(text: str) -> float:
-        value = _number(name, text, kind)
-        if not math.isfinite(value):
-            raise argparse.ArgumentTypeError(f"{name} must be finite, got {text}")
-        return value
-
-    return parse
-
-
-# What matplotlib writes with what it installs, chosen by the file's suffix. Checked when the
-# command line is read, so that a long computation does not end in "format not supported".
-FIGURE_SUFFIXES = tuple(".png .pdf .svg .svgz .eps .ps .jpg .jpeg .tif .tiff .webp".split())
-
-
-def figure_path(text: str) -> str:
-    """An argparse type for ``--plot FILE``: a suffix matplotlib can write, in a directory
-    that is (or can be made) writable."""
-    if Path(text).suffix.lower() not in FIGURE_SUFFIXES:
-        raise argparse.ArgumentTypeError(
-            f"{text!r}: a figure's format is its suffix, one of " + ", ".join(FIGURE_SUFFIXES)
-        )
-    writable_place(text)
-    return text
-
-
-def writable_place(text: str) -> None:
-    """Refuse, before any work, an output path under a file or in a directory this user may
-    not write (missing directories are made when the output is saved)."""
-    path = Path(text)
-    if path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is a directory; give a file name in it")
-    for parent in path.absolute().parents:
-        if parent.exists():
-            if not parent.is_dir():
-                raise argparse.ArgumentTypeError(f"{text!r}: {parent} is a file, not a directory")
-            if not os.access(parent, os.W_OK | os.X_OK):
-                raise argparse.ArgumentTypeError(f"{text!r}: cannot write in {parent}")
-            return
-
-
-def _list(name: str):
-    def parse(text: str) -> list[float]:
-        try:
-            return [float(v) for v in text.split(",") if v.strip()]
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"{name} must be comma-separated numbers, got {text!r}"
-            ) from None
-
-    return parse
-
-
-def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
-    group = parser.add_argument_group(
-        "string",
-        "one of the paper's strings (--preset), or a real one from its pipe tally (--tally)",
-    )
-    group.add_argument(
-        "--preset",
-        choices=presets,
-        default=None,
-        help="parameter set (default: reduced-scale)",
-    )
-    group.add_argument(
-        "--tally",
-        metavar="TALLY.toml",
-        help="the string of a pipe tally instead (see 'pydrill string'): one inertia per joint",
-    )
-    group.add_argument(
-        "--depth", help="with --tally: lengthen the drill pipe to this depth (3000m, 9800ft)"
-    )
-    group.add_argument(
-        "--lump", type=int, help="with --tally: drill-pipe joints per element (default 1)"
-    )
-    size = group.add_mutually_exclusive_group()
-    size.add_argument(
-        "--dof",
-        type=int,
-        help="number of inertias, >= 2 (default 4, or 2 for --preset real-string; with --tally: "
-        "reduce its string to these)",
-    )
-    size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
-    return group
-
-
-def tally_params(path: str, depth: str | None, lump: int | None, dof: int | None):
-    """The tally at ``path`` (lengthened to ``depth``, e.g. ``"3000m"``), as a string of one
-    element per ``lump`` joints, reduced to ``dof`` inertias: ``(tally, params)``."""
-    from . import units
-    from .tally import load_tally
-
-    tally = load_tally(path)
-    if depth is not None:
-        tally = tally.at_depth(units.parse(depth, "length"))
-    lump = 1 if lump is None else lump
-    if lump < 1:
-        raise ValueError(f"--lump = {lump} is not allowed: >= 1")
-    return tally, tally.to_params(dof=dof, lump=lump)
-
-
-def _no_tally_options(args: argparse.Namespace) -> None:
-    """Refuse the options of a tally's string when no tally is given."""
-    for option, value in (("--depth", args.depth), ("--lump", args.lump)):
-        if value is not None:
-            raise ValueError(
-                f"{option} needs --tally: a preset's length is set by --dof or --pipes"
-            )
-
-
-def string_params(args: argparse.Namespace):
-    """The string that ``_string_options`` name: a preset of ``--dof`` (or ``--pipes``)
-    inertias, or a tally's (``--tally``, ``--depth``, ``--lump``, reduced to ``--dof``)."""
-    from . import preset
-
-    if args.tally is None:
-        _no_tally_options(args)
-        return preset(args.preset or "reduced-scale", dof=args.dof, pipes=args.pipes)
-    if args.preset is not None:
-        raise ValueError("give --preset or --tally, not both")
-    if args.pipes is not None:
-        raise ValueError(
-            "--pipes is not allowed with --tally: the tally's joints (and --depth) set them; "
-            "--dof N reduces its string to N inertias"
-        )
-    tally, params = tally_params(args.tally, args.depth, args.lump, args.dof)
-    # Titles and reports say which depth: strings of one tally differ by it alone.
-    return params.replace(name=f"{tally.name} at {tally.length:.1f} m")
-
-
-def string_json(args: argparse.Namespace) -> dict[str, Any]:
-    """What ``--json`` adds about a tally's string (nothing for a preset)."""
-    if args.tally is None:
-        return {}
-    from . import units
-
-    depth = None if args.depth is None else units.parse(args.depth, "length")
-    return {"tally": {"file": args.tally, "depth": depth, "lump": args.lump or 1}}
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -7,7 +7,14 @@ import argparse
 import json
 from collections.abc import Sequence
 
-from .cli import _finite, _positive, _string_options, figure_path, string_json, string_params
+from .cli_options import (
+    _finite,
+    _positive,
+    _string_options,
+    figure_path,
+    string_json,
+    string_params,
+)
 from .cli_window import register_tally
 
 

@@ -8,7 +8,7 @@ import sys
 import textwrap
 from pathlib import Path
 
-from .cli import figure_path
+from .cli_options import figure_path
 
 
 def axis_line(name: str, size: int, low: float, high: float) -> str:
@@ -73,7 +73,7 @@ def register_atlas(sub) -> None:
         "  message for a failed point",
     )
     query.add_argument("atlas", metavar="ATLAS.h5")
-    from .cli import _finite
+    from .cli_options import _finite
 
     kinds = {"wob": "force", "torque": "torque", "depth": "length", "dof": None, "pipes": None}
     for axis, kind in kinds.items():

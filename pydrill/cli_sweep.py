@@ -9,8 +9,8 @@ import signal
 import sys
 import time
 
-from .cli import figure_path, writable_place
 from .cli_atlas import axis_line
+from .cli_options import figure_path, writable_place
 
 SWEEP_EPILOG = """\
 examples:

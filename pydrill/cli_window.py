@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from .cli import _positive, figure_path
+from .cli_options import _positive, figure_path
 
 # No drill bit takes 2000 kN (200 t): a bare number that large was meant in newtons.
 LARGEST_BARE_KN = 2000.0
@@ -155,7 +155,7 @@ def register_tally(sub) -> None:
 
 
 def _cmd_string(args: argparse.Namespace) -> int:
-    from .cli import tally_params
+    from .cli_options import tally_params
 
     tally, p = tally_params(args.tally, args.depth, args.lump, args.dof)
     data = {
