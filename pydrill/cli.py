@@ -7,7 +7,6 @@ exit status 3. ``--json`` prints exactly one JSON object on stdout for scripts.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import re
 import sys
@@ -21,6 +20,7 @@ from .cli_options import (
     _positive,
     _string_options,
     figure_path,
+    print_json,
     string_json,
     string_params,
 )
@@ -212,7 +212,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         data = {**result.to_dict(), **string_json(args)}
         if args.plot:
             data["plot"] = args.plot
-        print(json.dumps(data, indent=2, allow_nan=False))
+        print_json(data)
     else:
         print(_describe(result, args.plot))
     return 0

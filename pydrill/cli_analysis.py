@@ -4,7 +4,6 @@ window live in :mod:`pydrill.cli_window`)."""
 from __future__ import annotations
 
 import argparse
-import json
 from collections.abc import Sequence
 
 from .cli_options import (
@@ -12,6 +11,7 @@ from .cli_options import (
     _positive,
     _string_options,
     figure_path,
+    print_json,
     string_json,
     string_params,
 )
@@ -187,7 +187,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
         }
         if args.plot:
             data["plot"] = args.plot
-        print(json.dumps(data, indent=2, allow_nan=False))
+        print_json(data)
         return 0
     hopf = [c for c in crossings if c.type == "hopf"]
     print(
@@ -248,7 +248,7 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         }
         if args.torque is not None:
             data["torque"] = args.torque
-        print(json.dumps(data, indent=2, allow_nan=False))
+        print_json(data)
         return 0
     if not points:
         print(
@@ -310,7 +310,7 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         }
         if args.plot:
             data["plot"] = args.plot
-        print(json.dumps(data, allow_nan=False))
+        print_json(data)
         return 0
     fixed = f"u = {b.fixed:g} N m" if b.vary == "wob" else f"W_ob = {b.fixed:g} N"
     print(f"{params.name}, dof {params.dof}: steady states as {b.vary} varies at {fixed}")
@@ -375,7 +375,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
             "checks": [{"wob": w, "torque": u, "regime": r} for w, u, r in checks],
             "units": {"wob": "N", "torque": "N·m"},
         }
-        print(json.dumps(data, allow_nan=False))
+        print_json(data)
         return 0
     print(f"{params.name}, dof {params.dof}: W_ob 0..{wob_max:g} N, u 0..{torque_max:g} N m")
     for name, frac in omap.fractions().items():

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import textwrap
 from pathlib import Path
 
-from .cli_options import figure_path
+from .cli_options import figure_path, print_json
 
 
 def axis_line(name: str, size: int, low: float, high: float) -> str:
@@ -183,7 +182,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
     with Atlas(args.atlas) as atlas:
         s = atlas.summary()
     if args.json:
-        print(json.dumps(s))
+        print_json(s)
         return 0
     print(
         f"{s['path']}: {s['points']} points, pydrill {s['pydrill_version']}, "
@@ -260,7 +259,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
         }
         if "message" in v:
             flat["message"] = v["message"]
-        print(json.dumps(flat))
+        print_json(flat)
         return 0
     print(", ".join(f"{k} = {x:g}" for k, x in v["coords"].items()) + f": {v['status']}")
     if "message" in v:

@@ -5,6 +5,7 @@ paths checked before any work, and the string options (``--preset``/``--dof``/``
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 from collections.abc import Sequence
@@ -178,3 +179,9 @@ def string_json(args: argparse.Namespace) -> dict[str, Any]:
 
     depth = None if args.depth is None else units.parse(args.depth, "length")
     return {"tally": {"file": args.tally, "depth": depth, "lump": args.lump or 1}}
+
+
+def print_json(data: Any) -> None:
+    """Every command's --json output: one document, indented, strict JSON (no NaN/Infinity,
+    which many parsers refuse; values without a number are written as null beforehand)."""
+    print(json.dumps(data, indent=2, allow_nan=False))

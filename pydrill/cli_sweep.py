@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import json
 import shlex
 import signal
 import sys
 import time
 
 from .cli_atlas import axis_line
-from .cli_options import figure_path, writable_place
+from .cli_options import figure_path, print_json, writable_place
 
 SWEEP_EPILOG = """\
 examples:
@@ -254,16 +253,14 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             bar.close()
         again = " ".join(shlex.quote(a) for a in ("pydrill", "sweep", args.spec, "--out", args.out))
         if args.json:
-            print(
-                json.dumps(
-                    {
-                        "atlas": str(exc.atlas),
-                        "interrupted": True,
-                        "points": exc.points,
-                        "done": exc.done,
-                        "resume": f"{again} --resume",
-                    }
-                )
+            print_json(
+                {
+                    "atlas": str(exc.atlas),
+                    "interrupted": True,
+                    "points": exc.points,
+                    "done": exc.done,
+                    "resume": f"{again} --resume",
+                }
             )
         sys.stderr.write(
             f"pydrill sweep: interrupted; {exc.done} of {exc.points} points are saved in "
@@ -294,7 +291,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if args.plot:
         data["plot"] = args.plot
     if args.json:
-        print(json.dumps(data))
+        print_json(data)
     else:
         print(
             f"{report.atlas}: {report.points} points, {report.computed} computed now "
@@ -340,34 +337,32 @@ def _dry_run(args: argparse.Namespace, spec) -> int:
     compute = plan.compute_seconds
     wall = plan.wall_seconds(workers) if workers else None
     if args.json:
-        print(
-            json.dumps(
-                {
-                    "dry_run": True,
-                    "spec": args.spec,
-                    "points": plan.points,
-                    "shape": {k: len(v) for k, v in spec.axes.items()},
-                    "initial": spec.initials,
-                    "atlas": {"path": args.out, "state": plan.atlas},
-                    "todo": plan.todo,
-                    "sampled": plan.sampled,
-                    "failed": plan.failed,
-                    "message": plan.message,
-                    "point_seconds": {
-                        "estimate": plan.point_seconds,
-                        "low": plan.point_seconds_low,
-                        "high": plan.point_seconds_high,
-                    },
-                    "compute_seconds": dict(zip(("low", "estimate", "high"), compute, strict=True)),
-                    "workers": workers,
-                    "wall_seconds": (
-                        dict(zip(("low", "estimate", "high"), wall, strict=True)) if wall else None
-                    ),
-                    "atlas_bytes": plan.atlas_bytes,
-                    "journal_bytes": plan.journal_bytes,
-                    "units": {"point_seconds": "s", "compute_seconds": "s", "wall_seconds": "s"},
-                }
-            )
+        print_json(
+            {
+                "dry_run": True,
+                "spec": args.spec,
+                "points": plan.points,
+                "shape": {k: len(v) for k, v in spec.axes.items()},
+                "initial": spec.initials,
+                "atlas": {"path": args.out, "state": plan.atlas},
+                "todo": plan.todo,
+                "sampled": plan.sampled,
+                "failed": plan.failed,
+                "message": plan.message,
+                "point_seconds": {
+                    "estimate": plan.point_seconds,
+                    "low": plan.point_seconds_low,
+                    "high": plan.point_seconds_high,
+                },
+                "compute_seconds": dict(zip(("low", "estimate", "high"), compute, strict=True)),
+                "workers": workers,
+                "wall_seconds": (
+                    dict(zip(("low", "estimate", "high"), wall, strict=True)) if wall else None
+                ),
+                "atlas_bytes": plan.atlas_bytes,
+                "journal_bytes": plan.journal_bytes,
+                "units": {"point_seconds": "s", "compute_seconds": "s", "wall_seconds": "s"},
+            }
         )
         return 0
     grid = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())

@@ -4,9 +4,8 @@ safe to drill, at a depth or against depth)."""
 from __future__ import annotations
 
 import argparse
-import json
 
-from .cli_options import _positive, figure_path
+from .cli_options import _positive, figure_path, print_json
 
 # No drill bit takes 2000 kN (200 t): a bare number that large was meant in newtons.
 LARGEST_BARE_KN = 2000.0
@@ -180,7 +179,7 @@ def _cmd_string(args: argparse.Namespace) -> int:
         },
     }
     if args.json:
-        print(json.dumps(data))
+        print_json(data)
         return 0
     print(f"{tally.name}: {tally.length:.1f} m ({tally.bha_length:.1f} m BHA), dof {p.dof}")
     print(f"  top drive   J = {p.inertias[0]:.6g} kg m^2, c_r = {p.top_damping:g} N m s/rad")
@@ -275,7 +274,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
             fig = window_depth_figure(dw, args.wob_max, args.rpm_max)
         save(fig, args.plot)
     if args.json:
-        print(json.dumps(_window_json(tally, dw, grid, checks, args), allow_nan=False))
+        print_json(_window_json(tally, dw, grid, checks, args))
         return 0
     _print_window(tally, dw, checks, args)
     return 0

@@ -163,3 +163,46 @@ def test_a_bare_weight_on_bit_too_large_for_kilonewtons_is_refused():
     for option in ("--at-wob", "--wob-max"):
         proc = run("window", PAPER, "--depth", "3000m", option, "20000")
         assert refused(proc, "bare numbers are kN", "20000N")
+
+
+def _strict(text):
+    def refuse(name):
+        raise AssertionError(f"{name} in --json output: not JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("simulate", "--wob", "100", "--torque", "8.3", "--t-end", "20"),
+        ("stability", "--wob", "100", "--torque", "8.3"),
+        ("hopf", "--dof", "4"),
+        ("bifurcation", "--dof", "2", "--vary", "wob", "--torque", "8.1"),
+        ("map", "--dof", "2"),
+        ("string", PAPER, "--depth", "3000m"),
+    ],
+    ids=lambda a: a[0],
+)
+def test_every_json_output_is_one_indented_strict_document(args):
+    # bifurcation, map and string printed one long line while the others were indented
+    proc = run(*args, "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith("{\n  "), proc.stdout[:80]
+    assert isinstance(_strict(proc.stdout), dict)
+
+
+def test_sweep_and_atlas_json_are_indented_too(tmp_path):
+    spec, out = tmp_path / "s.toml", tmp_path / "s.h5"
+    spec.write_text(SMALL)
+    sweep = run("sweep", spec, "--out", out, "--serial", "--json")
+    assert sweep.returncode == 0, sweep.stderr
+    for proc in (
+        sweep,
+        run("sweep", spec, "--dry-run", "--json"),
+        run("atlas", "info", out, "--json"),
+        run("atlas", "query", out, "--nearest", "--wob", "100", "--torque", "8.3", "--json"),
+    ):
+        assert proc.returncode == 0, proc.stderr
+        assert proc.stdout.startswith("{\n  "), proc.stdout[:80]
+        _strict(proc.stdout)
