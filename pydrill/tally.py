@@ -32,27 +32,18 @@ drive; whole string and BHA at the bit; one equivalent spring).
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field, replace
 from numbers import Integral, Real
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from . import units
 from .model import Params
 from .spec_rules import MAX_DOF  # a string's most inertias, as in sweeps
 
 KINDS = ("drill-pipe", "heavy-weight", "drill-collar", "stabilizer", "bit", "other")
 STEEL_G = 79.3e9  # Pa, shear modulus of drill-pipe steel (11.5 Mpsi)
 STEEL_RHO = 7850.0  # kg/m³
-# The keys each table takes; any other is refused (a typo would silently keep the default).
-TOP_DRIVE_KEYS = ("inertia", "damping")
-BIT_KEYS = ("diameter", "damping", "mu_coulomb", "mu_static", "stribeck_decay", "stribeck_velocity")
-DAMPING_KEYS = ("model", "beta")
-STEEL_KEYS = ("shear_modulus", "density")
-SECTION_KEYS = ("kind", "count", "length", "od", "id", "shear_modulus", "density")
 # The widest pipe or bit: conductor casing is some 1 m across, hole openers 1.5 m; more is a
 # unit mistake (and OD⁴ of an absurd diameter overflows).
 MAX_DIAMETER = 5.0  # m
@@ -230,211 +221,15 @@ def _show(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _refuse(key: str, value: Any, allowed: str) -> TallyError:
-    return TallyError(f"{key} = {_show(value)} is not allowed: {allowed}")
-
-
-def _table(doc: dict, key: str, allowed: tuple[str, ...]) -> dict:
-    """``doc[key]``, a table of only ``allowed`` keys (empty when absent)."""
-    table = doc.get(key, {})
-    if not isinstance(table, dict):
-        # "malformed tally" leads: a spec naming this tally reports "model.tally: malformed tally".
-        raise TallyError(
-            f"malformed tally: {key} = {_show(table)} is not allowed: a table, [{key}]"
-        )
-    _known(table, key, allowed)
-    return table
-
-
-def _known(table: dict, where: str, allowed: tuple[str, ...]) -> None:
-    unknown = sorted(set(table) - set(allowed))
-    if unknown:
-        raise TallyError(f"{where}.{unknown[0]}: unknown; allowed: {', '.join(allowed)}")
-
-
-def _get(
-    table: dict,
-    key: str,
-    where: str,
-    kind: str,
-    default: float | None = None,
-    *,
-    zero: bool = False,
-    high: float = math.inf,
-    note: str = "",
-) -> float:
-    """A quantity in driller units, finite and > 0 (>= 0 with ``zero``), at most ``high``."""
-    if key not in table:
-        if default is None:
-            raise TallyError(f"{where}.{key}: missing")
-        return default
-    value = table[key]
-    try:
-        v = units.parse(value, kind)
-    except ValueError as exc:
-        raise TallyError(f"{where}.{key}: {exc}") from None
-    if not (v >= 0 if zero else v > 0) or not v <= high:
-        unit = units.SI[kind]
-        bound = f", at most {high:g} {unit}" if high < math.inf else f" {unit}"
-        allowed = f"a finite {kind} {'>=' if zero else '>'} 0{bound}{note}"
-        raise _refuse(f"{where}.{key}", value, allowed)
-    return v
-
-
-def _number(table: dict, key: str, where: str, default: float, allowed: str) -> float:
-    """A plain number (also one written as a string, "0.8", as float() always took)."""
-    value = table.get(key, default)
-    try:
-        if isinstance(value, bool) or not isinstance(value, int | float | str):
-            raise ValueError
-        v = float(value)
-    except (ValueError, OverflowError):
-        raise _refuse(f"{where}.{key}", value, allowed) from None
-    if not math.isfinite(v):
-        raise _refuse(f"{where}.{key}", value, allowed)
-    return v
-
-
-def _section(n: int, sec: Any, g: float, rho: float) -> Section:
-    where = f"section[{n}]"
-    if not isinstance(sec, dict):
-        raise TallyError(
-            f"malformed tally: {where} = {_show(sec)} is not allowed: a table, [[section]]"
-        )
-    _known(sec, where, SECTION_KEYS)
-    kind = sec.get("kind", "other")
-    if not isinstance(kind, str) or kind not in KINDS:
-        raise _refuse(f"{where}.kind", kind, f"choose one of {', '.join(KINDS)}")
-    count = sec.get("count", 1)
-    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-        raise _refuse(f"{where}.count", count, "an integer >= 1 (joints)")
-    od = _get(sec, "od", where, "length", high=MAX_DIAMETER)
-    inner = _get(sec, "id", where, "length", 0.0, zero=True)
-    if not inner < od:
-        raise _refuse(f"{where}.id", sec["id"], f"need 0 <= id < od = {_show(sec['od'])}")
-    s = Section(
-        kind,
-        count,
-        _get(sec, "length", where, "length"),
-        od,
-        inner,
-        _get(sec, "shear_modulus", where, "modulus", g),
-        _get(sec, "density", where, "density", rho),
-    )
-    k, j = s.joint_stiffness(), s.joint_inertia()
-    if not (0 < k < math.inf and 0 < j < math.inf):
-        raise TallyError(
-            f"{where}: a joint's stiffness G·I_p/L = {k:g} N·m/rad and inertia ρ·I_p·L = {j:g} "
-            "kg·m² must be finite and > 0: check its length, od, id, shear_modulus and density"
-        )
-    return s
-
-
-def parse_tally(text: str, name: str = "tally") -> Tally:
-    """A tally from its TOML text. Raises :class:`TallyError` naming the key at fault."""
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise TallyError(f"not valid TOML: {exc}") from None
-    unknown = set(doc) - {"top_drive", "bit", "damping", "steel", "section", "name"}
-    if unknown:
-        raise TallyError(
-            f"{sorted(unknown)[0]}: unknown; allowed: [top_drive], [bit], "
-            "[damping], [steel], [[section]]"
-        )
-    steel = _table(doc, "steel", STEEL_KEYS)
-    g = _get(steel, "shear_modulus", "steel", "modulus", STEEL_G)
-    rho = _get(steel, "density", "steel", "density", STEEL_RHO)
-    top = _table(doc, "top_drive", TOP_DRIVE_KEYS)
-    bit = _table(doc, "bit", BIT_KEYS)
-    damp = _table(doc, "damping", DAMPING_KEYS)
-    model = damp.get("model", "stiffness-proportional")
-    if model != "stiffness-proportional":
-        raise _refuse(
-            "damping.model", model, "only 'stiffness-proportional' (c = beta * k) is offered"
-        )
-    beta = _number(damp, "beta", "damping", 0.2, "a finite number of seconds >= 0 (c = beta * k)")
-    if not beta >= 0:
-        raise _refuse(
-            "damping.beta", damp["beta"], "a finite number of seconds >= 0 (c = beta * k)"
-        )
-    listed = doc.get("section", [])
-    if isinstance(listed, dict):
-        raise TallyError(
-            "malformed tally: section is a single table: write each one as [[section]]"
-        )
-    if not isinstance(listed, list):
-        raise TallyError(
-            f"malformed tally: section = {_show(listed)} is not allowed: "
-            "an array of tables, [[section]]"
-        )
-    sections = []
-    length = 0.0
-    for n, sec in enumerate(listed):
-        s = _section(n, sec, g, rho)
-        length += s.count * s.length
-        if not length <= MAX_DEPTH:
-            raise _refuse(
-                f"section[{n}].count",
-                s.count,
-                f"the string reaches {length:g} m here, beyond {MAX_DEPTH:g} m" + _DEEPEST,
-            )
-        sections.append(s)
-    if not sections:
-        raise TallyError("section: the tally lists no sections ([[section]] tables)")
-    mu_coulomb = _number(bit, "mu_coulomb", "bit", 0.5, "a finite number > 0")
-    if not mu_coulomb > 0:
-        raise _refuse("bit.mu_coulomb", bit["mu_coulomb"], "need 0 < mu_coulomb < mu_static")
-    mu_static = _number(bit, "mu_static", "bit", 0.8, "a finite number > mu_coulomb")
-    if not mu_static > mu_coulomb:
-        if "mu_static" in bit:
-            raise _refuse(
-                "bit.mu_static", bit["mu_static"], f"need mu_static > mu_coulomb = {mu_coulomb!r}"
-            )
-        raise _refuse(
-            "bit.mu_coulomb",
-            bit["mu_coulomb"],
-            f"need mu_coulomb < mu_static = {mu_static!r} (the default; give bit.mu_static)",
-        )
-    decay = _number(bit, "stribeck_decay", "bit", 0.9, "a finite number > 0")
-    if not decay > 0:
-        raise _refuse("bit.stribeck_decay", bit["stribeck_decay"], "a finite number > 0")
-    label = doc.get("name", name)
-    if not isinstance(label, str):
-        raise _refuse("name", label, "a string (the string's name)")
-    tally = Tally(
-        sections=tuple(sections),
-        top_inertia=_get(
-            top, "inertia", "top_drive", "inertia", note=" (inertias[0] of the chain)"
-        ),
-        top_damping=_get(top, "damping", "top_drive", "damping", 0.0, zero=True),
-        bit_radius=_get(bit, "diameter", "bit", "length", high=MAX_DIAMETER) / 2,
-        bit_damping=_get(bit, "damping", "bit", "damping", 0.0, zero=True),
-        beta=beta,
-        mu_coulomb=mu_coulomb,
-        mu_static=mu_static,
-        stribeck_decay=decay,
-        stribeck_velocity=_get(bit, "stribeck_velocity", "bit", "velocity", 1.0),
-        name=label,
-    )
-    # Every parameter passes the model's own validation: one joint of each section is enough
-    # (the counts only scale them) and stays fast for a string of millions of joints.
-    probe = replace(tally, sections=tuple(replace(s, count=1) for s in sections))
-    try:
-        probe.to_params(dof=2)
-    except ValueError as exc:
-        raise TallyError(str(exc)) from None
-    return tally
-
-
-def load_tally(path: str | Path) -> Tally:
-    """Read a tally (TOML) file; the string is named after the file.
-
-    Raises :class:`TallyError` (a ``ValueError``) naming the key at fault.
-    """
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise TallyError(f"cannot read the tally {path}: {exc.strerror}") from None
-    return parse_tally(text, name=path.stem)
+# The reader of tally files lives in tally_parse.py and builds the Tally above; its names stay
+# importable from here. Imported last, once Tally exists: pydrill/__init__.py imports this
+# module first, so tally_parse always finds it complete.
+from .tally_parse import (  # noqa: E402, F401 (re-exported: pydrill.tally.parse_tally and kin)
+    BIT_KEYS,
+    DAMPING_KEYS,
+    SECTION_KEYS,
+    STEEL_KEYS,
+    TOP_DRIVE_KEYS,
+    load_tally,
+    parse_tally,
+)
