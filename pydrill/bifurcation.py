@@ -29,7 +29,7 @@ class SpecialPoint:
     delta: float  #: N·m·s/rad
     frequency: float | None  #: rad/s of the Hopf pair
     lyapunov: float | None  #: first Lyapunov coefficient (1/s per amplitude²)
-    criticality: str | None  #: "supercritical" (l1 < 0) or "subcritical" (l1 > 0)
+    criticality: str | None  #: "supercritical" (l1 < 0), "subcritical" (l1 > 0), "degenerate"
     direction: int  #: +1 if the steady state loses stability as δ grows through it
 
     def to_dict(self) -> dict:

@@ -276,7 +276,8 @@ class SimulationResult:
         and ``dof`` with the fields that differ from the preset (overrides); for a string that
         is no preset's (its label, ``params.name``, is not in ``PRESETS``) ``preset`` is None
         and every field is given. ``initial`` is ``"rest"``, ``"equilibrium"`` or the state
-        (a list), ``t_out`` None or the list of output times."""
+        (a list), ``t_out`` None or the list of output times, ``max_switch_rate`` None for no
+        limit."""
         p = self.params
         try:
             base = _model.preset(p.name, dof=p.dof) if p.name in PRESETS else None
@@ -287,12 +288,15 @@ class SimulationResult:
             value = getattr(p, key)
             if base is None or value != getattr(base, key):
                 model[key] = list(value) if key in _LISTS else value
+        settings = dict(self.settings)
+        if settings.get("max_switch_rate") == math.inf:  # no limit: null, as inf is not JSON
+            settings["max_switch_rate"] = None
         return {
             "preset": None if base is None else p.name,
             "dof": p.dof,
             "wob": self.wob,
             "torque": self.torque,
-            **self.settings,
+            **settings,
             **model,
         }
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import math
 from typing import Any
 
 import numpy as np
@@ -41,7 +42,7 @@ def simulate(
     max_steps: int = 50_000_000,
     perturbation: float = 1e-3,
     window_fraction: float = 0.5,
-    max_switch_rate: float = 1e4,
+    max_switch_rate: float | None = 1e4,
     preset: str | None = None,
     dof: int | None = None,
     pipes: int | None = None,
@@ -82,7 +83,8 @@ def simulate(
       ``|perturbation| < 1``.
     - ``window_fraction``: the last fraction of the run the regime is judged on, in (0, 1].
     - ``max_switch_rate`` (switches/s): more stick/slip switches per simulated second
-      than this is chattering, stopped with a :class:`pydrill.SolverError`.
+      than this is chattering, stopped with a :class:`pydrill.SolverError`; None (or inf)
+      for no limit.
     - ``preset``: the name of the parameter set (:data:`PRESETS`); None (default) for
       ``"reduced-scale"``. Only without ``params``, or equal to ``params.name``.
     - ``dof``: the number of inertias, 2 ... ``MAX_DOF`` (100000); default 4. With
@@ -157,7 +159,8 @@ def simulate(
         ("max_step", max_step, "s"),
         ("perturbation", perturbation, "relative to the steady bit velocity"),
         ("window_fraction", window_fraction, "a fraction of the run"),
-        ("max_switch_rate", max_switch_rate, "switches/s"),
+        # None (JSON's null, as inputs() writes it) for no limit: inf is not JSON
+        ("max_switch_rate", math.inf if max_switch_rate is None else max_switch_rate, "switches/s"),
     ):
         settings[key] = _number(key, value, unit)
         setattr(opts, key, settings[key])

@@ -41,6 +41,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     SCALAR_AXES,
     SIMULATION_KEYS,
     SIZE_AXES,
+    ReadOnlyDict,
     SpecError,
     _axis,
     _check_axes,
@@ -73,6 +74,12 @@ class SweepSpec:
     fixed: dict[str, float] = field(default_factory=dict)  #: wob/torque held fixed, if any
     tally_text: str | None = None  #: the tally the string is built from, if any
     lump: int = 1  #: drill-pipe joints per element (tally strings)
+
+    def __post_init__(self) -> None:
+        # frozen=True stops `spec.axes = ...` but not `spec.axes["wob"] = ...`: a spec changed
+        # after parsing would no longer be its ``text``, which the workers and the atlas read.
+        for name in ("overrides", "axes", "simulation", "record", "fixed"):
+            object.__setattr__(self, name, ReadOnlyDict(getattr(self, name)))
 
     @property
     def shape(self) -> tuple[int, ...]:

@@ -38,6 +38,21 @@ class SpecError(ValueError):
     """A sweep specification that cannot run; the message names the key."""
 
 
+class ReadOnlyDict(dict):
+    """A dict that refuses every change: the tables of a parsed :class:`SweepSpec`. It reads,
+    compares, copies and pickles as a dict does."""
+
+    def _refuse(self, *args: Any, **kwargs: Any) -> None:
+        raise TypeError("a sweep spec is read-only: edit its TOML and parse it again")
+
+    __setitem__ = __delitem__ = __ior__ = _refuse  # type: ignore[assignment]
+    clear = pop = popitem = setdefault = update = _refuse  # type: ignore[assignment]
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # the default rebuilds a dict subclass item by item through __setitem__
+        return (type(self), (dict(self),))
+
+
 def _fail(key: str, problem: str) -> SpecError:
     return SpecError(f"{key}: {problem}")
 

@@ -23,13 +23,16 @@ from .model import Params
 def criticality(l1: float | None) -> str | None:
     """A Hopf point's criticality from its first Lyapunov coefficient: "subcritical" (l₁ > 0:
     past it the motion jumps to a large oscillation or stick-slip, with hysteresis) or
-    "supercritical" (l₁ < 0: a small stable oscillation is born); None without one."""
+    "supercritical" (l₁ < 0: a small stable oscillation is born); "degenerate" when l₁ = 0
+    (the first coefficient decides nothing there); None without one."""
     if l1 is None:
         return None
     if isinstance(l1, bool) or not isinstance(l1, numbers.Real):
         raise TypeError(f"l1 = {l1!r} is not allowed: a number (or None)")
     if not math.isfinite(l1):
         raise ValueError(f"l1 = {l1!r} is not allowed: must be a finite number (or None)")
+    if l1 == 0:
+        return "degenerate"
     return "supercritical" if l1 < 0 else "subcritical"
 
 

@@ -3,6 +3,7 @@ axes, atlas coordinates in float32, closed and pickled atlases, stability's inpu
 refusals and the exported TallyError."""
 
 import math
+import copy
 import pickle
 
 import numpy as np
@@ -81,6 +82,27 @@ def test_spec_axes_are_read_only(spec):
     with pytest.raises(ValueError, match="read-only"):
         spec.axes["wob"][0] = 50.0
     assert spec.axes["wob"][0] == 40.0
+
+
+@pytest.mark.parametrize(
+    "change",
+    [
+        lambda s: s.axes.__setitem__("wob", np.array([1.0])),  # the whole axis replaced
+        lambda s: s.axes.pop("torque"),
+        lambda s: s.simulation.update(t_end=1.0),
+        lambda s: s.overrides.setdefault("bit_damping", 1.0),
+        lambda s: s.record.clear(),
+        lambda s: s.fixed.__setitem__("wob", 1.0),
+    ],
+)
+def test_spec_tables_are_read_only_and_its_digest_stays(spec, change):
+    digest, shape = spec.digest, spec.shape
+    with pytest.raises(TypeError, match="read-only"):
+        change(spec)
+    assert spec.digest == digest and spec.shape == shape
+    again = pickle.loads(pickle.dumps(spec))  # as it travels to a worker
+    assert again.digest == digest and list(again.axes) == list(spec.axes)
+    assert copy.deepcopy(spec).digest == digest
 
 
 # 3. plan_sweep's limits and SweepPlan.wall_seconds
@@ -239,3 +261,12 @@ def test_tally_error_is_exported():
     from pydrill.tally import TallyError
 
     assert pydrill.TallyError is TallyError and "TallyError" in pydrill.__all__
+
+
+@pytest.mark.parametrize(
+    ("l1", "expected"),
+    [(-1e-300, "supercritical"), (0.0, "degenerate"), (-0.0, "degenerate"), (2.5, "subcritical")],
+)
+def test_criticality_follows_the_sign_of_l1_and_names_zero(l1, expected):
+    # l1 = 0 used to be called "subcritical": the first coefficient decides nothing there
+    assert st.criticality(l1) == expected

@@ -353,3 +353,15 @@ def test_the_friction_coefficient_changed_is_blamed():
     assert "mu_coulomb (0.5)" in message
     message = refused(ValueError, "mu_coulomb", preset, dof=4, mu_coulomb=0.9)
     assert message.startswith("mu_coulomb = 0.9"), message
+
+
+def test_no_switch_limit_is_null_in_the_inputs_and_runs_again():
+    # max_switch_rate = inf put Infinity into inputs(), which strict JSON refuses
+    r = simulate(**QUICK, max_switch_rate=float("inf"))
+    inputs = r.inputs()
+    assert inputs["max_switch_rate"] is None
+    text = json.dumps(r.to_dict(), allow_nan=False)
+    again = simulate(**json.loads(text)["inputs"])
+    assert again.inputs() == inputs
+    np.testing.assert_array_equal(again.bit_velocity, r.bit_velocity)
+    assert simulate(**QUICK).inputs()["max_switch_rate"] == 1e4
