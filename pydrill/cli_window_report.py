@@ -1,0 +1,101 @@
+"""The ``window`` command's results, as one JSON object and as text tables."""
+
+from __future__ import annotations
+
+
+def window_json(tally, dw, grid, checks, args) -> dict:
+    import numpy as np
+
+    wob, rpm, windows = grid
+    return {
+        "tally": tally.name,
+        "depths": dw.depth.tolist(),
+        "wob": wob.tolist(),
+        "rpm": rpm.tolist(),
+        "at_rpm": dw.rpm.tolist(),
+        "at_wob": dw.wob.tolist(),
+        "windows": [
+            {
+                "depth": float(d),
+                "dof": int(dw.dof[i]),
+                "delta_limit": float(dw.delta_limit[i]),
+                "safe_fraction": float(windows[i].safe.mean()),
+                "min_rpm": [None if np.isnan(v) else float(v) for v in windows[i].min_rpm()],
+                "wob_max": dw.wob_max[i].tolist(),
+                "wob_max_stable": dw.wob_max_stable[i].tolist(),
+                "rpm_min": dw.rpm_min[i].tolist(),
+                "rpm_min_stable": dw.rpm_min_stable[i].tolist(),
+                "checks": [
+                    {
+                        "wob": w,
+                        "rpm": r,
+                        "outcome": g,
+                        "bit_rpm": b,
+                        "stable": s,
+                        "cannot_stay_stuck": u,
+                    }
+                    for w, r, g, s, u, b in checks.get(d, [])
+                ],
+            }
+            for i, d in enumerate(dw.depth)
+        ],
+        "wob_max_unstuck": dw.wob_max_unstuck.tolist(),
+        "rpm_min_unstuck": dw.rpm_min_unstuck.tolist(),
+        "check_from": args.check_from if checks else None,
+        "units": {
+            "depths": "m",
+            "wob": "N",
+            "rpm": "rpm",
+            "min_rpm": "rpm",
+            "wob_max": "N",
+            "rpm_min": "rpm",
+            "delta_limit": "N·m·s/rad",
+        },
+    }
+
+
+def print_window(tally, dw, checks, args) -> None:
+    from .units import FT, LBF
+
+    print(
+        f"{tally.name}: heaviest safe weight on bit, kN (klbf), at surface speed; "
+        "* = the stick-slip edge binds, else the stall edge"
+    )
+    print(f"{'depth m':>8s} {'ft':>6s} {'dof':>4s} " + " ".join(f"{r:>9g}rpm" for r in dw.rpm))
+    for i, d in enumerate(dw.depth):
+        cells = []
+        for k in range(dw.rpm.size):
+            w = dw.wob_max[i, k]
+            star = "*" if dw.wob_max_stable[i, k] < dw.wob_max_unstuck[k] else " "
+            cells.append(
+                f"{w / 1e3:6.0f}({w / LBF / 1e3:3.0f}){star}" if w < 1e7 else f"{'-':>12s}"
+            )
+        print((f"{d:8.0f} {d / FT:6.0f} {int(dw.dof[i]):4d} " + " ".join(cells)).rstrip())
+    print("slowest safe surface speed, rpm, at weight on bit")
+    print(f"{'depth m':>8s} " + " ".join(f"{w / 1e3:>7.4g} kN" for w in dw.wob))
+    for i, d in enumerate(dw.depth):
+        cells = []
+        for k in range(dw.wob.size):
+            star = "*" if dw.rpm_min_stable[i, k] > dw.rpm_min_unstuck[k] else " "
+            cells.append(f"{dw.rpm_min[i, k]:9.0f}{star}")
+        print((f"{d:8.0f} " + " ".join(cells)).rstrip())
+    for d, pts in checks.items():
+        counts: dict[str, int] = {}
+        for _, _, g, *_ in pts:
+            counts[g] = counts.get(g, 0) + 1
+        line = f"checks at {d:.0f} m from {args.check_from}: " + ", ".join(
+            f"{k} {v}" for k, v in sorted(counts.items())
+        )
+        if args.check_from == "equilibrium":
+            agree = sum((g == "steady") == s for _, _, g, s, *_ in pts)
+            line += f"; steady exactly where stable at {agree}/{len(pts)} points"
+        else:
+            safe = [g for _, _, g, s, u, _ in pts if s and u]
+            stall = [g for _, _, g, s, u, _ in pts if s and not u]
+            line += (
+                f"; safe points steady from rest {safe.count('steady')}/{len(safe)}, "
+                f"stall-region points stuck {stall.count('stuck')}/{len(stall)}"
+            )
+        print(line)
+    if args.plot:
+        print(f"figure: {args.plot}")
