@@ -1,0 +1,118 @@
+"""``pydrill sweep --dry-run``: count a sweep's points and estimate its time, writing nothing."""
+
+from __future__ import annotations
+
+import argparse
+
+from .cli_atlas import axis_line
+from .cli_options import print_json
+from .cli_sweep import _duration
+
+
+def _size(n: float) -> str:
+    units, k = ("bytes", "kB", "MB", "GB", "TB"), 0
+    while n >= 1000 and k < len(units) - 1:
+        n, k = n / 1000, k + 1
+    return f"{n:.3g} {units[k]}"
+
+
+def _span(seconds: float) -> str:
+    return f"{seconds:.2g} s" if seconds < 10 else _duration(seconds)
+
+
+def dry_run(args: argparse.Namespace, spec) -> int:
+    """``pydrill sweep --dry-run``: what the sweep would do and about how long it would take."""
+    from .sweep_plan import plan_sweep
+
+    plan = plan_sweep(spec, args.out, resume=args.resume)
+    if args.serial:
+        workers, where = 1, "in this process (--serial)"
+    elif args.scheduler is not None:
+        workers, where = None, f"on the cluster at {args.scheduler}"
+    else:
+        from .sweep_dask import configured_scheduler
+
+        configured = configured_scheduler()
+        if configured is not None and args.workers is None:
+            workers, where = None, f"on the cluster at {configured} (from {configured.source})"
+        else:
+            import dask.system
+
+            workers = args.workers or dask.system.CPU_COUNT
+            where = f"on {workers} local worker{'s' if workers != 1 else ''}"
+    compute = plan.compute_seconds
+    wall = plan.wall_seconds(workers) if workers else None
+    if args.json:
+        print_json(
+            {
+                "dry_run": True,
+                "spec": args.spec,
+                "points": plan.points,
+                "shape": {k: len(v) for k, v in spec.axes.items()},
+                "initial": spec.initials,
+                "atlas": {"path": args.out, "state": plan.atlas},
+                "todo": plan.todo,
+                "sampled": plan.sampled,
+                "failed": plan.failed,
+                "message": plan.message,
+                "point_seconds": {
+                    "estimate": plan.point_seconds,
+                    "low": plan.point_seconds_low,
+                    "high": plan.point_seconds_high,
+                },
+                "compute_seconds": dict(zip(("low", "estimate", "high"), compute, strict=True)),
+                "workers": workers,
+                "wall_seconds": (
+                    dict(zip(("low", "estimate", "high"), wall, strict=True)) if wall else None
+                ),
+                "atlas_bytes": plan.atlas_bytes,
+                "journal_bytes": plan.journal_bytes,
+                "units": {"point_seconds": "s", "compute_seconds": "s", "wall_seconds": "s"},
+            }
+        )
+        return 0
+    grid = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
+    print(f"{args.spec}: {plan.points} points ({grid}), from " + " and ".join(spec.initials))
+    for name, values in spec.axes.items():
+        print(axis_line(name, len(values), values[0], values[-1]))
+    state = {
+        "none": "no --out given",
+        "new": f"{args.out}: a new atlas",
+        "resume": f"{args.out}: {plan.points - plan.todo} points done, --resume computes the "
+        f"other {plan.todo}",
+        "complete": f"{args.out}: complete, nothing to compute",
+    }[plan.atlas]
+    print(f"  atlas   {state}")
+    if plan.sampled:
+        each = f"{1e3 * plan.point_seconds:.3g} ms each on one core"
+        if plan.sampled == plan.todo:  # every point timed: nothing left to estimate
+            print(f"  timed   all {plan.todo} points to compute: {each}")
+            print(f"  needs   {_span(compute[1])} of computing")
+        else:
+            low, high = 1e3 * plan.point_seconds_low, 1e3 * plan.point_seconds_high
+            print(
+                f"  timed   {plan.sampled} of the {plan.todo} points to compute: {each} "
+                f"(95 %: {low:.3g} ... {high:.3g} ms)"
+            )
+            print(
+                f"  needs   about {_span(compute[1])} of computing (95 %: {_span(compute[0])} "
+                f"... {_span(compute[2])})"
+            )
+        if wall:
+            start = "" if args.serial else ", plus Dask's start"
+            print(f"  runs    {where}: about {_span(wall[1])} at best{start}")
+        else:
+            print(f"  runs    {where}: that time divided among its workers")
+    print(f"  writes  about {_size(plan.atlas_bytes)} of data, before compression")
+    if plan.journal_bytes:
+        print(
+            f"  journal up to about {_size(plan.journal_bytes)} beside the atlas while the "
+            "sweep runs (removed at the end)"
+        )
+    if plan.failed:
+        print(
+            f"  warning {plan.failed} of the {plan.sampled} points timed failed; the sweep "
+            f"would store them as failed. The first: {plan.message}"
+        )
+    print("dry run: nothing was written")
+    return 0
