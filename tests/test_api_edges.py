@@ -2,8 +2,8 @@
 axes, atlas coordinates in float32, closed and pickled atlases, stability's inputs, units'
 refusals and the exported TallyError."""
 
-import math
 import copy
+import math
 import pickle
 
 import numpy as np
