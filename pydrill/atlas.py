@@ -52,9 +52,21 @@ class Atlas:
         try:
             if self._f.attrs.get("format") != fmt.FORMAT:
                 raise AtlasError(f"{self.path} is an HDF5 file but not a pydrill atlas")
-            self.spec = parse_spec(
-                self._f.attrs["spec"], tally_text=self._f.attrs.get("tally") or None
-            )
+            try:
+                self.spec = parse_spec(
+                    self._f.attrs["spec"], tally_text=self._f.attrs.get("tally") or None
+                )
+            except SpecError as exc:
+                # Written by a pydrill that took a spec this one refuses: the file is whole,
+                # only its recipe is not accepted any more. Say so, and how to read it anyway.
+                from . import __version__
+
+                written = self._f.attrs.get("pydrill_version", "?")
+                raise AtlasError(
+                    f"{self.path}: its sweep spec (written by pydrill {written}) is refused by "
+                    f"pydrill {__version__}: {exc}. The data are intact: read them with "
+                    f"xarray.open_dataset({str(self.path)!r}, engine='h5netcdf') or h5py"
+                ) from None
             self.axes = {name: self._f[name][...] for name in json.loads(self._f.attrs["axes"])}
             self.initials = [
                 s.decode() if isinstance(s, bytes) else s for s in self._f["initial"][...]
@@ -67,7 +79,10 @@ class Atlas:
                 raise KeyError(f"no dataset {', '.join(lost)}")
             for name in ("status", "regime", "bit_mean"):
                 self._f[name].shape  # noqa: B018 - touch: a damaged file fails here, not later
-        except (KeyError, SpecError, OSError, ValueError) as exc:  # ValueError: bad JSON
+        except AtlasError:
+            self._f.close()
+            raise
+        except (KeyError, OSError, ValueError) as exc:  # ValueError: bad JSON
             self._f.close()
             raise AtlasError(f"{self.path} is damaged or incomplete: {exc}") from None
 

@@ -175,3 +175,19 @@ def test_a_map_with_a_one_value_axis_draws_its_cells(tmp_path):
     assert list(regimes) == ["steady", "stick-slip", "stuck"]
     (mesh,) = [c for c in fig.axes[0].collections if isinstance(c, QuadMesh)]
     assert [int(v) for v in mesh.get_array().ravel()] == [0, 1, 2]
+
+
+def test_an_atlas_whose_spec_is_now_refused_says_so_and_still_reads(failing_atlas, tmp_path):
+    # An older pydrill took specs this one refuses (here a lump without a tally): the atlas
+    # used to be called "damaged or incomplete", as if its data were lost.
+    old = tmp_path / "old.h5"
+    old.write_bytes(failing_atlas.read_bytes())
+    with h5py.File(old, "r+") as f:
+        f.attrs["spec"] = f.attrs["spec"].replace("[model]", "[model]\nlump = 3", 1)
+    with pytest.raises(AtlasError, match=r"old\.h5: its sweep spec .* is refused by .*lump") as e:
+        Atlas(old)
+    assert "damaged" not in str(e.value) and "xarray.open_dataset" in str(e.value)
+    proc = run("atlas", "info", old)
+    assert proc.returncode == 2 and "is refused by pydrill" in proc.stderr
+    with xr.open_dataset(old, engine="h5netcdf") as ds, Atlas(failing_atlas) as atlas:
+        assert ds["regime"].shape == atlas.to_xarray()["regime"].shape
