@@ -41,7 +41,8 @@ regimes (judged on the last --window fraction of the run):
   stick-slip   the bit repeatedly sticks and slips
   stuck        the bit sticks and stays stuck (it needs u <= T_s = mu_s * W_ob * R_b;
                from rest the string's overshoot can still break it free)
-  oscillation  sustained torsional oscillation without sticking (a Hopf limit cycle)
+  oscillation  torsional oscillation without sticking: a sustained limit cycle, or one
+               still growing away from an unstable steady state (the note says so)
 
 units: wob N, torque N*m, time s, velocities rad/s.
 """

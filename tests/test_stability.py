@@ -127,6 +127,34 @@ def test_simulation_agrees_with_the_verdict():
     assert outside.regime == "stick-slip"
 
 
+def test_every_steady_state_of_the_paper_grid_is_judged_as_its_eigenvalues_say():
+    """Over the main job's (W_ob, u) grid (dof 4, 300 s from the perturbed steady state), the
+    simulated regime and the linear verdict agree point by point: a stable steady state is
+    ``steady``, an unstable one is not, and an oscillation is one still growing away from it
+    (the first Hopf crossing is subcritical: no small stable cycle exists). Slowly decaying
+    transients near the boundary used to be called ``oscillation``, e.g. at (100 N,
+    6.189 N·m), whose spectral abscissa is -0.0034 1/s."""
+    p = pydrill.preset("reduced-scale", dof=4)
+    crossings = st.critical_deltas(p)
+    seen, wrong = set(), []
+    for wob in np.linspace(20.0, 200.0, 37).tolist() + [100.0, 135.0]:
+        for torque in np.linspace(2.0, 16.0, 29).tolist() + [6.189, 8.0]:
+            points = st.stability(p, wob, torque=torque, crossings=crossings)
+            if not points:
+                continue
+            fastest = max(points, key=lambda q: q.omega)  # where "equilibrium" starts
+            r = pydrill.simulate(
+                p, wob=wob, torque=torque, t_end=300.0, initial="equilibrium", n_out=2
+            )
+            growing = "still growing" in r.summary.note
+            seen.add((fastest.stable, r.regime, growing))
+            if fastest.stable != (r.regime == "steady") or (r.regime == "oscillation") != growing:
+                wrong.append((wob, torque, fastest.spectral_abscissa, r.regime, r.summary.note))
+    assert not wrong, wrong
+    # both verdicts and every way of leaving an unstable steady state occur on this grid
+    assert {(True, "steady", False), (False, "oscillation", True), (False, "stuck", False)} <= seen
+
+
 def test_stability_at_torque_covers_every_steady_state():
     p = pydrill.preset("reduced-scale", dof=4)
     wob = 200.0
