@@ -137,8 +137,8 @@ def test_every_steady_state_of_the_paper_grid_is_judged_as_its_eigenvalues_say()
     p = pydrill.preset("reduced-scale", dof=4)
     crossings = st.critical_deltas(p)
     seen, wrong = set(), []
-    for wob in np.linspace(20.0, 200.0, 37).tolist() + [100.0, 135.0]:
-        for torque in np.linspace(2.0, 16.0, 29).tolist() + [6.189, 8.0]:
+    for wob in [*np.linspace(20.0, 200.0, 37).tolist(), 100.0, 135.0]:
+        for torque in [*np.linspace(2.0, 16.0, 29).tolist(), 6.189, 8.0]:
             points = st.stability(p, wob, torque=torque, crossings=crossings)
             if not points:
                 continue
