@@ -70,9 +70,11 @@ class Summary:
     regime: str
     window_start: float
     window_end: float
+    #: extremes of ω_b in the window (rad/s): of the motion, not of the output samples (each
+    #: step's values and slopes place a peak between steps), so independent of ``n_out``
     bit_min: float
     bit_max: float
-    bit_mean: float
+    bit_mean: float  #: exact: from the angle turned over the window
     top_min: float
     top_max: float
     top_mean: float

@@ -365,3 +365,10 @@ def test_no_switch_limit_is_null_in_the_inputs_and_runs_again():
     assert again.inputs() == inputs
     np.testing.assert_array_equal(again.bit_velocity, r.bit_velocity)
     assert simulate(**QUICK).inputs()["max_switch_rate"] == 1e4
+
+
+@pytest.mark.parametrize("wob", [-1.7976931345e308, -np.finfo(float).max])
+def test_a_weight_near_the_largest_float_is_refused_by_name(wob):
+    # The message's shortest decimal read back beyond DBL_MAX and std::stod threw
+    # out_of_range, which arrived as "IndexError: stod" (found by the property fuzz).
+    refused(ValueError, "wob = -1.79769313", simulate, wob=wob, torque=0.0, t_end=1.0, dof=2)

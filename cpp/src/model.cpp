@@ -43,6 +43,16 @@ double Chain::friction_torque(const double* y, Mode mode) const {
   return 0.0;
 }
 
+double Chain::top_acceleration(const double* y) const {
+  const double s = params_.stiffnesses[0] * y[1] + params_.dampings[0] * (y[0] - y[2]);
+  return (torque_ - params_.top_damping * y[0] - s) * inv_inertia_[0];
+}
+
+double Chain::bit_acceleration(const double* y, Mode mode) const {
+  if (mode == Mode::Stick) return 0.0;  // as in rhs(): the rock holds the bit
+  return (reaction_torque(y) - friction_torque(y, mode)) * inv_inertia_[dof_ - 1];
+}
+
 void Chain::rhs(const double* y, Mode mode, double* ydot, double* power) const {
   const int N = dof_;
   const double* k = params_.stiffnesses.data();

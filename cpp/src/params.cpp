@@ -1,5 +1,7 @@
 #include "pydrill/params.hpp"
 
+#include "shortest.hpp"
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -7,17 +9,7 @@
 namespace pydrill {
 namespace {
 
-// The shortest decimal that reads back as `value`: 0.3, not 0.29999999999999999.
-std::string shortest(double value) {
-  std::ostringstream o;
-  for (int digits = 6; digits <= 17; ++digits) {
-    o.str("");
-    o.precision(digits);
-    o << value;
-    if (!std::isfinite(value) || std::stod(o.str()) == value) break;
-  }
-  return o.str();
-}
+using detail::shortest;
 
 [[noreturn]] void refuse(const std::string& name, double value, const std::string& allowed) {
   throw std::invalid_argument(name + " = " + shortest(value) + " is not allowed: " + allowed);

@@ -13,6 +13,7 @@
 
 #include "integrator.hpp"
 #include "pydrill/equilibrium.hpp"
+#include "shortest.hpp"
 #include "summary.hpp"
 
 namespace pydrill {
@@ -65,16 +66,7 @@ Initial parse_initial(const std::string& s) {
 
 void SimulationOptions::validate(int dof) const {
   auto refuse = [](const std::string& what) { throw std::invalid_argument(what); };
-  auto num = [](double v) {  // the shortest decimal that reads back as v
-    std::ostringstream o;
-    for (int digits = 6; digits <= 17; ++digits) {
-      o.str("");
-      o.precision(digits);
-      o << v;
-      if (!std::isfinite(v) || std::stod(o.str()) == v) break;
-    }
-    return o.str();
-  };
+  const auto num = detail::shortest;
   if (!std::isfinite(t_end) || !(t_end > 0)) refuse("t_end = " + num(t_end) + " is not allowed: must be a finite time > 0 s");
   if (!(rtol > 0) || !(rtol < 1) || !std::isfinite(rtol)) refuse("rtol = " + num(rtol) + " is not allowed: need 0 < rtol < 1");
   if (!(atol > 0) || !std::isfinite(atol)) refuse("atol = " + num(atol) + " is not allowed: must be a finite number > 0");
@@ -379,6 +371,8 @@ Result Run::run() {
     trace_.t.push_back(t);
     trace_.bit.push_back(y[b]);
     trace_.top.push_back(y[0]);
+    trace_.dbit.push_back(chain_.bit_acceleration(y, data_.mode));
+    trace_.dtop.push_back(chain_.top_acceleration(y));
   };
 
   std::size_t k = 0;

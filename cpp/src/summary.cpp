@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "pydrill/equilibrium.hpp"
 #include "pydrill/simulator.hpp"
@@ -54,6 +56,52 @@ double swing_trend(const Trace& tr, double t0, double t1, double floor, double& 
   return sxy / sxx;
 }
 
+// The extremes of v(t) from its samples and their slopes dv: on each interval between two
+// samples, the cubic Hermite interpolant of both ends (fourth-order accurate) has its extreme
+// where its slope vanishes. The samples sit at the integrator's steps, which on a smooth peak
+// can straddle it: the largest bare sample of a 17.5 s stick-slip cycle's bit velocity came
+// out 0.2 % low (0.5 % with only the steps). Velocities are smooth at their extremes: the
+// friction's jumps happen at ω_b = 0, where the bit sticks or reverses.
+// A sample taken at a switch carries the slope of the mode after it: the interval that ends
+// there is left as sampled (an extreme is not where the bit sticks, slips or reverses).
+std::pair<double, double> extremes(const std::vector<double>& t, const std::vector<double>& v,
+                                   const std::vector<double>& dv,
+                                   const std::vector<ModeChange>& modes) {
+  if (v.empty()) return {0.0, 0.0};
+  double lo = *std::min_element(v.begin(), v.end());
+  double hi = *std::max_element(v.begin(), v.end());
+  if (dv.size() != v.size()) return {lo, hi};
+  std::size_t next = 0;  // the first switch at or after t[i + 1]
+  for (std::size_t i = 0; i + 1 < v.size(); ++i) {
+    while (next < modes.size() && modes[next].t < t[i + 1]) ++next;
+    if (next < modes.size() && modes[next].t == t[i + 1]) continue;
+    const double h = t[i + 1] - t[i];
+    const double m0 = dv[i] * h, m1 = dv[i + 1] * h;  // slopes per unit of x = (t − t_i)/h
+    if (!(h > 0.0) || !(m0 * m1 < 0.0)) continue;  // an extreme inside needs a sign change
+    // p(x) = v0 h00 + m0 h10 + v1 h01 + m1 h11; p'(x) = A x² + B x + m0.
+    const double d = v[i + 1] - v[i];
+    const double A = 3.0 * (m0 + m1) - 6.0 * d, B = 6.0 * d - 4.0 * m0 - 2.0 * m1;
+    double x;
+    if (std::fabs(A) < 1e-14 * (std::fabs(B) + std::fabs(m0))) {
+      x = -m0 / B;
+    } else {
+      const double disc = B * B - 4.0 * A * m0;  // > 0: p' changes sign on (0, 1)
+      const double r = std::sqrt(std::max(disc, 0.0));
+      // the root where p' goes from the sign of m0 to that of m1
+      const double q = -0.5 * (B + std::copysign(r, B));
+      const double x1 = q / A, x2 = q != 0.0 ? m0 / q : x1;
+      x = (x1 > 0.0 && x1 < 1.0) ? x1 : x2;
+    }
+    if (!(x > 0.0 && x < 1.0)) continue;
+    const double x2 = x * x, x3 = x2 * x;
+    const double p = v[i] * (2 * x3 - 3 * x2 + 1) + m0 * (x3 - 2 * x2 + x) +
+                     v[i + 1] * (-2 * x3 + 3 * x2) + m1 * (x3 - x2);
+    if (m0 > 0.0) hi = std::max(hi, p);
+    else lo = std::min(lo, p);
+  }
+  return {lo, hi};
+}
+
 }  // namespace
 
 Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeChange>& modes,
@@ -66,12 +114,8 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   const double T = w.t1 - w.t0;
 
   if (!tr.t.empty()) {
-    const auto [bmin, bmax] = std::minmax_element(tr.bit.begin(), tr.bit.end());
-    const auto [tmin, tmax] = std::minmax_element(tr.top.begin(), tr.top.end());
-    s.bit_min = *bmin;
-    s.bit_max = *bmax;
-    s.top_min = *tmin;
-    s.top_max = *tmax;
+    std::tie(s.bit_min, s.bit_max) = extremes(tr.t, tr.bit, tr.dbit, modes);
+    std::tie(s.top_min, s.top_max) = extremes(tr.t, tr.top, tr.dtop, modes);
   }
   // Means from the angle advance over the window: exact, whatever the sampling.
   s.bit_mean = T > 0 ? (w.bit1 - w.bit0) / T : 0.0;

@@ -8,9 +8,11 @@
 
 namespace pydrill::detail {
 
-// Samples of the run inside the judging window, in time order.
+// Samples of the run inside the judging window, in time order: the bit and top-drive
+// velocities and their accelerations (dbit, dtop), which place the extremes between samples.
+// Without accelerations (dbit, dtop empty) the extremes are the samples'.
 struct Trace {
-  std::vector<double> t, bit, top;
+  std::vector<double> t, bit, top, dbit, dtop;
 };
 
 struct ModeChange {

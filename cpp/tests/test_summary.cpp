@@ -1,6 +1,7 @@
 // The regime judge on synthetic traces with known answers.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -78,6 +79,34 @@ TEST_CASE("a swing dying out slowly is steady, one growing slowly an oscillation
   const Summary f = detail::summarize(chain, flat.trace, modes, flat.angles, false);
   CHECK(f.regime == "oscillation");
   CHECK(f.note.empty());
+}
+
+TEST_CASE("velocity extremes between coarse samples come from their slopes", "[summary]") {
+  // ω_b = 30 + 3 sin(2πt/7.5) sampled every 0.5 s (15 samples a period, none on a peak: the
+  // nearest is 1/60 of a period off): the bare samples miss the extremes by 0.016; the
+  // cubics through values and slopes find 33 and 27.
+  const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
+  const double w = 2 * M_PI / 7.5;
+  detail::Trace tr;
+  for (double t = 500.0; t <= 1000.0; t += 0.5) {
+    tr.t.push_back(t);
+    tr.bit.push_back(30.0 + 3.0 * std::sin(w * t));
+    tr.dbit.push_back(3.0 * w * std::cos(w * t));
+    tr.top.push_back(30.0);
+    tr.dtop.push_back(0.0);
+  }
+  const double t1 = tr.t.back();
+  const detail::WindowAngles angles{500.0, t1, 30.0 * 500.0, 30.0 * t1, 30.0 * 500.0, 30.0 * t1};
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  const Summary r = detail::summarize(chain, tr, modes, angles, false);
+  CHECK(r.bit_max == Approx(33.0).epsilon(1e-5));
+  CHECK(r.bit_min == Approx(27.0).epsilon(1e-5));
+  CHECK(r.severity == Approx(0.1).epsilon(1e-4));
+  // Without slopes the samples' own extremes, no more.
+  tr.dbit.clear();
+  const Summary bare = detail::summarize(chain, tr, modes, angles, false);
+  CHECK(bare.bit_max == *std::max_element(tr.bit.begin(), tr.bit.end()));
+  CHECK(bare.bit_max < 32.99);
 }
 
 TEST_CASE("a sustained swing below the tolerance's floor is steady, above it oscillation",

@@ -46,6 +46,11 @@ class Chain {
   // Friction torque on the bit in the given mode.
   double friction_torque(const double* y, Mode mode) const;
 
+  // dω_0/dt and dω_b/dt alone, in O(1): the components of rhs() that the regime judge
+  // needs at every sample to locate the velocity extremes between samples.
+  double top_acceleration(const double* y) const;
+  double bit_acceleration(const double* y, Mode mode) const;
+
   // ẏ = f(y) in the given mode. Pure: no state is changed.
   void rhs(const double* y, Mode mode, double* ydot) const { rhs(y, mode, ydot, nullptr); }
   // The same, and (if power is not null) the three power densities below in
