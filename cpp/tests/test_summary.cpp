@@ -122,7 +122,7 @@ TEST_CASE("a sustained swing below the tolerance's floor is steady, above it osc
                           detail::steady_swing_for_tolerance(1e-10)).regime == "oscillation");
 }
 
-TEST_CASE("stick phases in the window make stick-slip; a stick covering it makes stuck",
+TEST_CASE("stick phases in the window make stick-slip, a stick covering it makes stuck",
           "[summary]") {
   const auto s = sine(10.0, 1.0, 0.0, 10.0, 150.0, 300.0);
   const std::vector<detail::ModeChange> cycle{{0.0, Mode::Stick},   {160.0, Mode::SlipPositive},
