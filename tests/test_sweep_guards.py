@@ -1,0 +1,219 @@
+"""Sweep guards from a mutation audit: each test compares the atlas with something computed
+apart from the code that wrote it (a direct stability call, the journal's own lines, the
+atlas as it was before a resume), so that a slip in the atlas layer cannot hide behind
+itself."""
+
+import json
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+from sweeping import CMD, SMALL, TINY
+
+import pydrill
+from pydrill import atlas_format as fmt
+from pydrill.atlas import Atlas
+from pydrill.journal import journal_path
+from pydrill.spec import parse_spec
+from pydrill.stability import stability
+from pydrill.sweep import AtlasError, SweepInterrupted, evaluate_batch, run_sweep
+from pydrill.sweep_plan import plan_sweep
+
+# One point fails: stick-slip at W_ob = 100 N, u = 8.3 N·m needs more than 900 steps.
+FAILING = SMALL.replace('initial = ["rest", "equilibrium"]', 'initial = ["rest"]\nmax_steps = 900')
+
+
+def every_dataset(path):
+    """Every dataset of an atlas by name, wall_time included (NaN compares equal to NaN)."""
+    with h5py.File(path, "r") as f:
+        return {name: f[name][...] for name in f}
+
+
+def assert_same_data(a, b):
+    assert a.keys() == b.keys()
+    for name in a:
+        kind = a[name].dtype.kind
+        assert np.array_equal(a[name], b[name], equal_nan=kind in "fc"), name
+
+
+def test_atlas_stability_fields_are_those_of_a_direct_stability_call(tmp_path):
+    """Every stored stability field, steady state by steady state (the atlas keeps the
+    fastest first; ``stability`` gives the slowest first), against ``stability`` called
+    directly, without the sweep's cached crossings. At W_ob = 100 N, u = 6 N·m there are two
+    steady states; at W_ob = 160 N none; the others have one."""
+    k = 5  # of the 7 eigenvalues of a dof-4 string; not the default 4
+    spec = parse_spec(TINY + f"[record]\neigenvalues = {k}\n")
+    out = tmp_path / "stab.h5"
+    run_sweep(spec, out, serial=True)
+    p = pydrill.preset("reduced-scale", dof=4)
+    counts = []
+    with h5py.File(out, "r") as f, Atlas(out) as atlas:
+        assert f["eigenvalues_real"].shape == (3, 2, fmt.N_EQ, k)
+        for i, wob in enumerate(spec.axes["wob"]):
+            for j, torque in enumerate(spec.axes["torque"]):
+                direct = stability(p, float(wob), torque=float(torque))[::-1]  # fastest first
+                n = len(direct)
+                counts.append(n)
+                where = f"wob = {wob}, torque = {torque}"
+                expected = {
+                    "omega_eq": [q.omega for q in direct],
+                    "delta": [q.delta for q in direct],
+                    "spectral_abscissa": [q.spectral_abscissa for q in direct],
+                    "hopf_margin": [q.delta_margin for q in direct],
+                }
+                # The file: each steady state in its own slot, unused slots left empty.
+                for name, want in expected.items():
+                    got = f[name][i, j]
+                    np.testing.assert_allclose(got[:n], want, rtol=1e-9, err_msg=f"{name} {where}")
+                    assert np.all(np.isnan(got[n:])), f"{name} {where}"
+                unstable = f["unstable"][i, j]
+                assert unstable[:n].tolist() == [q.unstable for q in direct], where
+                assert np.all(unstable[n:] == -1), where
+                eig = f["eigenvalues_real"][i, j] + 1j * f["eigenvalues_imag"][i, j]
+                for e, q in enumerate(direct):
+                    np.testing.assert_allclose(
+                        eig[e], q.eigenvalues[:k], rtol=1e-9, atol=1e-12, err_msg=f"eq {e} {where}"
+                    )
+                assert np.all(np.isnan(eig[n:])), where
+                # The reader: lists over the steady states, as many as there are.
+                v = atlas.value(wob=float(wob), torque=float(torque))["stability"]
+                for name, want in expected.items():
+                    assert v[name] == pytest.approx(want, rel=1e-9), f"{name} {where}"
+                assert v["unstable"] == [q.unstable for q in direct], where
+                assert len(v["eigenvalues"]) == n, where
+                for e, q in enumerate(direct):
+                    assert [complex(a, b) for a, b in v["eigenvalues"][e]] == pytest.approx(
+                        list(q.eigenvalues[:k]), rel=1e-9, abs=1e-12
+                    ), f"eq {e} {where}"
+    assert counts == [1, 1, 2, 1, 0, 0]  # the grid has each case
+    # The two steady states at (100, 6) differ: a slot mix-up cannot pass by equality.
+    slow, fast = stability(p, 100.0, torque=6.0)
+    assert slow.unstable != fast.unstable and slow.eigenvalues[0] != fast.eigenvalues[0]
+
+
+def test_resuming_a_sweep_with_failed_points_computes_nothing(tmp_path):
+    """Failed points are done, with their message: --resume does not compute them again, and
+    the atlas stays as it was (nor does a dry run count them to do)."""
+    spec = parse_spec(FAILING)
+    out = tmp_path / "f.h5"
+    first = run_sweep(spec, out, serial=True)
+    assert 0 < first.failed < first.points
+    before = every_dataset(out)
+    assert np.count_nonzero(before["status"] == fmt.STATUS["failed"]) == first.failed
+    again = run_sweep(spec, out, serial=True, resume=True)
+    assert (again.computed, again.failed, again.resumed) == (0, 0, spec.size)
+    assert_same_data(every_dataset(out), before)
+    assert not journal_path(out).exists()
+    plan = plan_sweep(spec, out, resume=True)
+    assert (plan.todo, plan.atlas, plan.sampled) == (0, "complete", 0)
+    spec_file = tmp_path / "f.toml"
+    spec_file.write_text(FAILING)
+    proc = subprocess.run(
+        [*CMD, "sweep", spec_file, "--out", out, "--resume", "--dry-run", "--json"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    dry = json.loads(proc.stdout)
+    assert (dry["todo"], dry["atlas"]["state"], dry["points"]) == (0, "complete", spec.size)
+    assert_same_data(every_dataset(out), before)
+
+
+@pytest.mark.parametrize(
+    ("section", "a_lines", "b_lines"),
+    [
+        ("record", "", "eigenvalues = 2"),
+        ("record", "", "stability = false"),
+        ("record", "eigenvalues = 2", "eigenvalues = 4"),
+        ("simulation", "", 'method = "dop853"'),
+        ("simulation", "max_steps = 5000000", "max_steps = 900"),
+    ],
+    ids=["eigenvalues", "stability", "eigenvalues-2-vs-4", "method", "max_steps"],
+)
+def test_specs_differing_in_one_record_or_simulation_key_are_different_sweeps(
+    tmp_path, section, a_lines, b_lines
+):
+    """The digest is the sweep's identity: what is recorded and how it is simulated are part
+    of it, and an atlas of one is refused to the other, nothing written."""
+
+    def text(lines):
+        if section == "record":
+            return TINY + f"[record]\n{lines}\n"
+        return TINY.replace("[simulation]\n", f"[simulation]\n{lines}\n")
+
+    a, b = parse_spec(text(a_lines)), parse_spec(text(b_lines))
+    tables = ("preset", "dof", "overrides", "axes", "simulation", "record", "fixed")
+    differing = [name for name in tables if str(getattr(a, name)) != str(getattr(b, name))]
+    assert differing == [section]  # the two differ there alone
+    assert a.digest != b.digest
+    out = tmp_path / "a.h5"
+    run_sweep(a, out, serial=True)
+    before = out.read_bytes()
+    with pytest.raises(AtlasError, match="holds a different sweep"):
+        run_sweep(b, out, serial=True, resume=True)
+    with pytest.raises(AtlasError, match="holds a different sweep"):
+        plan_sweep(b, out, resume=True)
+    assert out.read_bytes() == before
+    assert not journal_path(out).exists()
+    with h5py.File(out, "r") as f:
+        assert f.attrs["spec_digest"] == a.digest
+
+
+def test_resume_replays_a_journal_ahead_of_its_atlas(tmp_path, monkeypatch):
+    """A sweep interrupted after two points leaves them in its atlas and its journal; a kill
+    then, before the next flush, leaves more in the journal than in the atlas (appended here
+    in the journal's own format: the lines a batch brings the client). Resuming takes every
+    journaled point from the journal, into the atlas with the journal's values, and computes
+    only the rest."""
+    import pydrill.batching
+
+    spec = parse_spec(SMALL)
+    out = tmp_path / "j.h5"
+    monkeypatch.setattr(pydrill.batching, "BATCH_SECONDS", 0.0)  # a batch is one point
+    seen = []
+
+    def stop_after_two(n, _):
+        seen.append(n)
+        if len(seen) == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(SweepInterrupted):
+        run_sweep(spec, out, serial=True, progress=stop_after_two)
+    monkeypatch.undo()
+    jp = journal_path(out)
+    lines = jp.read_text().splitlines()
+    first = [json.loads(line)["i"] for line in lines[1:]]
+    assert len(first) == 2
+    with h5py.File(out, "r") as f:  # flushed on the way out: the atlas has these two
+        assert np.flatnonzero(f["status"][...].ravel()).tolist() == sorted(first)
+    # Two more points finish and are journaled; the kill comes before the atlas is flushed.
+    extra = [i for i in range(spec.size) if i not in first][:2]
+    batch = evaluate_batch(spec.text, extra)
+    assert batch.indices.tolist() == extra
+    with jp.open("a") as fh:
+        fh.write(batch.lines)
+    journaled = [json.loads(line) for line in jp.read_text().splitlines()[1:]]
+    assert [r["i"] for r in journaled] == first + extra
+    with h5py.File(out, "r") as f:
+        assert np.count_nonzero(f["status"][...]) == 2  # the atlas is behind its journal
+
+    report = run_sweep(spec, out, serial=True, resume=True)
+    assert report.resumed == len(journaled) == 4
+    assert report.computed == spec.size - 4 and report.failed == 0
+    assert not jp.exists()
+    # The journal's points hold the journal's values (not recomputed ones: wall_time too).
+    with h5py.File(out, "r") as f, Atlas(out) as atlas:
+        assert np.all(f["status"][...] == fmt.STATUS["done"])
+        for rec in journaled:
+            coords = spec.coords(rec["i"])
+            v = atlas.value(**coords)
+            assert v["status"] == "done", coords
+            for init, run in rec["runs"].items():
+                assert v["regime"][init] == run["regime"], (coords, init)
+                for name in ("bit_mean", "bit_min", "bit_max", "stick_events", "wall_time"):
+                    if run.get(name) is not None:
+                        assert v["metrics"][name][init] == run[name], (coords, init, name)
+            assert v["stability"]["omega_eq"] == rec["stability"]["omega_eq"], coords
+            assert v["stability"]["unstable"] == rec["stability"]["unstable"], coords
+            assert v["coexistence"] == rec["coexistence"], coords
