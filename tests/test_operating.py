@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 import pydrill
 from pydrill import stability as st
@@ -53,30 +54,117 @@ def test_papers_section3_picture_at_fixed_torque():
     assert omap.category[0, 1] == 3  # no steady state can hold: stuck
 
 
-def test_map_command(tmp_path):
-    png = tmp_path / "map.png"
+def _brute_force_safe_torque_min(p, wob, step):
+    """The least u = k * step at which drilling is safe at ``wob``, by scanning up from T_s:
+    u > T_s = μ_sb W_ob R_b (the rock cannot hold the bit: the quasi-equilibrium of the stuck
+    bit is not real) and some steady state of u is stable (every eigenvalue of its Jacobian in
+    Re < 0, numpy's dense solver, the Stribeck slope from the model's formula)."""
+    ts = p.mu_static * wob * p.bit_radius
+    c = p.top_damping + p.bit_damping
+    g = p.stribeck_decay / p.stribeck_velocity
+    for k in range(int(ts // step), int((ts + 50.0) / step)):
+        u = k * step
+        if u <= ts:
+            continue
+        for omega in pydrill.equilibrium_velocities(p, wob=wob, torque=u):
+            mu = p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(-g * omega)
+            assert abs(c * omega + wob * p.bit_radius * mu - u) < 1e-9 * u  # a steady state
+            delta = wob * p.bit_radius * g * (p.mu_static - p.mu_coulomb) * np.exp(-g * omega)
+            if np.max(st.eigenvalues(p, delta).real) < 0:
+                return u
+    raise AssertionError(f"no safe torque up to T_s + 50 N m at wob = {wob}")
+
+
+@pytest.mark.parametrize("dof", [2, 4])
+def test_safe_torque_min_against_a_brute_force_scan(dof):
+    """``safe_torque_min`` is the least u with a stable steady state and u > T_s: at small
+    W_ob the stable branch starts above T_s (the least safe u is its start), at large W_ob below
+    it (the least safe u is T_s). The scan's resolution is ``step``; the map's own Ω sampling
+    puts it above the true value by < 0.004 N m."""
+    p = pydrill.preset("reduced-scale", dof=dof)
+    wob = [2.0, 5.0, 20.0, 60.0, 160.0, 250.0]
+    step = 0.005
+    omap = operating_map(p, wob, [1.0])
+    above_ts = 0
+    for w, safe, ts in zip(wob, omap.safe_torque_min, omap.static_torque, strict=True):
+        assert ts == pytest.approx(0.8 * w * 0.1, rel=1e-12)
+        u = _brute_force_safe_torque_min(p, w, step)
+        assert u - step <= safe <= u + step, (w, safe, u)
+        above_ts += u > ts + 10 * step
+    assert 0 < above_ts < len(wob)  # both cases: the stable branch's start, and T_s
+
+
+def _check_regimes_against_categories(p, data):
+    """Each ``map --check`` point (simulated from rest, t_end 300 s) against its category in
+    the same map (the grid's value at that point), by what the category means
+    (pydrill.operating.CATEGORIES, docs/guide/stability.md): a stable steady state drills on
+    from the equilibrium start; without one neither start ends steady; u > T_s cannot end
+    stuck; u <= T_s without a stable steady state sticks (or sticks and slips near the line).
+    With a stable steady state and u <= T_s the start decides (coexistence): nothing is
+    asserted from rest. Returns the categories met."""
+    names = data["categories"]
+    assert names == list(CATEGORIES)
+    wob, torque = np.array(data["wob"]), np.array(data["torque"])
+    category = np.array(data["category"])
+    met = set()
+    for check in data["checks"]:
+        w, u, regime = check["wob"], check["torque"], check["regime"]
+        j, i = int(np.argmin(abs(wob - w))), int(np.argmin(abs(torque - u)))
+        assert wob[j] == pytest.approx(w, rel=1e-12) and torque[i] == pytest.approx(u, rel=1e-12)
+        code = int(category[i, j])
+        met.add(code)
+        name = names[code]
+        stable = not name.startswith("no stable steady state")
+        can_stick = "cannot stay stuck" not in name
+        assert can_stick == (u <= 0.8 * w * 0.1), (w, u, name)
+        where = (w, u, name, regime)
+        assert regime in pydrill.REGIMES, where
+        if stable:
+            assert pydrill.equilibrium_velocities(p, wob=w, torque=u), where
+            from_equilibrium = pydrill.simulate(
+                p, wob=w, torque=u, initial="equilibrium", t_end=300.0, n_out=301
+            ).regime
+            assert from_equilibrium == "steady", (*where, from_equilibrium)
+        else:
+            assert regime != "steady", where
+            if pydrill.equilibrium_velocities(p, wob=w, torque=u):
+                from_equilibrium = pydrill.simulate(
+                    p, wob=w, torque=u, initial="equilibrium", t_end=300.0, n_out=301
+                ).regime
+                assert from_equilibrium != "steady", (*where, from_equilibrium)
+        if not can_stick:
+            assert regime != "stuck", where
+        elif not stable:
+            assert regime in ("stuck", "stick-slip"), where
+    return met
+
+
+def _map_json(*args):
     out = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "pydrill",
-            "map",
-            "--dof",
-            "2",
-            "--check",
-            "3",
-            "--json",
-            "--plot",
-            str(png),
-        ],
+        [sys.executable, "-m", "pydrill", "map", "--dof", "2", "--json", *args],
         capture_output=True,
         text=True,
         check=True,
     )
-    data = json.loads(out.stdout)
+    return json.loads(out.stdout)
+
+
+def test_map_command(tmp_path):
+    png = tmp_path / "map.png"
+    # --check 4 puts every check on the map's 200 x 200 grid.
+    data = _map_json("--check", "4", "--plot", str(png))
     assert len(data["category"]) == len(data["torque"])
     assert len(data["category"][0]) == len(data["wob"])
-    assert len(data["checks"]) == 9
-    assert {c["regime"] for c in data["checks"]} <= set(pydrill.REGIMES)
+    assert len(data["checks"]) == 16
     assert abs(sum(data["fractions"].values()) - 1) < 1e-9
     assert png.stat().st_size > 20_000
+    p = pydrill.preset("reduced-scale", dof=2)
+    assert _check_regimes_against_categories(p, data) == {0, 1, 3}
+
+
+def test_map_check_at_small_weights_meets_the_band_between_stuck_and_stable():
+    """Below W_ob ≈ 30 N the stable branch starts above T_s: a band with neither a stable
+    steady state nor a stuck bit (category 2) lies between them."""
+    data = _map_json("--check", "4", "--wob-max", "20", "--torque-max", "2")
+    p = pydrill.preset("reduced-scale", dof=2)
+    assert _check_regimes_against_categories(p, data) == {0, 2, 3}
