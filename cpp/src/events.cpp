@@ -29,6 +29,22 @@ void root_functions(const RunData& d, const double* Y, double* g) {
   }
 }
 
+void root_rates(const RunData& d, const double* f, double* gdot) {
+  const double wb = f[d.chain->bit_index()];
+  gdot[0] = gdot[1] = gdot[2] = gdot[3] = 0.0;
+  switch (d.mode) {
+    case Mode::SlipPositive:
+    case Mode::SlipNegative: gdot[0] = wb; break;
+    case Mode::Stick: gdot[0] = gdot[1] = d.chain->reaction_torque(f); break;
+    case Mode::Band: {
+      const double te = d.chain->reaction_torque(f);
+      gdot[0] = gdot[1] = wb;
+      gdot[2] = gdot[3] = te;
+      break;
+    }
+  }
+}
+
 void root_directions(const RunData& d, int dir[kRoots]) {
   dir[0] = dir[1] = dir[2] = dir[3] = 0;
   switch (d.mode) {

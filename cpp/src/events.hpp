@@ -41,6 +41,10 @@ inline void quadrature_rhs(const RunData& d, const double* y, double* q) {
 void root_functions(const RunData& d, const double* y, double* g);
 void root_directions(const RunData& d, int dir[kRoots]);
 
+// dg/dt along the motion, from f = dy/dt: every root function is affine in y (ω_b ∓ D_v,
+// T_e ∓ T_s, with T_e linear in the state), so its rate is its linear part applied to f.
+void root_rates(const RunData& d, const double* f, double* gdot);
+
 // SUNDIALS callback shape (user data = RunData).
 int root_callback(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data);
 

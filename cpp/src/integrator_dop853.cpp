@@ -8,7 +8,8 @@
 // combines the 5th- and 3rd-order embeddings. Here every stage is a tight loop
 // over contiguous memory, the dense output (three extra stages) is formed only
 // for a step that holds an output time or a sign change, and each root is
-// refined by the Illinois method on that interpolant.
+// refined by the Illinois method on that interpolant. A function that crosses zero
+// and comes back within one step is caught from its rates at both ends.
 //
 // Step-size control, initial step and error norm follow scipy's DOP853 (the
 // benchmark baseline), so both take the same steps for the same tolerances.
@@ -123,7 +124,12 @@ class Dop853 final : public Integrator {
       if (crosses(gold_[i], g[i], dir_[i])) any = true;
     }
     if (any) {
-      t = locate_root(g);
+      t = locate_root(g, t_);
+      return Status::Root;
+    }
+    double tin, gin[kRoots];
+    if (hidden_crossing(g, tin, gin)) {
+      t = locate_root(gin, tin);
       return Status::Root;
     }
     std::copy_n(g, kRoots, gold_);
@@ -245,11 +251,62 @@ class Dop853 final : public Integrator {
     kernels_.evaluate_dense(yold_.data(), dense_.data(), m_, (t - told_) / hlast_, out);
   }
 
-  // Illinois-modified regula falsi on the dense output between the last two
-  // points, all active functions at once (as CVODE's rootfinder): returns the
-  // far end of a bracket narrower than 100 ulp of t, with the state there.
-  double locate_root(const double* gnew) {
-    double tlo = told_, thi = t_;
+  // A root function with the same sign at both ends of the step may still have crossed
+  // zero and come back inside it: a stuck bit whose reaction torque rises past T_s and falls
+  // back within one long step would stay stuck (seen: dof 2 held at T_e = 8.19 > T_s = 8
+  // N·m). The cubic through each function's values and rates at both ends (the rates are
+  // free: f at both ends is at hand) says where it turns; where it turns towards zero and
+  // comes near it, the dense output decides. On a crossing: its time and the functions there.
+  bool hidden_crossing(const double* gnew, double& tin, double* gin) {
+    double r0[kRoots], r1[kRoots];
+    root_rates(data_, row(0), r0);
+    root_rates(data_, row(12), r1);
+    const double h = hlast_;
+    for (int i = 0; i < kRoots; ++i) {
+      const double g0 = gold_[i], g1 = gnew[i];
+      if (!active_[i] || g0 == 0.0 || (g0 > 0) != (g1 > 0)) continue;
+      const double m0 = h * r0[i], m1 = h * r1[i];
+      // Towards zero at the start, away from it at the end: a turn inside the step.
+      if (!(m0 * g0 < 0.0 && m1 * g1 > 0.0)) continue;
+      // p(x) = g0 h00 + m0 h10 + g1 h01 + m1 h11 on [0, 1]; p'(x) = A x² + B x + m0.
+      const double d = g1 - g0;
+      const double A = 3.0 * (m0 + m1) - 6.0 * d, B = 6.0 * d - 4.0 * m0 - 2.0 * m1;
+      double x;
+      if (std::fabs(A) < 1e-14 * (std::fabs(B) + std::fabs(m0))) {
+        x = -m0 / B;
+      } else {
+        const double r = std::sqrt(std::max(B * B - 4.0 * A * m0, 0.0));
+        const double q = -0.5 * (B + std::copysign(r, B));
+        const double x1 = q / A, x2 = q != 0.0 ? m0 / q : x1;
+        x = (x1 > 0.0 && x1 < 1.0) ? x1 : x2;
+      }
+      if (!(x > 0.0 && x < 1.0)) continue;
+      const double x2 = x * x, x3 = x2 * x;
+      const double p = g0 * (2 * x3 - 3 * x2 + 1) + m0 * (x3 - 2 * x2 + x) +
+                       g1 * (-2 * x3 + 3 * x2) + m1 * (x3 - x2);
+      // Far from zero even at the turn (the cubic errs by far less): nothing hides here.
+      if ((g0 > 0 ? p : -p) > 0.5 * std::min(std::fabs(g0), std::fabs(g1))) continue;
+      const double tt = told_ + x * h;
+      evaluate_dense(tt, tmp_.data());
+      root_functions(data_, tmp_.data(), gin);
+      ++root_evals_;
+      bool crossed = false;
+      for (int j = 0; j < kRoots; ++j)
+        if (active_[j] && crosses(gold_[j], gin[j], dir_[j])) crossed = true;
+      if (crossed) {
+        tin = tt;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Illinois-modified regula falsi on the dense output between the last point and
+  // `tend` (the step's end, or a point inside it where a function has crossed), all active
+  // functions at once (as CVODE's rootfinder): returns the far end of a bracket narrower
+  // than 100 ulp of t, with the state there.
+  double locate_root(const double* gnew, double tend) {
+    double tlo = told_, thi = tend;
     double glo[kRoots], ghi[kRoots], gmid[kRoots];
     std::copy_n(gold_, kRoots, glo);
     std::copy_n(gnew, kRoots, ghi);

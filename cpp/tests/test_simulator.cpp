@@ -101,6 +101,33 @@ TEST_CASE("BDF with the chain solver, Adams, ERK and DOP853 give one answer", "[
   }
 }
 
+TEST_CASE("a root function that crosses zero and back within one step is found", "[simulator][methods]") {
+  // dof 2 wound backwards and turning forward: the bit reverses, then sticks at 1.99 s; T_e
+  // then climbs past T_s = 8 N·m at 2.278 s and falls back below it inside one of DOP853's
+  // long steps. Seen at step ends only, that break-away was missed and the bit stayed stuck
+  // with T_e = 8.19 N·m. Every method must see it, and no stick may exceed T_s.
+  SimulationOptions o;
+  o.t_end = 50.0;
+  o.n_out = 5001;
+  o.initial = Initial::State;
+  o.state = {0.0, -300.0, 2.0};
+  const Params p = preset("reduced-scale", 2);
+  for (Method m : {Method::DOP853, Method::BDF, Method::Adams, Method::ERK}) {
+    o.method = m;
+    const Result r = simulate(p, 100.0, 0.5, o);
+    INFO(method_name(m));
+    REQUIRE(r.switches.size() >= 3);
+    CHECK(r.switches[0].kind == SwitchKind::Reversal);
+    CHECK(r.switches[1].kind == SwitchKind::Stick);
+    CHECK(r.switches[2].kind == SwitchKind::Slip);
+    CHECK(r.switches[2].t == Approx(2.278).margin(1e-3));
+    const double ts = p.mu_static * 100.0 * p.bit_radius;  // T_s = μ_sb W_ob R_b
+    for (const Switch& w : r.switches) {
+      if (w.kind == SwitchKind::Stick) CHECK(std::fabs(w.reaction) <= ts);
+    }
+  }
+}
+
 TEST_CASE("a slip that starts on a graze of T_s never runs the bit backwards", "[simulator][methods]") {
   // Collars 7000x stiffer than the pipe ring fast: T_e often touches T_s and turns back, so a
   // slip begins with the bit at rest and its velocity root on zero. Every integrator must
