@@ -16,7 +16,7 @@ from pydrill.journal import journal_path
 from pydrill.spec import parse_spec
 from pydrill.sweep import AtlasError, run_sweep
 
-# Two of the three W_ob fail (stick-slip and steady need more than 900 steps; stuck does not).
+# One point fails: (100 N, 8.3 N·m), whose stick-slip needs more than 900 steps.
 FAILING = SMALL.replace('initial = ["rest", "equilibrium"]', 'initial = ["rest"]\nmax_steps = 900')
 
 

@@ -33,6 +33,27 @@ TEST_CASE("critical deltas put an eigenvalue pair on the imaginary axis", "[stab
   }
 }
 
+TEST_CASE("no crossing is missed: between crossings the eigenvalues agree with the count",
+          "[stability]") {
+  // The test above checks that each crossing found is real; this one that none is missing.
+  // Brute force: the dense eigenvalues at the midpoint of every gap between crossings (and
+  // beyond the last) hold exactly as many in the right half-plane as unstable_count says.
+  for (int dof : {2, 4, 9, 30}) {
+    const Params p = preset("reduced-scale", dof);
+    const auto crossings = critical_deltas(p);
+    std::vector<double> probes{0.5 * crossings.front().delta};
+    for (std::size_t i = 0; i + 1 < crossings.size(); ++i)
+      probes.push_back(0.5 * (crossings[i].delta + crossings[i + 1].delta));
+    probes.push_back(2.0 * crossings.back().delta);
+    for (double d : probes) {
+      int n = 0;
+      for (const auto& z : eigenvalues(p, d)) n += z.real() > 0;
+      INFO("dof " << dof << ", delta " << d);
+      CHECK(n == unstable_count(crossings, d));
+    }
+  }
+}
+
 TEST_CASE("the n' = 3 closed form equals the general method", "[stability]") {
   const Params p = preset("reduced-scale", 2);
   const auto closed = hopf_deltas_dof2(p);
