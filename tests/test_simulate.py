@@ -305,3 +305,23 @@ def test_a_bit_stopped_against_the_rock_reverses_when_the_torque_exceeds_t_s():
         np.testing.assert_allclose(
             [w.t for w in other.switches], [w.t for w in r.switches], atol=1e-5
         )
+
+
+def test_a_hidden_break_away_is_found_by_the_sundials_integrators_too():
+    # Found by a random scan (360 runs): ARKODE's ERK at rtol 1e-4 stepped over a T_e that
+    # rose past T_s and fell back within one step, and the bit stayed stuck with T_e = 6.28
+    # above T_s = 6.14 N·m. CVODES and ARKODE check sign changes only at step ends; the
+    # step-end rates now catch a turn inside the step there as in DOP853.
+    state = [1.2568154303882233, -19.334971654966253, 107.85961614770281, 67.36139039464413,
+             -4.446730188420687, 50.31305141594867, 16.998505692780892]  # fmt: skip
+    kw = {"wob": 76.72623689173508, "torque": 2.1761829714613397, "dof": 4, "t_end": 40.0}
+    reference = pydrill.simulate(**kw, initial=state, method="dop853", rtol=1e-10, atol=1e-10)
+    assert [w.kind for w in reference.switches] == ["stick", "slip", "stick"]
+    for method in ("erk", "bdf", "adams"):
+        r = pydrill.simulate(**kw, initial=state, method=method, rtol=1e-4, atol=1e-4, n_out=8001)
+        assert [w.kind for w in r.switches] == ["stick", "slip", "stick"], method
+        np.testing.assert_allclose(
+            [w.t for w in r.switches], [w.t for w in reference.switches], atol=2e-3
+        )
+        stick = np.array(r.modes) == "stick"
+        assert np.abs(r.reaction_torque[stick]).max() <= r.summary.static_torque * (1 + 1e-3)

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <sstream>
+#include <vector>
 
 #include "chain_solver.hpp"
 #include "integrator.hpp"
@@ -66,6 +67,8 @@ class Cvodes final : public Integrator {
     check(CVodeRootInit(m, kRoots, root_callback), "CVodeRootInit");
     check(CVodeSetNoInactiveRootWarn(m), "CVodeSetNoInactiveRootWarn");
     set_directions();
+    work_.assign(static_cast<std::size_t>(n_), 0.0);
+    watch_.reset(data_, 0.0, state());
     check(CVodeQuadInit(m, quad_fn, q_.get()), "CVodeQuadInit");
     check(CVodeQuadSStolerances(m, opt.rtol, opt.atol), "CVodeQuadSStolerances");
     check(CVodeSetQuadErrCon(m, SUNTRUE), "CVodeSetQuadErrCon");
@@ -91,6 +94,20 @@ class Cvodes final : public Integrator {
     sunrealtype tq;
     CVodeGetQuad(mem_.get(), &tq, q_.get());
     if (flag == CV_ROOT_RETURN) return Status::Root;
+    // CVODES sees roots at sign changes between step ends; one that crossed and came back
+    // inside the step is looked for here, on CVODES's own interpolant.
+    auto at = [this](double tt, double* y) {
+      CVodeGetDky(mem_.get(), tt, 0, tmp_.get());
+      std::copy_n(N_VGetArrayPointer(tmp_.get()), n_, y);
+    };
+    double troot;
+    if (watch_.check(data_, t, state(), at, work_.data(), troot, hidden_found_)) {
+      std::copy_n(work_.data(), n_, state());
+      CVodeGetQuadDky(mem_.get(), troot, 0, q_.get());
+      t = troot;
+      hidden_ = true;
+      return Status::Root;
+    }
     if (flag == CV_TSTOP_RETURN) return Status::Stop;
     return Status::Step;
   }
@@ -105,7 +122,13 @@ class Cvodes final : public Integrator {
     std::copy_n(N_VGetArrayPointer(qtmp_.get()), kQuads, q);
   }
 
-  void roots_found(int found[kRoots]) override { CVodeGetRootInfo(mem_.get(), found); }
+  void roots_found(int found[kRoots]) override {
+    if (hidden_) {
+      std::copy_n(hidden_found_, kRoots, found);
+    } else {
+      CVodeGetRootInfo(mem_.get(), found);
+    }
+  }
 
   void restart(double t) override {
     void* m = mem_.get();
@@ -115,6 +138,8 @@ class Cvodes final : public Integrator {
     set_directions();
     ls_data_.valid = false;
     base_ = counters();  // ReInit zeroes CVODES's counters
+    hidden_ = false;
+    watch_.reset(data_, t, state());
   }
 
   void collect(SolverStats& s) override {
@@ -125,7 +150,8 @@ class Cvodes final : public Integrator {
     s.err_test_fails += c.etf - base_.etf;
     s.nonlin_iters += c.nni - base_.nni;
     s.nonlin_conv_fails += c.ncf - base_.ncf;
-    s.root_evals += c.ge - base_.ge;
+    s.root_evals += c.ge - base_.ge + watch_.evals() - watch_reported_;
+    watch_reported_ = watch_.evals();
     s.lin_setups += c.setups - base_.setups;
     s.jac_evals += ls_data_.factorizations - base_.factorizations;
     s.lin_solves += ls_data_.solves - base_.solves;
@@ -164,6 +190,11 @@ class Cvodes final : public Integrator {
 
   RunData& data_;
   const SimulationOptions& opt_;
+  StepWatch watch_;
+  std::vector<double> work_;
+  bool hidden_ = false;
+  int hidden_found_[kRoots] = {};
+  long watch_reported_ = 0;
   Method method_;
   int n_;
   Context ctx_;

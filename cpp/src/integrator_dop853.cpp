@@ -33,12 +33,6 @@ constexpr double kSafety = 0.9, kMinFactor = 0.2, kMaxFactor = 10.0;
 constexpr double kErrorExponent = -1.0 / 8.0;
 constexpr double kTiny = std::numeric_limits<double>::min();
 
-// Does g go from lo to hi across zero in the wanted direction (+1 rising,
-// −1 falling, 0 either)? A landing exactly on zero counts; leaving zero does not.
-inline bool crosses(double lo, double hi, int dir) {
-  return (lo < 0 && hi >= 0 && dir >= 0) || (lo > 0 && hi <= 0 && dir <= 0);
-}
-
 // AVX2+FMA doubles the width of every stage sum; the plain build runs anywhere.
 const c::Kernels& select_kernels() {
 #if defined(PYDRILL_DOP853_AVX2)
@@ -251,107 +245,38 @@ class Dop853 final : public Integrator {
     kernels_.evaluate_dense(yold_.data(), dense_.data(), m_, (t - told_) / hlast_, out);
   }
 
-  // A root function with the same sign at both ends of the step may still have crossed
-  // zero and come back inside it: a stuck bit whose reaction torque rises past T_s and falls
-  // back within one long step would stay stuck (seen: dof 2 held at T_e = 8.19 > T_s = 8
-  // N·m). The cubic through each function's values and rates at both ends (the rates are
-  // free: f at both ends is at hand) says where it turns; where it turns towards zero and
-  // comes near it, the dense output decides. On a crossing: its time and the functions there.
+  // A function with the same sign at both ends of the step that crossed zero and came back
+  // inside it (events.hpp, hidden_turn): the rates are free, f at both ends is at hand. On a
+  // crossing: the time inside the step where the dense output shows it, and the functions.
   bool hidden_crossing(const double* gnew, double& tin, double* gin) {
     double r0[kRoots], r1[kRoots];
     root_rates(data_, row(0), r0);
     root_rates(data_, row(12), r1);
-    const double h = hlast_;
     for (int i = 0; i < kRoots; ++i) {
-      const double g0 = gold_[i], g1 = gnew[i];
-      if (!active_[i] || g0 == 0.0 || (g0 > 0) != (g1 > 0)) continue;
-      const double m0 = h * r0[i], m1 = h * r1[i];
-      // Towards zero at the start, away from it at the end: a turn inside the step.
-      if (!(m0 * g0 < 0.0 && m1 * g1 > 0.0)) continue;
-      // p(x) = g0 h00 + m0 h10 + g1 h01 + m1 h11 on [0, 1]; p'(x) = A x² + B x + m0.
-      const double d = g1 - g0;
-      const double A = 3.0 * (m0 + m1) - 6.0 * d, B = 6.0 * d - 4.0 * m0 - 2.0 * m1;
-      double x;
-      if (std::fabs(A) < 1e-14 * (std::fabs(B) + std::fabs(m0))) {
-        x = -m0 / B;
-      } else {
-        const double r = std::sqrt(std::max(B * B - 4.0 * A * m0, 0.0));
-        const double q = -0.5 * (B + std::copysign(r, B));
-        const double x1 = q / A, x2 = q != 0.0 ? m0 / q : x1;
-        x = (x1 > 0.0 && x1 < 1.0) ? x1 : x2;
-      }
-      if (!(x > 0.0 && x < 1.0)) continue;
-      const double x2 = x * x, x3 = x2 * x;
-      const double p = g0 * (2 * x3 - 3 * x2 + 1) + m0 * (x3 - 2 * x2 + x) +
-                       g1 * (-2 * x3 + 3 * x2) + m1 * (x3 - x2);
-      // Far from zero even at the turn (the cubic errs by far less): nothing hides here.
-      if ((g0 > 0 ? p : -p) > 0.5 * std::min(std::fabs(g0), std::fabs(g1))) continue;
-      const double tt = told_ + x * h;
+      if (!active_[i]) continue;
+      const double tt = hidden_turn(told_, t_, gold_[i], gnew[i], r0[i], r1[i], dir_[i]);
+      if (std::isnan(tt)) continue;
       evaluate_dense(tt, tmp_.data());
       root_functions(data_, tmp_.data(), gin);
       ++root_evals_;
-      bool crossed = false;
-      for (int j = 0; j < kRoots; ++j)
-        if (active_[j] && crosses(gold_[j], gin[j], dir_[j])) crossed = true;
-      if (crossed) {
-        tin = tt;
-        return true;
+      for (int j = 0; j < kRoots; ++j) {
+        if (active_[j] && crosses(gold_[j], gin[j], dir_[j])) {
+          tin = tt;
+          return true;
+        }
       }
     }
     return false;
   }
 
-  // Illinois-modified regula falsi on the dense output between the last point and
-  // `tend` (the step's end, or a point inside it where a function has crossed), all active
-  // functions at once (as CVODE's rootfinder): returns the far end of a bracket narrower
-  // than 100 ulp of t, with the state there.
+  // The root between the last point and `tend` (the step's end, or a point inside it where a
+  // function has crossed), located on the dense output; the state there becomes y_.
   double locate_root(const double* gnew, double tend) {
-    double tlo = told_, thi = tend;
-    double glo[kRoots], ghi[kRoots], gmid[kRoots];
-    std::copy_n(gold_, kRoots, glo);
-    std::copy_n(gnew, kRoots, ghi);
-    const double ttol = 100.0 * std::numeric_limits<double>::epsilon() * (std::fabs(t_) + std::fabs(hlast_));
-    auto any_crossing = [&](const double* a, const double* b) {
-      for (int i = 0; i < kRoots; ++i)
-        if (active_[i] && crosses(a[i], b[i], dir_[i])) return true;
-      return false;
-    };
-    double alpha = 1.0;
-    int last = 0;  // +1: thi moved last time, −1: tlo moved
-    for (int iter = 0; thi - tlo > ttol && iter < 200; ++iter) {
-      // The function whose secant root lies earliest decides the trial point.
-      double tmid = 0.5 * (tlo + thi);
-      if (iter < 100) {
-        double best = -1.0;
-        for (int i = 0; i < kRoots; ++i) {
-          if (!active_[i] || !crosses(glo[i], ghi[i], dir_[i])) continue;
-          const double denom = ghi[i] - alpha * glo[i];
-          const double frac = denom != 0.0 ? ghi[i] / denom : 0.5;
-          if (frac > best) {
-            best = frac;
-            tmid = thi - (thi - tlo) * frac;
-          }
-        }
-      }
-      const double margin = 0.5 * ttol;
-      tmid = std::clamp(tmid, tlo + margin, thi - margin);
-      evaluate_dense(tmid, tmp_.data());
-      root_functions(data_, tmp_.data(), gmid);
-      ++root_evals_;
-      if (any_crossing(glo, gmid)) {
-        thi = tmid;
-        std::copy_n(gmid, kRoots, ghi);
-        alpha = last == 1 ? 0.5 : 1.0;
-        last = 1;
-      } else {
-        tlo = tmid;
-        std::copy_n(gmid, kRoots, glo);
-        alpha = last == -1 ? 2.0 : 1.0;
-        last = -1;
-      }
-    }
-    for (int i = 0; i < kRoots; ++i)
-      found_[i] = (active_[i] && crosses(glo[i], ghi[i], dir_[i])) ? (ghi[i] > glo[i] ? 1 : -1) : 0;
+    RootBracket b{told_, tend, {}, {}};
+    std::copy_n(gold_, kRoots, b.glo);
+    std::copy_n(gnew, kRoots, b.ghi);
+    auto at = [this](double t, double* y) { evaluate_dense(t, y); };
+    const double thi = detail::locate_root(data_, dir_, active_, at, tmp_.data(), b, found_, root_evals_);
     evaluate_dense(thi, tmp_.data());
     y_.swap(tmp_);  // y_ no longer the step's end: the dense output is already formed
     t_ = thi;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <sstream>
+#include <vector>
 
 #include "integrator.hpp"
 
@@ -74,6 +75,8 @@ class Erk final : public Integrator {
     check(PYDRILL_ARK(RootInit)(m, kRoots, root_callback), "ERKStepRootInit");
     check(PYDRILL_ARK(SetNoInactiveRootWarn)(m), "ERKStepSetNoInactiveRootWarn");
     set_directions();
+    work_.assign(static_cast<std::size_t>(n_), 0.0);
+    watch_.reset(data_, 0.0, state());
   }
 
   Status step(double t_end, double& t) override {
@@ -84,6 +87,19 @@ class Erk final : public Integrator {
       throw SolverError(o.str(), t);
     }
     if (flag == ARK_ROOT_RETURN) return Status::Root;
+    // ARKODE sees roots at sign changes between step ends; one that crossed and came back
+    // inside the step is looked for here, on ARKODE's own interpolant.
+    auto at = [this](double tt, double* y) {
+      PYDRILL_ARK(GetDky)(mem_.get(), tt, 0, tmp_.get());
+      std::copy_n(N_VGetArrayPointer(tmp_.get()), n_, y);
+    };
+    double troot;
+    if (watch_.check(data_, t, state(), at, work_.data(), troot, hidden_found_)) {
+      PYDRILL_ARK(GetDky)(mem_.get(), troot, 0, y_.get());  // state and quadratures there
+      t = troot;
+      hidden_ = true;
+      return Status::Root;
+    }
     if (flag == ARK_TSTOP_RETURN) return Status::Stop;
     return Status::Step;
   }
@@ -98,7 +114,13 @@ class Erk final : public Integrator {
     std::copy_n(v + n_, kQuads, q);
   }
 
-  void roots_found(int found[kRoots]) override { PYDRILL_ARK(GetRootInfo)(mem_.get(), found); }
+  void roots_found(int found[kRoots]) override {
+    if (hidden_) {
+      std::copy_n(hidden_found_, kRoots, found);
+    } else {
+      PYDRILL_ARK(GetRootInfo)(mem_.get(), found);
+    }
+  }
 
   void restart(double t) override {
     void* m = mem_.get();
@@ -111,6 +133,8 @@ class Erk final : public Integrator {
     check(PYDRILL_ARK(SetStopTime)(m, opt_.t_end), "ERKStepSetStopTime");
     set_directions();
     base_ = counters();
+    hidden_ = false;
+    watch_.reset(data_, t, state());
   }
 
   void collect(SolverStats& s) override {
@@ -119,7 +143,8 @@ class Erk final : public Integrator {
     s.steps += c.steps - base_.steps;
     s.rhs_evals += c.rhs - base_.rhs;
     s.err_test_fails += c.etf - base_.etf;
-    s.root_evals += c.ge - base_.ge;
+    s.root_evals += c.ge - base_.ge + watch_.evals() - watch_reported_;
+    watch_reported_ = watch_.evals();
     base_ = c;
   }
 
@@ -150,6 +175,11 @@ class Erk final : public Integrator {
   RunData& data_;
   const SimulationOptions& opt_;
   int n_;
+  StepWatch watch_;
+  std::vector<double> work_;
+  bool hidden_ = false;
+  int hidden_found_[kRoots] = {};
+  long watch_reported_ = 0;
   Context ctx_;
   VectorPtr y_, tmp_;
   std::unique_ptr<void, ArkodeDeleter> mem_;

@@ -53,6 +53,19 @@ double Chain::bit_acceleration(const double* y, Mode mode) const {
   return (reaction_torque(y) - friction_torque(y, mode)) * inv_inertia_[dof_ - 1];
 }
 
+double Chain::reaction_rate(const double* y, Mode mode) const {
+  // T_e = k θ + c (ω_a − ω_b) − c_b ω_b with a = N − 2, the inertia above the bit.
+  const int a = dof_ - 2, b = bit_index();
+  const double* k = params_.stiffnesses.data();
+  const double* c = params_.dampings.data();
+  const double below = k[a] * y[2 * a + 1] + c[a] * (y[2 * a] - y[b]);
+  const double above = a == 0 ? torque_ - params_.top_damping * y[0]
+                              : k[a - 1] * y[2 * a - 1] + c[a - 1] * (y[2 * a - 2] - y[2 * a]);
+  const double wa_dot = (above - below) * inv_inertia_[a];
+  const double wb_dot = bit_acceleration(y, mode);
+  return k[a] * (y[2 * a] - y[b]) + c[a] * (wa_dot - wb_dot) - params_.bit_damping * wb_dot;
+}
+
 void Chain::rhs(const double* y, Mode mode, double* ydot, double* power) const {
   const int N = dof_;
   const double* k = params_.stiffnesses.data();

@@ -102,3 +102,24 @@ TEST_CASE("equilibria balance the torque and zero the right-hand side", "[model]
   for (double w : two) CHECK(equilibrium_torque(p, wob, w) == Approx(ts - 0.5).epsilon(1e-13));
   CHECK(equilibrium_velocities(p, wob, 1.0).empty());  // below the minimum of the curve
 }
+
+TEST_CASE("the O(1) accelerations and rate of T_e equal the full right-hand side's", "[model]") {
+  // The regime judge and the rootfinders read them at every step; the full f is the reference.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal(0.0, 10.0);
+  for (int dof : {2, 3, 7}) {
+    const Chain chain(preset("reduced-scale", dof), 100.0, 8.3);
+    for (Mode mode : {Mode::SlipPositive, Mode::SlipNegative, Mode::Stick, Mode::Band}) {
+      std::vector<double> y(static_cast<std::size_t>(chain.size())), f(y.size());
+      for (double& v : y) v = normal(rng);
+      if (mode == Mode::Stick) y[static_cast<std::size_t>(chain.bit_index())] = 0.0;
+      chain.rhs(y.data(), mode, f.data());
+      const double scale = 1.0 + std::fabs(chain.reaction_torque(f.data()));
+      CHECK(chain.top_acceleration(y.data()) == Approx(f[0]).margin(1e-12 * (1 + std::fabs(f[0]))));
+      CHECK(chain.bit_acceleration(y.data(), mode) ==
+            Approx(f[static_cast<std::size_t>(chain.bit_index())]).margin(1e-12 * scale));
+      CHECK(chain.reaction_rate(y.data(), mode) ==
+            Approx(chain.reaction_torque(f.data())).margin(1e-12 * scale));
+    }
+  }
+}

@@ -50,6 +50,8 @@ class Chain {
   // needs at every sample to locate the velocity extremes between samples.
   double top_acceleration(const double* y) const;
   double bit_acceleration(const double* y, Mode mode) const;
+  // dT_e/dt along the motion in the given mode, in O(1) (T_e is linear in the state).
+  double reaction_rate(const double* y, Mode mode) const;
 
   // ẏ = f(y) in the given mode. Pure: no state is changed.
   void rhs(const double* y, Mode mode, double* ydot) const { rhs(y, mode, ydot, nullptr); }
