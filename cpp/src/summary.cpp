@@ -144,6 +144,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   }
 
   const bool held_throughout = s.stuck_fraction >= 1.0 - 1e-12;
+  bool growing = false;  // an oscillation still growing (its note may give way below)
   if (held_throughout) {
     // In stick the string relaxes towards T_e = u. If |u| <= T_s the rock
     // holds it for good. Otherwise it must break free later: if it already
@@ -187,7 +188,8 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     } else {
       s.regime = "oscillation";
       s.period = crossing_period(tr, s.bit_mean);
-      if (trend > change) {
+      growing = trend > change;
+      if (growing) {
         std::ostringstream o;
         o.precision(2);
         o << "the oscillation is still growing (its swing by a factor " << std::exp(trend)
@@ -200,9 +202,10 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   // A regime is judged from a window that holds at least one swing of the string's slowest
   // mode: a shorter one sees part of a stick-slip cycle as an oscillation, or a slip phase
   // as steady (a 3 s window of a 17.5 s cycle did both). Not for a bit held for good.
+  // Over a window that short a swing's trend says nothing either: this note replaces it.
   const bool settled_stuck = s.regime == "stuck" && s.note.empty();
   const double slowest = 2.0 * 3.14159265358979323846 / estimate_stiffness(chain.params()).fundamental;
-  if (!settled_stuck && T < slowest && s.note.empty()) {
+  if (!settled_stuck && T < slowest && (s.note.empty() || growing)) {
     std::ostringstream o;
     o.precision(3);
     o << "the judged window (" << T << " s) is shorter than the string's slowest period (about "
