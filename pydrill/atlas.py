@@ -171,7 +171,9 @@ class Atlas:
         (``"done"``, ``"failed"`` with ``message``, ``"missing"``), ``regime`` and ``metrics``
         (each by start), ``stability`` (lists over the steady states: ``omega_eq``, ``delta``,
         ``spectral_abscissa``, ``hopf_margin``, ``unstable``, ``eigenvalues``) and
-        ``coexistence`` (the starts disagree; ``None`` with one start).
+        ``coexistence`` (the starts disagree; ``None`` with one start) and ``caveat`` (what
+        each start's judgement notes, by kind — ``"growing"``, ``"short-window"``, … — or
+        ``None``; see ``SimulationResult.summary.note`` for what each means).
         """
         f = self._file()
         idx = self.index(method, **coords)
@@ -206,6 +208,12 @@ class Atlas:
         out["stability"] = {k: v[:n] for k, v in eq.items()}
         co = int(f["coexistence"][idx])
         out["coexistence"] = None if co < 0 else bool(co)
+        # Older atlases have no caveats: None, as for a run without one.
+        notes = f["caveat"][idx] if "caveat" in f else [0] * len(self.initials)
+        out["caveat"] = {
+            init: fmt.CAVEAT_NAMES.get(int(c)) or None
+            for init, c in zip(self.initials, notes, strict=True)
+        }
         return out
 
     def regimes(self, initial: str | None = None) -> np.ndarray:
@@ -245,6 +253,17 @@ class Atlas:
                 for name, code in fmt.REGIMES.items()
                 if np.any(codes[..., j] == code)
             }
+        caveats = {}
+        if "caveat" in f:
+            notes = f["caveat"][...]
+            for j, init in enumerate(self.initials):
+                counts = {
+                    name: int(np.sum(notes[..., j] == code))
+                    for name, code in fmt.CAVEATS.items()
+                    if code and np.any(notes[..., j] == code)
+                }
+                if counts:
+                    caveats[init] = counts
         return {
             "path": str(self.path),
             "pydrill_version": self.version,
@@ -259,6 +278,8 @@ class Atlas:
             "regimes": regimes,
             "safe_points": int(np.sum(self.safe_region())),
             "coexistence_points": int(np.sum(f["coexistence"][...] == 1)),
+            # Judgements that carry a note, by start and kind (runs to simulate longer)
+            "caveats": caveats,
             # A journal beside the atlas: a sweep is running, or was stopped; what it holds
             # but the atlas does not yet is completed by --resume.
             "journal": str(journal) if journal.exists() else None,

@@ -32,6 +32,16 @@ REGIMES = {
     "no-steady-state": -3,  # an 'equilibrium' start where no steady state exists
 }
 REGIME_NAMES = {v: k for k, v in REGIMES.items()}
+# What a run's judgement notes (SimulationResult.summary.caveat): kept by kind, not by text.
+CAVEATS = {
+    "": 0,
+    "first-wind-up": 1,  # stuck with |u| > T_s: the run ended before the first break-away
+    "one-stick-phase": 2,  # the window holds one stick phase of a slow cycle
+    "one-break-away": 3,  # the bit broke free once in the window and has not stuck again
+    "growing": 4,  # an oscillation still growing away from an unstable steady state
+    "short-window": 5,  # the judged window is shorter than the slowest period
+}
+CAVEAT_NAMES = {v: k for k, v in CAVEATS.items()}
 STATUS = {"missing": 0, "done": 1, "failed": 2}
 # gzip's fastest level: an atlas is rewritten during a sweep, and level 1 writes one 1.5x
 # faster than the default 4 for a file 10 % larger (measured on a 15000-point atlas).
@@ -96,6 +106,7 @@ class AtlasTable:
     eqs: dict[str, np.ndarray] = field(init=False)
     eig: np.ndarray = field(init=False)
     coexistence: np.ndarray = field(init=False)
+    caveat: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
         shape = self.spec.shape if self.points is None else (self.points,)
@@ -108,6 +119,7 @@ class AtlasTable:
         self.eqs = {n: np.full((*shape, N_EQ), f[1], dtype=f[0]) for n, f in EQ_FIELDS.items()}
         self.eig = np.full((*shape, N_EQ, k), complex(math.nan, math.nan), dtype="c16")
         self.coexistence = np.full(shape, -1, dtype="i1")
+        self.caveat = np.zeros((*shape, n_init), dtype="i1")
 
     def columns(self) -> dict[str, np.ndarray]:
         """Every per-point array by name; the point axes come first."""
@@ -119,6 +131,7 @@ class AtlasTable:
             **{f"eq:{k}": v for k, v in self.eqs.items()},
             "eig": self.eig,
             "coexistence": self.coexistence,
+            "caveat": self.caveat,
         }
 
     def put(self, indices: np.ndarray, block: dict[str, np.ndarray]) -> None:
@@ -143,6 +156,7 @@ class AtlasTable:
                     self.regime.reshape(n, -1)[i, j] = REGIMES["failed"]
                 continue
             self.regime.reshape(n, -1)[i, j] = REGIMES[run["regime"]]
+            self.caveat.reshape(n, -1)[i, j] = CAVEATS[run.get("caveat") or ""]
             for name, (_, fill, _, _) in RUN_FIELDS.items():
                 v = run.get(name)
                 self.runs[name].reshape(n, -1)[i, j] = fill if v is None else v
@@ -275,6 +289,27 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
             [],
             long_name="1 if rest and equilibrium starts end in different regimes, -1 unknown",
         )
+        _make_caveat(f, spec, table.caveat)
+
+
+def _make_caveat(f: h5py.File, spec: SweepSpec, data: np.ndarray) -> None:
+    """The ``caveat`` dataset; also added to an atlas written before it existed, when resumed."""
+    chunks = _chunks(data.shape)
+    ds = f.create_dataset(
+        "caveat",
+        shape=data.shape,
+        dtype=data.dtype,
+        chunks=chunks,
+        compression="gzip" if chunks else None,
+        compression_opts=GZIP_LEVEL if chunks else None,
+        fillvalue=0,
+    )
+    for axis, name in enumerate(spec.axes):
+        ds.dims[axis].attach_scale(f[name])
+    ds.dims[len(spec.axes)].attach_scale(f["initial"])
+    ds.attrs["flag_values"] = np.array(list(CAVEATS.values()), dtype="i1")
+    ds.attrs["flag_meanings"] = " ".join(k or "none" for k in CAVEATS)
+    ds.attrs["long_name"] = "what the run's judgement notes (0: nothing)"
 
 
 def write(path: Path, table: AtlasTable) -> None:
@@ -293,6 +328,9 @@ def write(path: Path, table: AtlasTable) -> None:
         f["eigenvalues_real"][...] = table.eig.real
         f["eigenvalues_imag"][...] = table.eig.imag
         f["coexistence"][...] = table.coexistence
+        if "caveat" not in f:
+            _make_caveat(f, table.spec, table.caveat)
+        f["caveat"][...] = table.caveat
 
 
 def read_table(path: Path, spec: SweepSpec) -> AtlasTable:
@@ -311,4 +349,6 @@ def read_table(path: Path, spec: SweepSpec) -> AtlasTable:
             table.eqs[name] = f[name][...]
         table.eig = f["eigenvalues_real"][...] + 1j * f["eigenvalues_imag"][...]
         table.coexistence = f["coexistence"][...]
+        if "caveat" in f:  # atlases written before it: no caveats recorded
+            table.caveat = f["caveat"][...]
     return table

@@ -65,10 +65,11 @@ def register_atlas(sub) -> None:
         epilog="examples:\n  pydrill atlas query paper.h5 --wob 100 --torque 8.5\n"
         "  pydrill atlas query paper.h5 --wob '0.1 kN' --torque 8.4 --nearest\n"
         "  pydrill atlas query damping.h5 --wob 100 --torque 8.5 --set bit_damping=50 --json\n\n"
-        "JSON fields: regime and the metrics (bit_min, bit_max, bit_mean, top_mean, severity,\n"
-        "  stuck_fraction, period, stick_events, wall_time) from the first initial condition;\n"
-        "  coords, status, by_initial {regime, metrics}, stability {omega_eq, delta,\n"
-        "  spectral_abscissa, hopf_margin, unstable, eigenvalues}, coexistence, units;\n"
+        "JSON fields: regime, caveat and the metrics (bit_min, bit_max, bit_mean, top_mean,\n"
+        "  severity, stuck_fraction, period, stick_events, wall_time) from the first initial\n"
+        "  condition; coords, status, by_initial {regime, metrics, caveat}, stability\n"
+        "  {omega_eq, delta, spectral_abscissa, hopf_margin, unstable, eigenvalues},\n"
+        "  coexistence, units;\n"
         "  message for a failed point",
     )
     query.add_argument("atlas", metavar="ATLAS.h5")
@@ -196,6 +197,9 @@ def _cmd_info(args: argparse.Namespace) -> int:
     print(
         f"  safe points {s['safe_points']}, rest/equilibrium disagree at {s['coexistence_points']}"
     )
+    for init, counts in s["caveats"].items():
+        notes = ", ".join(f"{k} {v}" for k, v in counts.items())
+        print(f"  caveats from {init}: {notes} (points to simulate longer; query shows which)")
     if s["journal"]:
         more = s["journal_points"]
         held = f"holds {more} more points, not yet in the atlas" if more else "is there"
@@ -204,6 +208,16 @@ def _cmd_info(args: argparse.Namespace) -> int:
             "or was stopped; 'pydrill sweep SPEC.toml --out ATLAS.h5 --resume' completes it"
         )
     return 0
+
+
+# What each caveat kind of an atlas means (the run's own note says it in full).
+CAVEAT_TEXT = {
+    "first-wind-up": "the bit had not broken free yet although |u| > T_s; simulate longer",
+    "one-stick-phase": "the window held one stick phase of a slow cycle; simulate longer",
+    "one-break-away": "the bit broke free once and had not stuck again; simulate longer",
+    "growing": "an oscillation still growing away from the steady state; simulate longer",
+    "short-window": "the judged window is shorter than the slowest period; simulate longer",
+}
 
 
 def _axis_values(items: list[str]) -> dict[str, float]:
@@ -244,7 +258,8 @@ def _cmd_query(args: argparse.Namespace) -> int:
         first = initials[0]
         flat = {"regime": v["regime"][first], "coords": v["coords"], "status": v["status"]}
         flat.update({k: m[first] for k, m in v["metrics"].items()})
-        flat["by_initial"] = {"regime": v["regime"], "metrics": v["metrics"]}
+        flat["caveat"] = v["caveat"][first]
+        flat["by_initial"] = {"regime": v["regime"], "metrics": v["metrics"], "caveat": v["caveat"]}
         flat["stability"] = v["stability"]
         flat["coexistence"] = v["coexistence"]
         flat["units"] = {
@@ -275,6 +290,9 @@ def _cmd_query(args: argparse.Namespace) -> int:
             + ("-" if stuck is None else f"{100 * stuck:.1f} %")
             + (f", period {period:.4g} s" if period else "")
         )
+        caveat = v["caveat"][init]
+        if caveat:
+            print(f"    caveat: {caveat} ({CAVEAT_TEXT[caveat]})")
     st = v["stability"]
     for w, unstable in zip(st["omega_eq"], st["unstable"], strict=True):
         print(

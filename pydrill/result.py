@@ -86,6 +86,9 @@ class Summary:
     static_torque: float  #: T_s = μ_sb W_ob R_b
     omega_equilibrium: tuple[float, ...]  #: every steady velocity Ω > 0 for (W_ob, u)
     note: str = ""  #: caveat about the judgement (e.g. the run was too short)
+    #: the note's kind, for tables (an atlas keeps this): "first-wind-up", "one-stick-phase",
+    #: "one-break-away", "growing", "short-window"; "" without a note
+    caveat: str = ""
 
 
 class SimulationResult:
@@ -250,6 +253,7 @@ class SimulationResult:
             "omega_equilibrium": list(s.omega_equilibrium),
             "window": [s.window_start, s.window_end],
             "note": s.note or None,
+            "caveat": s.caveat or None,
             "solver": {
                 k: v
                 for k, v in asdict(self.stats).items()

@@ -87,6 +87,7 @@ def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
                 "period": s.period,
                 "stick_events": s.stick_events,
                 "wall_time": r.stats.wall_time,
+                "caveat": s.caveat,
             }
         regimes = {
             v["regime"]

@@ -217,3 +217,78 @@ def test_resume_replays_a_journal_ahead_of_its_atlas(tmp_path, monkeypatch):
             assert v["stability"]["omega_eq"] == rec["stability"]["omega_eq"], coords
             assert v["stability"]["unstable"] == rec["stability"]["unstable"], coords
             assert v["coexistence"] == rec["coexistence"], coords
+
+
+CAVEATS = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [50.0, 100.0, 145.0]
+torque = [3.5, 8.3, 8.5]
+[simulation]
+t_end = 300.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+def test_each_runs_caveat_is_kept_in_the_atlas_as_simulate_gives_it(tmp_path):
+    # The atlas kept a regime but not the run's note: an "oscillation" that was still growing
+    # away from an unstable steady state read like a limit cycle. Reference: simulate() at
+    # every point and start.
+    out = tmp_path / "c.h5"
+    spec = parse_spec(CAVEATS)
+    run_sweep(spec, out, serial=True)
+    seen = set()
+    with Atlas(out) as atlas:
+        for i in range(spec.size):
+            coords = spec.coords(i)
+            wob, torque = spec.operating_point(coords)
+            v = atlas.value(**coords)
+            for init in spec.initials:
+                try:
+                    r = pydrill.simulate(spec.params_at(coords), wob=wob, torque=torque,
+                                         t_end=300.0, initial=init, n_out=2)  # fmt: skip
+                    want = r.summary.caveat or None
+                except ValueError:  # no steady state to start from
+                    want = None
+                assert v["caveat"][init] == want, (coords, init)
+                seen.add(want)
+        summary = atlas.summary()
+        assert atlas.to_xarray()["caveat"].dims == ("wob", "torque", "initial")
+    assert "growing" in seen  # the grid meets one
+    counts = summary["caveats"]["equilibrium"]
+    assert counts["growing"] == sum(
+        atlas_v == "growing" for atlas_v in _caveats(out, "equilibrium")
+    )
+    info = subprocess.run([*CMD, "atlas", "info", out], capture_output=True, text=True)
+    assert f"caveats from equilibrium: growing {counts['growing']}" in info.stdout
+    query = subprocess.run(
+        [*CMD, "atlas", "query", out, "--wob", "145", "--torque", "8.5", "--json"],
+        capture_output=True,
+        text=True,
+    )
+    data = json.loads(query.stdout)
+    assert data["by_initial"]["caveat"]["equilibrium"] == "growing"
+
+
+def _caveats(path, init):
+    with Atlas(path) as atlas:
+        spec = atlas.spec
+        return [atlas.value(**spec.coords(i))["caveat"][init] for i in range(spec.size)]
+
+
+def test_an_atlas_from_before_caveats_reads_none_and_gains_them_on_resume(tmp_path):
+    out = tmp_path / "old.h5"
+    spec = parse_spec(CAVEATS)
+    run_sweep(spec, out, serial=True)
+    with h5py.File(out, "r+") as f:  # as written before the dataset existed, half done
+        del f["caveat"]
+        f["status"][2, :] = fmt.STATUS["missing"]
+    with Atlas(out) as atlas:
+        assert atlas.value(wob=50.0, torque=3.5)["caveat"] == {"rest": None, "equilibrium": None}
+        assert atlas.summary()["caveats"] == {}
+    report = run_sweep(spec, out, serial=True, resume=True)
+    assert report.computed == 3
+    with Atlas(out) as atlas:
+        assert atlas.value(wob=145.0, torque=8.5)["caveat"]["equilibrium"] == "growing"

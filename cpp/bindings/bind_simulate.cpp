@@ -40,6 +40,7 @@ py::dict summary_dict(const Summary& s) {
   d["static_torque"] = s.static_torque;
   d["omega_equilibrium"] = s.omega_equilibrium;
   d["note"] = s.note;
+  d["caveat"] = s.caveat;
   return d;
 }
 

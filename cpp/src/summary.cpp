@@ -154,9 +154,11 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     const bool ever_slipped = modes.size() > 1 || !is_held(modes.front().mode);
     s.regime = must_slip && ever_slipped ? "stick-slip" : "stuck";
     if (must_slip && !ever_slipped) {
+      s.caveat = "first-wind-up";
       s.note = "the bit has not broken free yet although |u| > T_s: the run ended during the "
                "first wind-up of the string; simulate longer to see the regime";
     } else if (must_slip) {
+      s.caveat = "one-stick-phase";
       s.note = "the window holds a single stick phase of a slow stick-slip cycle; simulate longer "
                "for its period";
     }
@@ -168,6 +170,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     if (onsets.empty()) {
       // Held when the window opened, slipping ever since: one break-away, no stick after
       // it. The next stick may be coming, or the bit may settle into steady drilling.
+      s.caveat = "one-break-away";
       s.note = "the bit broke free once in the window and has not stuck again: simulate longer "
                "to tell stick-slip from steady drilling";
     }
@@ -196,6 +199,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
           << " across the window): the steady state is left, and the bit may end in "
           << "stick-slip; simulate longer to see where it settles";
         s.note = o.str();
+        s.caveat = "growing";
       }
     }
   }
@@ -212,6 +216,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       << slowest << " s): too short to judge the regime; simulate longer, or judge a larger "
       << "fraction of the run (window)";
     s.note = o.str();
+    s.caveat = "short-window";
   }
   return s;
 }

@@ -69,10 +69,12 @@ TEST_CASE("a swing dying out slowly is steady, one growing slowly an oscillation
   const Summary d = detail::summarize(chain, decay.trace, modes, decay.angles, false);
   CHECK(d.regime == "steady");
   CHECK(d.note.empty());
+  CHECK(d.caveat.empty());
   const auto growth = sine(10.0, 0.05, -0.00343, 3.1, 150.0, 300.0);
   const Summary g = detail::summarize(chain, growth.trace, modes, growth.angles, false);
   CHECK(g.regime == "oscillation");
   CHECK(g.note.find("still growing") != std::string::npos);
+  CHECK(g.caveat == "growing");
   CHECK(g.period == Approx(3.1).epsilon(1e-3));
   // Within the ±5 % band (a swing 3 % smaller at the end) it is sustained: no note.
   const auto flat = sine(10.0, 0.05, 0.0002, 3.1, 150.0, 300.0);
@@ -146,6 +148,13 @@ TEST_CASE("stick phases in the window make stick-slip, a stick covering it makes
   const Summary windup = detail::summarize(chain, s.trace, held, s.angles, false);
   CHECK(windup.regime == "stuck");
   CHECK_FALSE(windup.note.empty());
+  CHECK(windup.caveat == "first-wind-up");
+  // Slipped before the window, held all through it, and u > T_s: one long stick phase.
+  const std::vector<detail::ModeChange> long_stick{{0.0, Mode::SlipPositive}, {100.0, Mode::Stick}};
+  const Summary phase = detail::summarize(chain, s.trace, long_stick, s.angles, false);
+  CHECK(phase.regime == "stick-slip");
+  CHECK(phase.caveat == "one-stick-phase");
+  CHECK_THAT(phase.note, Catch::Contains("single stick phase"));
 }
 
 TEST_CASE("a window too short to judge says so", "[summary]") {
@@ -158,6 +167,7 @@ TEST_CASE("a window too short to judge says so", "[summary]") {
   const auto part = sine(3.0, 1.0, 0.0, 17.5, 297.0, 300.0);
   const Summary r = detail::summarize(chain, part.trace, slipping, part.angles, false);
   CHECK_THAT(r.note, Catch::Contains("shorter than the string's slowest period"));
+  CHECK(r.caveat == "short-window");
   std::ostringstream expected;
   expected.precision(3);
   expected << "(about " << slowest << " s)";
@@ -184,6 +194,7 @@ TEST_CASE("one break-away in the window and no stick after it is flagged", "[sum
   CHECK(r.regime == "stick-slip");
   CHECK(r.stick_events == 0);
   CHECK_THAT(r.note, Catch::Contains("broke free once"));
+  CHECK(r.caveat == "one-break-away");
   // A stick after it makes a cycle: no note.
   const std::vector<detail::ModeChange> again{
       {0.0, Mode::Stick}, {160.0, Mode::SlipPositive}, {200.0, Mode::Stick}, {210.0, Mode::SlipPositive}};
