@@ -1,5 +1,7 @@
 #include "events.hpp"
 
+#include "hermite.hpp"
+
 namespace pydrill::detail {
 
 void root_functions(const RunData& d, const double* Y, double* g) {
@@ -53,23 +55,8 @@ double hidden_turn(double t0, double t1, double g0, double g1, double r0, double
   const double m0 = h * r0, m1 = h * r1;
   // Towards zero at the start, away from it at the end: a turn inside the step.
   if (!(m0 * g0 < 0.0 && m1 * g1 > 0.0)) return none;
-  // p(x) = g0 h00 + m0 h10 + g1 h01 + m1 h11 on [0, 1]; p'(x) = A x² + B x + m0 changes
-  // sign once on (0, 1): the root where it does.
-  const double dg = g1 - g0;
-  const double A = 3.0 * (m0 + m1) - 6.0 * dg, B = 6.0 * dg - 4.0 * m0 - 2.0 * m1;
-  double x;
-  if (std::fabs(A) < 1e-14 * (std::fabs(B) + std::fabs(m0))) {
-    x = -m0 / B;
-  } else {
-    const double r = std::sqrt(std::max(B * B - 4.0 * A * m0, 0.0));
-    const double q = -0.5 * (B + std::copysign(r, B));
-    const double x1 = q / A, x2 = q != 0.0 ? m0 / q : x1;
-    x = (x1 > 0.0 && x1 < 1.0) ? x1 : x2;
-  }
-  if (!(x > 0.0 && x < 1.0)) return none;
-  const double x2 = x * x, x3 = x2 * x;
-  const double p = g0 * (2 * x3 - 3 * x2 + 1) + m0 * (x3 - 2 * x2 + x) +
-                   g1 * (-2 * x3 + 3 * x2) + m1 * (x3 - x2);
+  double x, p;
+  if (!hermite_turn(g0, g1, m0, m1, x, p)) return none;
   if ((g0 > 0 ? p : -p) > 0.5 * std::min(std::fabs(g0), std::fabs(g1))) return none;
   return t0 + x * h;
 }

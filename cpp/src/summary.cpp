@@ -7,6 +7,7 @@
 #include <tuple>
 #include <utility>
 
+#include "hermite.hpp"
 #include "pydrill/equilibrium.hpp"
 #include "pydrill/simulator.hpp"
 
@@ -77,25 +78,8 @@ std::pair<double, double> extremes(const std::vector<double>& t, const std::vect
     if (next < modes.size() && modes[next].t == t[i + 1]) continue;
     const double h = t[i + 1] - t[i];
     const double m0 = dv[i] * h, m1 = dv[i + 1] * h;  // slopes per unit of x = (t − t_i)/h
-    if (!(h > 0.0) || !(m0 * m1 < 0.0)) continue;  // an extreme inside needs a sign change
-    // p(x) = v0 h00 + m0 h10 + v1 h01 + m1 h11; p'(x) = A x² + B x + m0.
-    const double d = v[i + 1] - v[i];
-    const double A = 3.0 * (m0 + m1) - 6.0 * d, B = 6.0 * d - 4.0 * m0 - 2.0 * m1;
-    double x;
-    if (std::fabs(A) < 1e-14 * (std::fabs(B) + std::fabs(m0))) {
-      x = -m0 / B;
-    } else {
-      const double disc = B * B - 4.0 * A * m0;  // > 0: p' changes sign on (0, 1)
-      const double r = std::sqrt(std::max(disc, 0.0));
-      // the root where p' goes from the sign of m0 to that of m1
-      const double q = -0.5 * (B + std::copysign(r, B));
-      const double x1 = q / A, x2 = q != 0.0 ? m0 / q : x1;
-      x = (x1 > 0.0 && x1 < 1.0) ? x1 : x2;
-    }
-    if (!(x > 0.0 && x < 1.0)) continue;
-    const double x2 = x * x, x3 = x2 * x;
-    const double p = v[i] * (2 * x3 - 3 * x2 + 1) + m0 * (x3 - 2 * x2 + x) +
-                     v[i + 1] * (-2 * x3 + 3 * x2) + m1 * (x3 - x2);
+    double x, p;
+    if (!(h > 0.0) || !hermite_turn(v[i], v[i + 1], m0, m1, x, p)) continue;
     if (m0 > 0.0) hi = std::max(hi, p);
     else lo = std::min(lo, p);
   }
