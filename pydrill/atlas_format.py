@@ -32,15 +32,16 @@ REGIMES = {
     "no-steady-state": -3,  # an 'equilibrium' start where no steady state exists
 }
 REGIME_NAMES = {v: k for k, v in REGIMES.items()}
-# What a run's judgement notes (SimulationResult.summary.caveat): kept by kind, not by text.
-CAVEATS = {
-    "": 0,
-    "first-wind-up": 1,  # stuck with |u| > T_s: the run ended before the first break-away
-    "one-stick-phase": 2,  # the window holds one stick phase of a slow cycle
-    "one-break-away": 3,  # the bit broke free once in the window and has not stuck again
-    "growing": 4,  # an oscillation still growing away from an unstable steady state
-    "short-window": 5,  # the judged window is shorter than the slowest period
+# What a run's judgement notes (SimulationResult.summary.caveat): kept by kind, not by text;
+# each kind's meaning in short (the run's own note says it in full).
+CAVEAT_TEXT = {
+    "first-wind-up": "the bit had not broken free yet although |u| > T_s; simulate longer",
+    "one-stick-phase": "the window held one stick phase of a slow cycle; simulate longer",
+    "one-break-away": "the bit broke free once and had not stuck again; simulate longer",
+    "growing": "an oscillation still growing away from the steady state; simulate longer",
+    "short-window": "the judged window is shorter than the slowest period; simulate longer",
 }
+CAVEATS = {"": 0, **{name: code for code, name in enumerate(CAVEAT_TEXT, start=1)}}
 CAVEAT_NAMES = {v: k for k, v in CAVEATS.items()}
 STATUS = {"missing": 0, "done": 1, "failed": 2}
 # gzip's fastest level: an atlas is rewritten during a sweep, and level 1 writes one 1.5x

@@ -210,16 +210,6 @@ def _cmd_info(args: argparse.Namespace) -> int:
     return 0
 
 
-# What each caveat kind of an atlas means (the run's own note says it in full).
-CAVEAT_TEXT = {
-    "first-wind-up": "the bit had not broken free yet although |u| > T_s; simulate longer",
-    "one-stick-phase": "the window held one stick phase of a slow cycle; simulate longer",
-    "one-break-away": "the bit broke free once and had not stuck again; simulate longer",
-    "growing": "an oscillation still growing away from the steady state; simulate longer",
-    "short-window": "the judged window is shorter than the slowest period; simulate longer",
-}
-
-
 def _axis_values(items: list[str]) -> dict[str, float]:
     """``--set AXIS=VALUE`` options as a dict."""
     out = {}
@@ -233,6 +223,7 @@ def _axis_values(items: list[str]) -> dict[str, float]:
 
 
 def _cmd_query(args: argparse.Namespace) -> int:
+    from . import atlas_format as fmt
     from .atlas import Atlas
 
     coords = {
@@ -292,7 +283,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
         )
         caveat = v["caveat"][init]
         if caveat:
-            print(f"    caveat: {caveat} ({CAVEAT_TEXT[caveat]})")
+            print(f"    caveat: {caveat} ({fmt.CAVEAT_TEXT[caveat]})")
     st = v["stability"]
     for w, unstable in zip(st["omega_eq"], st["unstable"], strict=True):
         print(
