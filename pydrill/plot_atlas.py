@@ -98,7 +98,7 @@ def atlas_figure(
         ]
         colors = ["#58d68d", "#f5b041", "#85929e", "#af7ac5", "#e74c3c", "#ffffff", "#d6eaf8"]
         lut = {fmt.REGIMES[n]: k for k, n in enumerate(shown)}
-        ax.pcolormesh(
+        mesh = ax.pcolormesh(
             *_cells(x, y),
             np.vectorize(lut.get)(grid).T,
             cmap=ListedColormap(colors),
@@ -106,6 +106,12 @@ def atlas_figure(
         )
         present = sorted({int(c) for c in np.unique(grid)}, key=lambda c: lut[c])
         handles = [Patch(color=colors[lut[c]], label=fmt.REGIME_NAMES[c]) for c in present]
+        if "caveat" in atlas._f:  # runs whose judgement carries a note: simulate them longer
+            caveat = atlas._f["caveat"][..., j][tuple(index)]
+            caveat = caveat.T if order.index(xname) > order.index(yname) else caveat
+            if np.any(caveat):
+                label = "judged with a caveat: simulate longer"
+                handles.append(_hatch_cells(ax, mesh, caveat != 0, "..", label))
         what = f"regime from {init}"
     else:
         # A stuck bit has no velocity spread (severity 0, as steady drilling): hatch it.
@@ -209,6 +215,26 @@ def _edges(v):
     return np.concatenate([[v[0] - (mid[0] - v[0])], mid, [v[-1] + (v[-1] - mid[-1])]])
 
 
+def _hatch_cells(ax, mesh, where, hatch: str, label: str):
+    """Hatch exactly the cells where ``where`` (x, y) holds, with the edges the colour mesh
+    gives them (a contour would interpolate between grid points: a diagonal band across
+    neighbouring cells); the legend's handle."""
+    import numpy as np
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Patch, Rectangle
+
+    edges = mesh.get_coordinates()  # (len(y) + 1, len(x) + 1, 2)
+    cells = [
+        Rectangle(edges[i, j], *(edges[i + 1, j + 1] - edges[i, j]))
+        for i, j in zip(*np.nonzero(np.asarray(where).T), strict=True)
+    ]
+    ax.add_collection(
+        PatchCollection(cells, facecolor="none", edgecolor="0.3", lw=0, hatch=hatch),
+        autolim=False,
+    )
+    return Patch(facecolor="none", edgecolor="0.3", hatch=hatch, label=label)
+
+
 def _cells(x, y):
     """pcolormesh's coordinates: the cell edges along x and y."""
     return _edges(x), _edges(y)
@@ -258,20 +284,6 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     blank = "no steady state (or not computed)" if metric in fmt.EQ_FIELDS else "no value"
     handles = [Patch(color="#d5d8dc", label=blank)] if values.mask.any() else []
     if stuck is not None and stuck.any():
-        # Exactly the stuck cells, with the edges the colour mesh gives them (a contour would
-        # interpolate between grid points: a diagonal band across neighbouring cells).
-        from matplotlib.collections import PatchCollection
-        from matplotlib.patches import Rectangle
-
-        edges = mesh.get_coordinates()  # (len(y) + 1, len(x) + 1, 2)
-        cells = [
-            Rectangle(edges[i, j], *(edges[i + 1, j + 1] - edges[i, j]))
-            for i, j in zip(*np.nonzero(np.asarray(stuck).T), strict=True)
-        ]
-        ax.add_collection(
-            PatchCollection(cells, facecolor="none", edgecolor="0.3", lw=0, hatch="//"),
-            autolim=False,
-        )
-        handles.append(Patch(facecolor="none", edgecolor="0.3", hatch="//", label="bit stuck"))
+        handles.append(_hatch_cells(ax, mesh, stuck, "//", "bit stuck"))
     steady = metric in fmt.EQ_FIELDS
     return handles, f"{metric} " + ("of the fastest steady state" if steady else f"from {init}")

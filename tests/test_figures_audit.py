@@ -249,3 +249,53 @@ def test_real_string_figures_are_in_kilonewtons_and_the_laboratory_string_in_new
     lab = pydrill.preset("reduced-scale", dof=2)
     fig = bifurcation_figure(lab, branch(lab, vary="wob", torque=8.1))
     assert fig.axes[0].get_xlabel().endswith("(N)") and "8.1 N·m" in fig.axes[0].get_title()
+
+
+def test_regime_map_dots_exactly_the_cells_judged_with_a_caveat(tmp_path):
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import atlas_figure
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    spec = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [50.0, 100.0, 145.0, 165.0]
+torque = [3.5, 8.3, 8.5, 9.5]
+[simulation]
+t_end = 300.0
+initial = ["rest", "equilibrium"]
+"""
+    out = tmp_path / "caveats.h5"
+    run_sweep(parse_spec(spec), out, serial=True)
+    with Atlas(out) as atlas:
+        # Reference: each point's own query, not the array the figure reads.
+        noted = np.array(
+            [
+                [
+                    atlas.value(wob=w, torque=u)["caveat"]["equilibrium"] is not None
+                    for u in atlas.axes["torque"]
+                ]
+                for w in atlas.axes["wob"]
+            ]
+        ).T  # (torque, wob), as the map's rows
+        fig = atlas_figure(atlas, initial="equilibrium")
+    assert noted.any() and not noted.all()
+    ax = fig.axes[0]
+    corners = ax.collections[0].get_coordinates()
+    dotted = [a for a in [*ax.collections, *ax.patches] if a.get_hatch() == ".."]
+    assert dotted
+    hits = np.zeros(noted.shape, dtype=bool)
+    for i in range(noted.shape[0]):
+        for j in range(noted.shape[1]):
+            (x0, y0), (x1, y1) = corners[i, j], corners[i + 1, j + 1]
+            centre = ax.transData.transform([[(x0 + x1) / 2, (y0 + y1) / 2]])
+            hits[i, j] = any(
+                path.contains_points(centre, transform=a.get_transform()).any()
+                for a in dotted
+                for path in a.get_paths()
+            )
+    np.testing.assert_array_equal(hits, noted)
+    assert any("caveat" in t.get_text() for t in ax.get_legend().get_texts())
