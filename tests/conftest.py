@@ -1,4 +1,5 @@
 import os
+import sys
 
 import matplotlib
 import pytest
@@ -8,6 +9,16 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 # A tester's own cluster (sweeps go where DASK_SCHEDULER_ADDRESS points, as any Dask client's
 # work does) is not the one these tests start; the tests that want it set it themselves.
 os.environ.pop("DASK_SCHEDULER_ADDRESS", None)
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    """Each test's figures are closed after it: pyplot keeps them, and past 20 open it warns,
+    which these settings make an error in whichever test happens to open the 21st."""
+    yield
+    plt = sys.modules.get("matplotlib.pyplot")  # not imported by a test that drew nothing
+    if plt is not None:
+        plt.close("all")
 
 
 @pytest.fixture(scope="session")
