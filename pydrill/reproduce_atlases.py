@@ -117,14 +117,17 @@ def run_atlas(
     if not resume or force:
         path.unlink(missing_ok=True)
         journal.unlink(missing_ok=True)
+    # The small atlases run here, serially, whatever the cluster: starting one costs more
+    # than their points. ``workers`` sizes the cluster of the others.
+    serial = not settings["parallel"] and scheduler is None
     run_sweep(
         spec,
         path,
-        workers=workers,
+        workers=None if serial else workers,
         scheduler=scheduler,
         resume=resume,
         progress=progress,
-        serial=not settings["parallel"] and scheduler is None,
+        serial=serial,
     )
     return path, "resumed" if resume else "computed"
 

@@ -218,3 +218,25 @@ def test_reproduce_end_to_end_quick(tmp_path):
     )
     assert set(second["atlases"].values()) == {"reused"}
     assert second["cache"]["computed"] == []
+
+
+def test_reproduce_workers_sizes_the_cluster_and_small_atlases_stay_serial(tmp_path):
+    """``reproduce --workers N`` once failed on every serial atlas ("give at most one of
+    workers, scheduler, serial"): it sizes the cluster of the parallel ones only. An atlas run
+    here and one run on a cluster of one worker hold the same points."""
+    from pydrill.atlas import Atlas
+    from pydrill.reproduce_atlases import run_atlas
+
+    base = {"model": {"dof": 2, "torque": 8.1}, "axes": {"wob": [60.0, 100.0, 160.0]}}
+    regimes = []
+    for parallel in (False, True):
+        settings = {**base, "t_end": 60.0, "parallel": parallel}
+        path, how = run_atlas(
+            tmp_path / str(parallel), "fig", settings, force=False, workers=1, scheduler=None
+        )
+        assert how == "computed"
+        with Atlas(path) as atlas:
+            assert atlas.summary()["status"]["missing"] == 0
+            regimes.append(atlas.to_xarray()["regime"].values.tolist())
+    assert regimes[0] == regimes[1]
+    assert len({r for row in regimes[0] for r in row}) > 2  # not one regime repeated
