@@ -40,6 +40,8 @@ CAVEAT_TEXT = {
     "one-break-away": "the bit broke free once and had not stuck again; simulate longer",
     "growing": "an oscillation still growing away from the steady state; simulate longer",
     "short-window": "the judged window is shorter than the slowest period; simulate longer",
+    # (new kinds go last: an atlas stores the codes)
+    "late-stick": "the bit slipped, then stuck to the window's end (u <= T_s); simulate longer",
 }
 CAVEATS = {"": 0, **{name: code for code, name in enumerate(CAVEAT_TEXT, start=1)}}
 CAVEAT_NAMES = {v: k for k, v in CAVEATS.items()}

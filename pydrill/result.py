@@ -87,7 +87,7 @@ class Summary:
     omega_equilibrium: tuple[float, ...]  #: every steady velocity Ω > 0 for (W_ob, u)
     note: str = ""  #: caveat about the judgement (e.g. the run was too short)
     #: the note's kind, for tables (an atlas keeps this): "first-wind-up", "one-stick-phase",
-    #: "one-break-away", "growing", "short-window"; "" without a note
+    #: "one-break-away", "late-stick", "growing", "short-window"; "" without a note
     caveat: str = ""
 
 

@@ -300,3 +300,15 @@ def test_hopf_and_stability_commands(tmp_path):
         [*run, "stability", "--dof", "4", "--wob", "40"], capture_output=True, text=True
     )
     assert bad.returncode == 2 and "Traceback" not in bad.stderr
+
+
+@pytest.mark.parametrize(("pipes", "crossings", "supercritical"), [(10, 17, 2), (500, 339, 69)])
+def test_the_hopf_counts_the_guide_quotes(pipes, crossings, supercritical):
+    """docs/guide/stability.md and the README quote these counts (2 of 17 at 10 pipes, 69 of
+    339 at 500): they must stay what pydrill computes. (That the crossings are where
+    eigenvalues touch the axis is checked against brute force above.)"""
+    p = pydrill.preset(pipes=pipes)
+    hopf = [c for c in st.critical_deltas(p) if c.type == "hopf"]
+    assert len(hopf) == crossings
+    assert sum(st.criticality(c.lyapunov(p)) == "supercritical" for c in hopf) == supercritical
+    assert all(c.multiplicity == 2 and c.direction in (-1, 1) for c in hopf)

@@ -10,6 +10,7 @@
 #include "hermite.hpp"
 #include "pydrill/equilibrium.hpp"
 #include "pydrill/simulator.hpp"
+#include "pydrill/stability.hpp"
 
 namespace pydrill::detail {
 namespace {
@@ -40,16 +41,17 @@ double span(const Trace& tr, double t0, double t1) {
 
 // The trend of the bit velocity's swing over the window: the least-squares slope of
 // log(swing) over its four quarters, times the window's length (so 0 is sustained, ln 0.5 a
-// swing halved across the window). `floor` stands in for a quarter without any swing.
+// swing halved across the window). `floor` stands in for a quarter without any swing;
+// `last` is the last quarter's swing.
 double swing_trend(const Trace& tr, double t0, double t1, double floor, double& last) {
   constexpr int kParts = 4;
   const double h = (t1 - t0) / kParts;
   double x[kParts], y[kParts];
   for (int q = 0; q < kParts; ++q) {
     x[q] = (q + 0.5) / kParts;
-    y[q] = std::log(std::max(span(tr, t0 + q * h, t0 + (q + 1) * h), floor));
+    last = span(tr, t0 + q * h, t0 + (q + 1) * h);
+    y[q] = std::log(std::max(last, floor));
   }
-  last = std::exp(y[kParts - 1]);
   double xm = 0.0, ym = 0.0;
   for (int q = 0; q < kParts; ++q) xm += x[q] / kParts, ym += y[q] / kParts;
   double sxy = 0.0, sxx = 0.0;
@@ -84,6 +86,20 @@ std::pair<double, double> extremes(const std::vector<double>& t, const std::vect
     else lo = std::min(lo, p);
   }
   return {lo, hi};
+}
+
+// Whether the steady state nearest the run's mean bit velocity has an eigenvalue in the
+// right half-plane (from the string's crossings, O(dof²): only asked of an ambiguous swing).
+bool circles_unstable_state(const Chain& chain, const std::vector<double>& omegas, double mean) {
+  if (omegas.empty()) return false;
+  double omega = omegas.front();
+  for (double o : omegas) {
+    if (std::fabs(o - mean) < std::fabs(omega - mean)) omega = o;
+  }
+  if (!(std::fabs(omega) > 0.0)) return false;
+  const auto& p = chain.params();
+  const double delta = stribeck_slope(p, std::fabs(chain.wob()), std::fabs(omega));
+  return unstable_count(critical_deltas(p), delta) > 0;
 }
 
 }  // namespace
@@ -128,7 +144,8 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   }
 
   const bool held_throughout = s.stuck_fraction >= 1.0 - 1e-12;
-  bool growing = false;  // an oscillation still growing (its note may give way below)
+  bool growing = false;  // an oscillation still growing, or judged by its steady state's
+  bool unresolved = false;  // stability: their notes may give way below
   if (held_throughout) {
     // In stick the string relaxes towards T_e = u. If |u| <= T_s the rock
     // holds it for good. Otherwise it must break free later: if it already
@@ -151,7 +168,25 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     if (s.bit_max == 0.0) s.bit_top_ratio = 0.0;
   } else if (held > 0.0) {
     s.regime = "stick-slip";
-    if (onsets.empty()) {
+    // The mode the window opened in: the last change at or before its start.
+    std::size_t first = 0;
+    while (first + 1 < modes.size() && modes[first + 1].t <= w.t0) ++first;
+    const bool held_at_start = is_held(modes[first].mode);
+    const bool held_at_end = is_held(modes.back().mode);
+    if (onsets.size() == 1 && !held_at_start && held_at_end &&
+        std::fabs(chain.torque()) <= chain.static_torque()) {
+      // Slipping, then one stick to the window's end with |u| <= T_s: the bit stuck once and
+      // has not left, which is what stuck means, not a repeated stick and slip. A run a few
+      // seconds longer had judged it stuck from a window held throughout.
+      s.regime = "stuck";
+      s.caveat = "late-stick";
+      std::ostringstream o;
+      o.precision(3);
+      o << "the bit slipped for part of the window and has been stuck since t = " << onsets[0]
+        << " s: |u| <= T_s lets the rock hold it, but the string's swing may still break it "
+        << "free; simulate longer to be sure";
+      s.note = o.str();
+    } else if (onsets.empty()) {
       // Held when the window opened, slipping ever since: one break-away, no stick after
       // it. The next stick may be coming, or the bit may settle into steady drilling.
       s.caveat = "one-break-away";
@@ -170,7 +205,25 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     const double trend = swing_trend(tr, w.t0, w.t1, 0.5 * floor, last);
     // ±5 %: what sampling the swing at the integrator's steps cannot fake.
     const double change = std::log(1.05);
-    if (last <= floor || trend < -change) {
+    bool steady = trend < -change || last <= kSwingFloor * scale;
+    if (!steady && last <= floor) {
+      // A sustained swing the integrator cannot tell from its own ringing: the floor grows
+      // with rtol (20 % of the mean at 1e-4), and a 7 % limit cycle about a Hopf-unstable
+      // steady state passed for steady drilling there. Near the steady state the linear
+      // analysis decides: it is kept only if no eigenvalue lies in the right half-plane.
+      steady = !circles_unstable_state(chain, s.omega_equilibrium, s.bit_mean);
+      unresolved = !steady;
+      if (unresolved) {
+        std::ostringstream o;
+        o.precision(2);
+        o << "the bit velocity swings by " << 100.0 * last / scale << " % of its mean, within "
+          << "what the tolerance resolves (" << 100.0 * floor / scale << " %), about a steady "
+          << "state that is linearly unstable: judged an oscillation; a smaller rtol shows it "
+          << "clearly";
+        s.note = o.str();
+      }
+    }
+    if (steady) {
       s.regime = "steady";
     } else {
       s.regime = "oscillation";
@@ -193,7 +246,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   // Over a window that short a swing's trend says nothing either: this note replaces it.
   const bool settled_stuck = s.regime == "stuck" && s.note.empty();
   const double slowest = 2.0 * 3.14159265358979323846 / estimate_stiffness(chain.params()).fundamental;
-  if (!settled_stuck && T < slowest && (s.note.empty() || growing)) {
+  if (!settled_stuck && T < slowest && (s.note.empty() || growing || unresolved)) {
     std::ostringstream o;
     o.precision(3);
     o << "the judged window (" << T << " s) is shorter than the string's slowest period (about "

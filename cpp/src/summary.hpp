@@ -26,16 +26,22 @@ struct WindowAngles {
   double bit0, bit1;          // φ_b at both ends
 };
 
-// steady_swing: the relative swing of the bit velocity below which it counts as
-// steady even if it does not decay: the level the integrator's tolerance can
-// resolve (see steady_swing_for_tolerance).
+// steady_swing: the relative swing of the bit velocity that the integrator's tolerance
+// cannot tell from its own ringing (see steady_swing_for_tolerance). A sustained swing
+// below it is steady unless the steady state it circles is linearly unstable; below
+// kSwingFloor it is steady.
 Summary summarize(const Chain& chain, const Trace& trace, const std::vector<ModeChange>& modes,
                   const WindowAngles& angles, bool karnopp, double steady_swing = 2e-6);
+
+// The relative swing below which a bit velocity is steady whatever the tolerance.
+inline constexpr double kSwingFloor = 2e-6;
 
 // 2e-6, or 2000·rtol if larger. A steady state near a Hopf point is weakly
 // damped: each step's local error (~rtol) keeps it ringing at a floor that
 // depends on the method (measured on the paper's dof-2 string at W_ob 120 N:
 // relative swing 4e-6 for DOP853 at rtol 1e-8, 6e-8 at rtol 1e-10).
-inline double steady_swing_for_tolerance(double rtol) { return rtol * 2000.0 > 2e-6 ? rtol * 2000.0 : 2e-6; }
+inline double steady_swing_for_tolerance(double rtol) {
+  return rtol * 2000.0 > kSwingFloor ? rtol * 2000.0 : kSwingFloor;
+}
 
 }  // namespace pydrill::detail

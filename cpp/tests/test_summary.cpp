@@ -124,6 +124,34 @@ TEST_CASE("a sustained swing below the tolerance's floor is steady, above it osc
                           detail::steady_swing_for_tolerance(1e-10)).regime == "oscillation");
 }
 
+TEST_CASE("a swing within a coarse tolerance's floor is judged by the state it circles",
+          "[summary]") {
+  // At W_ob 140 N, u 8.3 N·m the dof-4 string has two steady states: Ω = 1.60 rad/s with
+  // three eigenvalues in the right half-plane, and Ω = 6.79 rad/s, stable. A sustained swing
+  // of 7 % of the mean lies within what rtol 1e-4 resolves (20 %): about the unstable state
+  // it is an oscillation (a limit cycle passed for steady drilling there before), about
+  // the stable one the integrator's ringing, steady.
+  const Chain chain(preset("reduced-scale", 4), 140.0, 8.3);
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  const double floor = detail::steady_swing_for_tolerance(1e-4);
+  REQUIRE(floor == Approx(0.2));
+  const auto near_unstable = sine(1.5987, 0.035 * 1.5987, 0.0, 7.5, 500.0, 1000.0);
+  const Summary u = detail::summarize(chain, near_unstable.trace, modes, near_unstable.angles,
+                                      false, floor);
+  CHECK(u.regime == "oscillation");
+  CHECK(u.note.find("linearly unstable") != std::string::npos);
+  CHECK(u.period == Approx(7.5).epsilon(1e-3));
+  const auto near_stable = sine(6.7932, 0.035 * 6.7932, 0.0, 7.5, 500.0, 1000.0);
+  const Summary st = detail::summarize(chain, near_stable.trace, modes, near_stable.angles,
+                                       false, floor);
+  CHECK(st.regime == "steady");
+  CHECK(st.note.empty());
+  // Below 2e-6 of the mean a swing is steady whatever the state (a run started on it).
+  const auto still = sine(1.5987, 5e-7 * 1.5987, 0.0, 7.5, 500.0, 1000.0);
+  CHECK(detail::summarize(chain, still.trace, modes, still.angles, false, floor).regime ==
+        "steady");
+}
+
 TEST_CASE("stick phases in the window make stick-slip, a stick covering it makes stuck",
           "[summary]") {
   const auto s = sine(10.0, 1.0, 0.0, 10.0, 150.0, 300.0);
@@ -199,4 +227,28 @@ TEST_CASE("one break-away in the window and no stick after it is flagged", "[sum
   const std::vector<detail::ModeChange> again{
       {0.0, Mode::Stick}, {160.0, Mode::SlipPositive}, {200.0, Mode::Stick}, {210.0, Mode::SlipPositive}};
   CHECK(detail::summarize(chain, s.trace, again, s.angles, false).note.empty());
+}
+
+TEST_CASE("slipping, then one stick to the window's end, is stuck when the rock can hold u",
+          "[summary]") {
+  const auto s = sine(10.0, 1.0, 0.0, 10.0, 150.0, 300.0);
+  // Slipping since before the window, stuck from 240 s to its end.
+  const std::vector<detail::ModeChange> late{{0.0, Mode::SlipPositive}, {240.0, Mode::Stick}};
+  // u = 8.3 <= T_s = 12.8 at W_ob = 160 N: stuck once and not left, with a caveat.
+  const Chain heavy(preset("reduced-scale", 4), 160.0, 8.3);
+  const Summary r = detail::summarize(heavy, s.trace, late, s.angles, false);
+  CHECK(r.regime == "stuck");
+  CHECK(r.caveat == "late-stick");
+  CHECK_THAT(r.note, Catch::Contains("t = 240 s"));
+  CHECK(r.stick_events == 1);
+  CHECK(r.stuck_fraction == Approx(60.0 / 150.0));
+  // u = 8.3 > T_s = 8.0 at W_ob = 100 N: the bit must break free again, stick-slip.
+  const Chain light(preset("reduced-scale", 4), 100.0, 8.3);
+  CHECK(detail::summarize(light, s.trace, late, s.angles, false).regime == "stick-slip");
+  // Held when the window opened, free, then held again: two stick phases, stick-slip.
+  const std::vector<detail::ModeChange> twice{
+      {0.0, Mode::Stick}, {160.0, Mode::SlipPositive}, {240.0, Mode::Stick}};
+  const Summary t = detail::summarize(heavy, s.trace, twice, s.angles, false);
+  CHECK(t.regime == "stick-slip");
+  CHECK(t.caveat.empty());
 }

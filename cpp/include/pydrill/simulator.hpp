@@ -84,7 +84,8 @@ struct Summary {
   std::vector<double> omega_equilibrium;  // every Ω > 0 for (W_ob, u)
   std::string note;            // caveat about the judgement, empty when there is none
   // The note's kind, for tables (a sweep's atlas keeps this, not the text): "first-wind-up",
-  // "one-stick-phase", "one-break-away", "growing", "short-window"; empty without a note.
+  // "one-stick-phase", "one-break-away", "late-stick", "growing", "short-window"; empty
+  // without a note.
   std::string caveat;
 };
 
