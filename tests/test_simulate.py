@@ -368,3 +368,15 @@ def test_a_coarse_tolerance_does_not_pass_an_unstable_state_for_steady(method):
     assert s.regime == "oscillation"
     assert 0.03 < (s.bit_max - s.bit_min) / s.bit_mean < 0.2  # within the old floor
     assert pydrill.simulate(two, wob=120.0, torque=8.1, **opts).summary.regime == "steady"
+
+
+def test_a_bit_that_stuck_for_good_late_in_the_window_is_stuck():
+    """dof 2, W_ob 113.25 N, u 8.1 N·m < T_s: the bit slips, sticks at about 29 s and stays.
+    Judged at 58 s (window 29-58 s) it once came out "stick-slip" from a single stick; the
+    run to 300 s, whose window is held throughout, says stuck: so must the short one, with
+    the caveat that it stuck late."""
+    short = pydrill.simulate(dof=2, wob=113.25, torque=8.1, t_end=58.0).summary
+    long = pydrill.simulate(dof=2, wob=113.25, torque=8.1, t_end=300.0).summary
+    assert long.regime == "stuck" and long.stuck_fraction == 1.0 and not long.caveat
+    assert short.regime == "stuck" and short.caveat == "late-stick"
+    assert short.stick_events == 1 and 0.0 < short.stuck_fraction < 1.0
