@@ -55,6 +55,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     _record,
     _simulation,
     _table,
+    in_si,
 )
 
 
@@ -182,7 +183,10 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     if name not in PRESETS:
         raise _fail("model.preset", f"{name!r} is unknown; choose one of {', '.join(PRESETS)}")
     dof = _check_size(model.pop("dof", None), model.pop("pipes", None))
-    fixed = {key: model.pop(key) for key in OPERATING_AXES if key in model}
+    fixed = {
+        key: in_si(f"model.{key}", key, model.pop(key)) for key in OPERATING_AXES if key in model
+    }
+    model = {key: in_si(f"model.{key}", key, v) for key, v in model.items()}
     _check_parameters(model)
     if not axes_doc:
         raise _fail("axes", "missing: the sweep needs at least one axis, e.g. wob = [...]")

@@ -34,6 +34,20 @@ MAX_POINTS = 100_000_000
 MAX_STEPS = 2**62  # simulate()'s own bound, below the C++ core's long
 
 
+#: What a value of these keys measures: in a spec they may carry a unit ("100 kN",
+#: "3000 ft", "5 kft·lbf"), as everywhere a person types them; a bare number is SI.
+KINDS = {
+    "wob": "force",
+    "torque": "torque",
+    "depth": "length",
+    "bit_radius": "length",
+    "stribeck_velocity": "velocity",
+    "karnopp_band": "velocity",
+    "top_damping": "damping",
+    "bit_damping": "damping",
+}
+
+
 class SpecError(ValueError):
     """A sweep specification that cannot run; the message names the key."""
 
@@ -55,6 +69,19 @@ class ReadOnlyDict(dict):
 
 def _fail(key: str, problem: str) -> SpecError:
     return SpecError(f"{key}: {problem}")
+
+
+def in_si(key: str, name: str, value: Any) -> Any:
+    """``value`` of the quantity ``name`` in SI if it is a string with a unit (refused, naming
+    ``key``, if that unit does not measure it); anything else as it is, for the checks."""
+    if not isinstance(value, str) or name not in KINDS:
+        return value
+    from . import units
+
+    try:
+        return units.parse(value, KINDS[name])
+    except ValueError as exc:
+        raise _fail(key, str(exc)) from None
 
 
 def _is_number(v: Any) -> bool:
@@ -82,7 +109,9 @@ def _range(key: str, value: dict[str, Any]) -> np.ndarray:
             "a range needs exactly start, stop and num, e.g. "
             "{ start = 20.0, stop = 200.0, num = 19 }",
         )
-    start, stop, num = value["start"], value["stop"], value["num"]
+    name = key.split(".")[-1]
+    start, stop = (in_si(f"{key}.{k}", name, value[k]) for k in ("start", "stop"))
+    num = value["num"]
     for k, v in (("start", start), ("stop", stop)):
         if not _is_number(v):
             raise _fail(f"{key}.{k}", f"{v!r} is not a finite number")
@@ -107,6 +136,7 @@ def _range(key: str, value: dict[str, Any]) -> np.ndarray:
 def _list(key: str, value: list[Any]) -> np.ndarray:
     if not value:
         raise _fail(key, "an empty list: give at least one value")
+    value = [in_si(key, key.split(".")[-1], v) for v in value]
     for v in value:
         if not _is_number(v):
             raise _fail(key, f"{v!r} is not a finite number")
@@ -119,6 +149,7 @@ def _list(key: str, value: list[Any]) -> np.ndarray:
 
 def _axis(name: str, value: Any) -> np.ndarray:
     key = f"axes.{name}"
+    value = in_si(key, name, value)
     if isinstance(value, dict):
         values = _range(key, value)
     elif isinstance(value, list):

@@ -48,7 +48,9 @@ def test_window_must_be_a_number(value):
     [
         ("tally = 5", "model.tally: 5 is not allowed: a path"),
         ("mu_static = [0.5]", "model.mu_static: [0.5] is not a finite number"),
-        ('bit_radius = "0.1"', "model.bit_radius: '0.1' is not a finite number"),
+        ('bit_radius = "wide"', "model.bit_radius: 'wide' is not a length"),
+        ('bit_radius = "0.1 rpm"', "model.bit_radius: '0.1 rpm': unit 'rpm' is not a length"),
+        ('mu_static = "0.8"', "model.mu_static: '0.8' is not a finite number"),
         ("bit_radius = true", "model.bit_radius: True is not a finite number"),
         ("bit_radius = " + "9" * 400, "model.bit_radius"),  # an integer beyond any float
         ("inertias = [0.5, true, 0.03, 0.03]", "model.inertias: True is not a finite number"),
@@ -221,3 +223,39 @@ def test_a_spec_file_that_is_not_text_is_refused(tmp_path):
     spec_file.write_bytes(b"\xff\xfe[axes]\n")
     with pytest.raises(SpecError, match=r"bad\.toml"):
         load_spec(spec_file)
+
+
+def test_values_may_carry_units_and_make_the_same_sweep_as_si():
+    """As everywhere a person types them (DESIGN §4): weights, torques, depths and the
+    parameters that have a unit. The grid, the fixed values and the identity (digest) are
+    those of the same sweep written in SI."""
+    si = parse_spec(
+        "[model]\ntorque = 6779.0897\nbit_radius = 0.1524\n"
+        "[axes]\nwob = { start = 20000.0, stop = 120000.0, num = 6 }\n"
+    )
+    typed = parse_spec(
+        '[model]\ntorque = "5 kft·lbf"\nbit_radius = "6 in"\n'
+        '[axes]\nwob = { start = "20 kN", stop = "120 kN", num = 6 }\n'
+    )
+    assert typed.axes["wob"].tolist() == si.axes["wob"].tolist()
+    # 1 ft·lbf = 0.3048 m x 4.4482216152605 N (international foot and pound-force)
+    assert typed.fixed["torque"] == pytest.approx(5000 * 0.3048 * 4.4482216152605, rel=1e-12)
+    assert typed.fixed["torque"] == pytest.approx(si.fixed["torque"], rel=1e-8)
+    assert typed.overrides["bit_radius"] == pytest.approx(0.1524, rel=1e-12)
+    lbf = parse_spec('[axes]\nwob = ["1 lbf", 50.0]\ntorque = [6.0]\n')
+    assert lbf.axes["wob"].tolist() == pytest.approx([4.4482216152605, 50.0])
+    exact = parse_spec('[model]\ntorque = "8 kN·m"\n[axes]\nwob = ["20 kN", "30 kN"]\n')
+    assert exact.digest == parse_spec("[model]\ntorque = 8000.0\n[axes]\nwob = [2e4, 3e4]\n").digest
+
+
+@pytest.mark.parametrize(
+    ("line", "key"),
+    [
+        ('wob = ["20 kN·m"]\ntorque = [6.0]', "axes.wob: '20 kN·m': unit 'kN·m' is not a force"),
+        ('wob = { start = "1 kN", stop = "2 rpm", num = 3 }\ntorque = [6.0]', "axes.wob.stop"),
+        ('wob = [50.0]\ntorque = "6 N"', "axes.torque: '6 N': unit 'N' is not a torque"),
+        ('wob = ["-5 kN"]\ntorque = [6.0]', "axes.wob: weights on bit must be > 0"),
+    ],
+)
+def test_a_unit_that_does_not_measure_the_key_is_refused(line, key):
+    refused(f"[axes]\n{line}\n", key)
