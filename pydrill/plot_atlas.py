@@ -117,14 +117,14 @@ def atlas_figure(
         # A stuck bit has no velocity spread (severity 0, as steady drilling): hatch it.
         stuck = regime == fmt.REGIMES["stuck"] if metric in fmt.RUN_FIELDS else None
         handles, what = _metric_mesh(fig, ax, x, y, grid, metric, init, stuck)
-    units = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
+    si = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
     # A real string's forces in kN, torques in kN·m (the data stay in N and N·m).
     scales = {
-        n: unit_scale(atlas.axes[n] if n in order else atlas.spec.fixed[n], units[n])
+        n: unit_scale(atlas.axes[n] if n in order else atlas.spec.fixed[n], si[n])
         for n in ("wob", "torque")
         if n in order or n in atlas.spec.fixed
     }
-    units.update({n: unit for n, (_, unit) in scales.items()})
+    units = {**si, **{n: unit for n, (_, unit) in scales.items()}}  # as shown: kN, kN·m
     label = {
         "wob": "weight on bit $W_{ob}$",
         "torque": "surface torque $u$",
@@ -182,7 +182,7 @@ def atlas_figure(
     count = f"{total - missing} of {total} points done" if missing else f"{total} points"
     # Everything a map holds constant: the held axes, and what the spec fixes (e.g. torque).
     where = "".join(
-        f", {n} = " + (quantity(v, units[n], scales[n][0]) if n in scales else f"{v:.4g}")
+        f", {n} = " + (quantity(v, si[n], scales[n][0]) if n in scales else f"{v:.4g}")
         for n, v in {**s.fixed, **held}.items()
     )
     size = f", dof {s.dof}" if s.dof and "dof" not in atlas.axes else ""

@@ -299,3 +299,36 @@ initial = ["rest", "equilibrium"]
             )
     np.testing.assert_array_equal(hits, noted)
     assert any("caveat" in t.get_text() for t in ax.get_legend().get_texts())
+
+
+def _tally_atlas(tmp_path):
+    """A 2 x 2 atlas of the paper's real string (a tally) at a fixed torque of 9 kN·m."""
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    spec = f"""
+[model]
+tally = "{(ROOT / "examples/tallies/paper-eq53.toml").as_posix()}"
+dof = 4
+torque = "9 kN·m"
+[axes]
+depth = [500.0, 1000.0]
+wob = [20000.0, 40000.0]
+[simulation]
+t_end = 5.0
+initial = ["rest"]
+"""
+    out = tmp_path / "tally.h5"
+    run_sweep(parse_spec(spec), out, serial=True)
+    return out
+
+
+def test_tally_atlas_map_titles_say_kilo_once(tmp_path):
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import atlas_figure
+
+    with Atlas(_tally_atlas(tmp_path)) as atlas:
+        fig = atlas_figure(atlas)
+    title = fig.axes[0].get_title()
+    assert "torque = 9 kN·m" in title and "kkN" not in title
+    assert fig.axes[0].get_ylabel().endswith("(kN)")  # wob, the second axis
