@@ -149,15 +149,15 @@ def atlas_figure(
             x.min() if xname == "wob" else y.min(), x.max() if xname == "wob" else y.max(), 200
         )
         ts = params.static_torque(wob)
-        first = next(
-            (c for c in critical_deltas(params) if c.type == "hopf" and c.direction > 0), None
-        )
+        crossings = critical_deltas(params)
+        first = next((c for c in crossings if c.type == "hopf" and c.direction > 0), None)
         curves = [(wob, ts, "black", "-", "stuck boundary $u = \\mu_{sb} W_{ob} R_b$")]
         if first is not None:
             from .operating import hopf_curve_wu
 
             w, u = hopf_curve_wu(params, first.delta, np.linspace(1e-3, 80, 3000))
-            curves.append((w, u, "#922b21", "--", "first Hopf curve (steady state stable above)"))
+            side = _stable_side(params, crossings, w, u, xname, _extent(x), _extent(y))
+            curves.append((w, u, "#922b21", "--", f"first Hopf curve (steady state stable {side})"))
         for cw, cu, color, style, lab in curves:
             px, py = (cw, cu) if xname == "wob" else (cu, cw)
             ax.plot(px, py, style, color=color, lw=2, label=lab)
@@ -199,6 +199,29 @@ def atlas_figure(
         fontsize=10,
     )
     return fig
+
+
+def _stable_side(params, crossings, w, u, xname: str, xlim, ylim) -> str:
+    """On which side of the Hopf curve ``(w, u)`` the map shows the steady state stable, in
+    the legend's words ("above", "to the right", ...): found by the stability of the fastest
+    steady state just past the curve's middle point in view, towards higher torque, and said
+    for the axes drawn (torque vertical or horizontal)."""
+    import numpy as np
+
+    from .stability import stability
+
+    wlim, ulim = (xlim, ylim) if xname == "wob" else (ylim, xlim)
+    seen = np.flatnonzero(
+        (w >= wlim[0]) & (w <= wlim[1]) & (u >= ulim[0]) & (u <= ulim[1]) & np.isfinite(w)
+    )
+    k = seen[len(seen) // 2] if len(seen) else int(np.nanargmin(np.abs(w - np.mean(wlim))))
+    step = 0.01 * (ulim[1] - ulim[0]) or 0.01 * abs(u[k])
+    past = stability(params, float(w[k]), torque=float(u[k] + step), crossings=crossings)
+    # Stable on the side of the higher torque? (0, 1 or 2 steady states there: the fastest)
+    higher = bool(past) and max(past, key=lambda pt: pt.omega).stable
+    if xname == "wob":  # torque vertical
+        return "above" if higher else "below"
+    return "to the right" if higher else "to the left"
 
 
 def _edges(v):

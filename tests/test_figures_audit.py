@@ -332,3 +332,49 @@ def test_tally_atlas_map_titles_say_kilo_once(tmp_path):
     title = fig.axes[0].get_title()
     assert "torque = 9 kN·m" in title and "kkN" not in title
     assert fig.axes[0].get_ylabel().endswith("(kN)")  # wob, the second axis
+
+
+@pytest.mark.parametrize("x, y", [("wob", "torque"), ("torque", "wob")])
+def test_hopf_curve_legend_names_the_side_the_steady_state_is_stable_on(tmp_path, x, y):
+    """With the axes swapped the stable side is another: the legend said "above" on both."""
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import atlas_figure
+    from pydrill.spec import parse_spec
+    from pydrill.stability import stability
+    from pydrill.sweep import run_sweep
+
+    spec = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [40.0, 120.0, 200.0]
+torque = [2.0, 9.0, 16.0]
+[simulation]
+t_end = 5.0
+initial = ["rest"]
+"""
+    out = tmp_path / "wu.h5"
+    run_sweep(parse_spec(spec), out, serial=True)
+    with Atlas(out) as atlas:
+        fig = atlas_figure(atlas, x=x, y=y)
+    ax = fig.axes[0]
+    _drawn(fig)
+    (label,) = [t.get_text() for t in ax.get_legend().get_texts() if "Hopf" in t.get_text()]
+    side = label.split("stable ")[1].rstrip(")")
+    step = {"above": (0, 1), "below": (0, -1), "to the right": (1, 0), "to the left": (-1, 0)}
+    assert side in step
+    (curve,) = [line for line in ax.get_lines() if "Hopf" in line.get_label()]
+    (lo, hi) = ax.get_xlim()
+    data = np.column_stack([curve.get_xdata(), curve.get_ydata()])
+    shown = data[(data[:, 0] > lo) & (data[:, 0] < hi)]
+    p = pydrill.preset("reduced-scale", dof=4)
+    for xy in shown[:: max(1, len(shown) // 5)]:
+        at = ax.transData.transform(xy)
+        for sign, stable in ((1, True), (-1, False)):  # 15 px to the named side, and away
+            px = at + sign * 15 * np.array(step[side])
+            px, py = ax.transData.inverted().transform(px)
+            wob, torque = (px, py) if x == "wob" else (py, px)
+            points = stability(p, wob, torque=torque)
+            fastest = max(points, key=lambda pt: pt.omega).stable if points else False
+            assert fastest == stable, (side, wob, torque)
