@@ -276,6 +276,9 @@ def test_turning_the_other_way_mirrors_the_run_exactly(kw, state):
         (-a.bit_mean, -a.bit_max, -a.bit_min)
     )
     assert b.severity == pytest.approx(a.severity) and b.stuck_fraction == a.stuck_fraction
+    # The steady states reversed, and the bit's fastest turn against the top drive's mean.
+    assert b.omega_equilibrium == pytest.approx([-o for o in reversed(a.omega_equilibrium)])
+    assert (b.bit_top_ratio, b.caveat) == (pytest.approx(a.bit_top_ratio), a.caveat)
 
 
 def test_a_bit_stopped_against_the_rock_reverses_when_the_torque_exceeds_t_s():

@@ -110,7 +110,14 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   s.window_start = w.t0;
   s.window_end = w.t1;
   s.static_torque = chain.static_torque();
-  s.omega_equilibrium = equilibrium_velocities(chain.params(), chain.wob(), chain.torque());
+  // u < 0 turns the string backwards: the mirror image (φ → −φ) of the run at |u|, whose
+  // steady states are the same velocities reversed.
+  const double u = chain.torque();
+  s.omega_equilibrium = equilibrium_velocities(chain.params(), chain.wob(), std::fabs(u));
+  if (u < 0) {
+    for (double& o : s.omega_equilibrium) o = -o;
+    std::reverse(s.omega_equilibrium.begin(), s.omega_equilibrium.end());
+  }
   const double T = w.t1 - w.t0;
 
   if (!tr.t.empty()) {
@@ -123,7 +130,9 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   s.severity = s.bit_mean != 0.0 ? (s.bit_max - s.bit_min) / (2.0 * std::fabs(s.bit_mean))
                                  : std::numeric_limits<double>::infinity();
   if (s.bit_max == s.bit_min) s.severity = 0.0;
-  s.bit_top_ratio = s.top_mean != 0.0 ? s.bit_max / s.top_mean : 0.0;
+  // The bit's fastest turn in the top drive's direction (bit_min when it turns backwards).
+  const double fastest = s.top_mean > 0 ? s.bit_max : s.bit_min;
+  s.bit_top_ratio = s.top_mean != 0.0 && fastest != 0.0 ? fastest / s.top_mean : 0.0;
 
   // Time held by the rock inside the window, and stick onsets in it.
   double held = 0.0;

@@ -76,12 +76,12 @@ struct Summary {
   double bit_min = 0, bit_max = 0, bit_mean = 0;
   double top_min = 0, top_max = 0, top_mean = 0;
   double severity = 0;         // (max ω_b − min ω_b) / (2 mean ω_b)
-  double bit_top_ratio = 0;    // max ω_b / mean ω_top
+  double bit_top_ratio = 0;    // max ω_b / mean ω_top (min ω_b / mean ω_top when u < 0)
   double stuck_fraction = 0;   // fraction of the window spent in stick
   double period = -1;          // s; < 0 when there is none
   long stick_events = 0;       // slip→stick transitions in the window
   double static_torque = 0;    // T_s = μ_sb W_ob R_b
-  std::vector<double> omega_equilibrium;  // every Ω > 0 for (W_ob, u)
+  std::vector<double> omega_equilibrium;  // every steady Ω for (W_ob, u): > 0, or < 0 when u < 0
   std::string note;            // caveat about the judgement, empty when there is none
   // The note's kind, for tables (a sweep's atlas keeps this, not the text): "first-wind-up",
   // "one-stick-phase", "one-break-away", "late-stick", "growing", "short-window"; empty
