@@ -278,15 +278,23 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     legend handles and the title's words."""
     import numpy as np
     from matplotlib import colormaps
-    from matplotlib.colors import Normalize, SymLogNorm
+    from matplotlib.colors import BoundaryNorm, Normalize, SymLogNorm
     from matplotlib.patches import Patch
 
     unit, meaning = METRICS[metric]
     values = np.ma.masked_invalid(np.asarray(grid, dtype=float))
-    if metric in fmt.RUN_FIELDS and fmt.RUN_FIELDS[metric][0].startswith("i"):
-        values = np.ma.masked_less(values, 0)  # integer fields mark "no value" with -1
+    field = fmt.RUN_FIELDS.get(metric) or fmt.EQ_FIELDS[metric]
+    counts = field[0].startswith("i")  # stick_events, unstable: counts, -1 for "no value"
+    if counts:
+        values = np.ma.masked_less(values, 0)
     lo, hi = (float(values.min()), float(values.max())) if values.count() else (0.0, 1.0)
-    if metric in SIGNED:  # red where unstable (> 0 abscissa; < 0 margin), blue where stable
+    # A count of a few values (unstable eigenvalues: 0, 2, 4, ...): a colour for each whole
+    # number, not a gradient that says 0 and 1 are nearly the same colour.
+    discrete = counts and hi - lo <= 20
+    if discrete:
+        cmap = colormaps["viridis"].resampled(int(hi - lo) + 1)
+        norm = BoundaryNorm(np.arange(lo - 0.5, hi + 1.5), cmap.N)
+    elif metric in SIGNED:  # red where unstable (> 0 abscissa; < 0 margin), blue where stable
         cmap = colormaps["RdBu" if metric == "hopf_margin" else "RdBu_r"]
         span = max(abs(lo), abs(hi), 1e-12)
         # Logarithmic on either side of zero: stable steady states sit close to it (-0.016/s
@@ -300,7 +308,10 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     shown_unit = "" if unit == "1" else f" ({unit.replace(' ', '·')})"
     bar = fig.colorbar(mesh, ax=ax, pad=0.01)
     bar.set_label(f"{metric}{shown_unit}: {meaning}", fontsize=9)
-    if metric in SIGNED:  # whole decades, clear of the linear band about zero
+    if discrete:  # a tick on each whole number (on every other one past ten of them)
+        bar.set_ticks(np.arange(lo, hi + 1, 1 if hi - lo < 10 else 2))
+        bar.minorticks_off()
+    elif metric in SIGNED:  # whole decades, clear of the linear band about zero
         top = math.floor(math.log10(norm.vmax))
         decades = [10.0**d for d in range(math.ceil(math.log10(norm.linthresh)) + 1, top + 1)]
         bar.set_ticks([-d for d in decades[::-1]] + [0.0] + decades)

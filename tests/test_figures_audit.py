@@ -334,13 +334,9 @@ def test_tally_atlas_map_titles_say_kilo_once(tmp_path):
     assert fig.axes[0].get_ylabel().endswith("(kN)")  # wob, the second axis
 
 
-@pytest.mark.parametrize("x, y", [("wob", "torque"), ("torque", "wob")])
-def test_hopf_curve_legend_names_the_side_the_steady_state_is_stable_on(tmp_path, x, y):
-    """With the axes swapped the stable side is another: the legend said "above" on both."""
-    from pydrill.atlas import Atlas
-    from pydrill.plot_atlas import atlas_figure
+def _wu_atlas(tmp_path):
+    """A 3 x 3 (W_ob, u) atlas of the laboratory string: steady, unstable and no steady state."""
     from pydrill.spec import parse_spec
-    from pydrill.stability import stability
     from pydrill.sweep import run_sweep
 
     spec = """
@@ -349,14 +345,24 @@ preset = "reduced-scale"
 dof = 4
 [axes]
 wob = [40.0, 120.0, 200.0]
-torque = [2.0, 9.0, 16.0]
+torque = [2.0, 7.0, 16.0]
 [simulation]
 t_end = 5.0
 initial = ["rest"]
 """
     out = tmp_path / "wu.h5"
     run_sweep(parse_spec(spec), out, serial=True)
-    with Atlas(out) as atlas:
+    return out
+
+
+@pytest.mark.parametrize("x, y", [("wob", "torque"), ("torque", "wob")])
+def test_hopf_curve_legend_names_the_side_the_steady_state_is_stable_on(tmp_path, x, y):
+    """With the axes swapped the stable side is another: the legend said "above" on both."""
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import atlas_figure
+    from pydrill.stability import stability
+
+    with Atlas(_wu_atlas(tmp_path)) as atlas:
         fig = atlas_figure(atlas, x=x, y=y)
     ax = fig.axes[0]
     _drawn(fig)
@@ -378,3 +384,28 @@ initial = ["rest"]
             points = stability(p, wob, torque=torque)
             fastest = max(points, key=lambda pt: pt.omega).stable if points else False
             assert fastest == stable, (side, wob, torque)
+
+
+def test_unstable_count_map_greys_out_no_steady_state_with_a_whole_number_colour_bar(tmp_path):
+    """-1 (no steady state) came out on the colour bar, nearly the colour of 0 (stable)."""
+    from matplotlib.colors import BoundaryNorm
+
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import atlas_figure
+
+    with Atlas(_wu_atlas(tmp_path)) as atlas:
+        unstable = atlas._f["unstable"][..., 0].T  # (torque, wob), as the map's rows
+        fig = atlas_figure(atlas, metric="unstable")
+    none = unstable < 0
+    assert none.any() and (unstable == 0).any() and (unstable > 0).any()
+    ax, bar = fig.axes
+    mesh = ax.collections[0]
+    np.testing.assert_array_equal(np.ma.getmaskarray(mesh.get_array()), none)
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(t.startswith("no steady state") for t in labels)
+    # One colour per whole number, with a tick on each: 0 and 1 are told apart.
+    assert isinstance(mesh.norm, BoundaryNorm)
+    ticks = bar.get_yticks()
+    assert ticks.min() == 0 and unstable.max() in ticks and np.all(ticks == np.round(ticks))
+    colours = {tuple(mesh.cmap(mesh.norm(k))) for k in range(int(unstable.max()) + 1)}
+    assert len(colours) == int(unstable.max()) + 1
