@@ -533,18 +533,22 @@ StabilityPoint stability_at_velocity(const Params& p, double wob, double omega) 
 }
 
 std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, double torque) {
-  std::vector<StabilityPoint> out;
-  const auto omegas = equilibrium_velocities(p, wob, torque);
-  if (omegas.empty()) return out;
-  const auto crossings = critical_deltas(p);  // once per string, not per steady state
-  for (double omega : omegas) out.push_back(point_at(p, wob, omega, crossings));
-  return out;
+  if (equilibrium_velocities(p, wob, std::fabs(torque)).empty()) return {};
+  return stability_at_torque(p, wob, torque, critical_deltas(p));  // once per string
 }
 
 std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, double torque,
                                                 const std::vector<Crossing>& crossings) {
   std::vector<StabilityPoint> out;
-  for (double omega : equilibrium_velocities(p, wob, torque)) out.push_back(point_at(p, wob, omega, crossings));
+  for (double omega : equilibrium_velocities(p, wob, std::fabs(torque))) {
+    out.push_back(point_at(p, wob, omega, crossings));
+  }
+  if (torque < 0) {
+    // Turning backwards is the mirror image (φ → −φ) of turning forwards at |u|: the same
+    // steady states reversed, with the same eigenvalues (the friction's slope is even in Ω).
+    std::reverse(out.begin(), out.end());
+    for (auto& s : out) s.omega = -s.omega, s.torque = -s.torque;
+  }
   return out;
 }
 

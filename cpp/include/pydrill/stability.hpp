@@ -90,7 +90,8 @@ struct StabilityPoint {
 
 // Stability of the steady state at velocity Ω (the torque it needs follows).
 StabilityPoint stability_at_velocity(const Params& params, double wob, double omega);
-// Stability of every steady state for (W_ob, u): 0, 1 or 2 of them.
+// Stability of every steady state for (W_ob, u): 0, 1 or 2 of them. For u < 0, the mirror
+// image of |u|: the same points with Ω and u reversed.
 std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque);
 // The same with the string's crossings (critical_deltas(params)) already at hand: they
 // depend on the string alone, and finding them costs more than the rest on a short
