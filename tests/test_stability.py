@@ -326,6 +326,7 @@ def test_turning_backwards_mirrors_the_steady_states(wob, torque):
         assert (b.omega, b.torque) == (-f.omega, -f.torque)
         assert (b.delta, b.unstable, b.eigenvalues) == (f.delta, f.unstable, f.eigenvalues)
     if wob == 40.0:  # stable: a backward run from rest settles on it
-        run = pydrill.simulate(p, wob=wob, torque=-torque, t_end=300.0)
-        assert run.summary.regime == "steady"
-        assert run.summary.bit_mean == pytest.approx(back[0].omega, rel=1e-3)
+        for initial in ("rest", "equilibrium"):
+            run = pydrill.simulate(p, wob=wob, torque=-torque, t_end=300.0, initial=initial)
+            assert run.summary.regime == "steady"
+            assert run.summary.bit_mean == pytest.approx(back[0].omega, rel=1e-3)

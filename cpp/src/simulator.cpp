@@ -450,17 +450,20 @@ std::vector<double> initial_state(const Params& params, double wob, double torqu
     case Initial::Rest: return std::vector<double>(static_cast<std::size_t>(2 * N - 1), 0.0);
     case Initial::State: return opt.state;
     case Initial::Equilibrium: {
-      const auto omegas = equilibrium_velocities(params, wob, torque);
+      const auto omegas = equilibrium_velocities(params, wob, std::fabs(torque));
       if (omegas.empty()) {
         std::ostringstream o;
-        o << "initial = 'equilibrium' is not possible: no steady rotation Ω > 0 exists for wob = "
+        o << "initial = 'equilibrium' is not possible: no steady rotation exists for wob = "
           << wob << " N, torque = " << torque << " N·m (the torque cannot balance the bit friction); "
           << "start from 'rest' instead";
         throw std::invalid_argument(o.str());
       }
-      // The fastest steady state: the one a driller aims for.
+      // The fastest steady state: the one a driller aims for. At u < 0 its mirror image.
       auto y = equilibrium_state(params, wob, omegas.back());
       y[static_cast<std::size_t>(2 * N - 2)] *= 1.0 + opt.perturbation;
+      if (torque < 0) {
+        for (double& v : y) v = -v;
+      }
       return y;
     }
   }
