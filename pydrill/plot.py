@@ -146,6 +146,22 @@ def simulation_figure(result: SimulationResult) -> Figure:
         fontsize=9,
         color="0.3",
     )
+    if s.note:  # the verdict is not to be trusted yet: say so under the big regime title
+        from .atlas_format import CAVEAT_TEXT
+
+        short = CAVEAT_TEXT.get(s.caveat) or s.note
+        ax_v.annotate(
+            f"caveat: {s.caveat} — {short}" if s.caveat else f"caveat: {short}",
+            xy=(0.5, 1.0),
+            xycoords="axes fraction",
+            xytext=(0, 20),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=10,
+            fontweight="bold",
+            color="#a04000",
+        )
     return fig
 
 

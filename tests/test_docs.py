@@ -239,6 +239,11 @@ def run_cli(command: Command, cwd: Path, where: str) -> None:
         f"{where}: `{shown}` exited with {proc.returncode}\n{proc.stderr}{proc.stdout}"
     )
     check_output(command.shown, proc.stdout, f"{where}: `{shown}`")
+    if argv[:1] == ["simulate"] and "note" not in command.shown:
+        # A caveat on the verdict ("too short to judge the regime") is not for a "..." to hide:
+        # a documented run is judged without one, or the page shows it.
+        notes = [x for x in proc.stdout.splitlines() if re.match(r'\s*("note": "|note )', x)]
+        assert not notes, f"{where}: `{shown}` is judged with a note the page hides: {notes}"
     for flag in ("--plot", "--out"):
         if flag in argv[:-1]:
             target = cwd / argv[argv.index(flag) + 1]

@@ -409,3 +409,25 @@ def test_unstable_count_map_greys_out_no_steady_state_with_a_whole_number_colour
     assert ticks.min() == 0 and unstable.max() in ticks and np.all(ticks == np.round(ticks))
     colours = {tuple(mesh.cmap(mesh.norm(k))) for k in range(int(unstable.max()) + 1)}
     assert len(colours) == int(unstable.max()) + 1
+
+
+def test_simulation_figure_says_a_caveat_under_its_regime_and_only_then():
+    """The CLI printed "note: ... too short to judge the regime"; the figure said STEADY alone."""
+    from pydrill.plot import simulation_figure
+
+    def texts(fig):
+        return [t.get_text() for ax in fig.axes for t in ax.texts]
+
+    short = pydrill.simulate(pipes=10, wob=40.0, torque=8.3, t_end=100.0, initial="equilibrium")
+    assert short.summary.caveat == "short-window"
+    fig = simulation_figure(short)
+    (line,) = [t for t in texts(fig) if t.startswith("caveat:")]
+    assert "short-window" in line and "simulate longer" in line
+    _drawn(fig)  # the line is on the figure, clear of the title and the axes
+    (text,) = [t for t in fig.axes[0].texts if t.get_text() == line]
+    box = text.get_window_extent()
+    assert box.y0 >= fig.axes[0].get_window_extent().y1
+    assert box.y1 <= fig._suptitle.get_window_extent().y0 and box.y1 <= fig.bbox.y1
+    longer = pydrill.simulate(pipes=10, wob=40.0, torque=8.3, t_end=200.0, initial="equilibrium")
+    assert not longer.summary.note
+    assert not [t for t in texts(simulation_figure(longer)) if t.startswith("caveat")]
