@@ -31,6 +31,11 @@ class SpecialPoint:
     lyapunov: float | None  #: first Lyapunov coefficient (1/s per amplitude²)
     criticality: str | None  #: "supercritical" (l1 < 0), "subcritical" (l1 > 0), "degenerate"
     direction: int  #: +1 if the steady state loses stability as δ grows through it
+    #: eigenvalues in the right half-plane on both sides of the point, besides its own: > 0
+    #: means the steady state is unstable there anyway, so the orbit a Hopf point gives birth
+    #: to is unstable whatever its criticality, and nothing is seen to change (no Hopf
+    #: bifurcation in the paper's sense, Def. 4: H₁ of the dof-2 string, past the fold)
+    others_unstable: int = 0
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -135,6 +140,8 @@ def branch(
                 xtol=1e-14,
                 rtol=4 * np.finfo(float).eps,
             )
+            below = int(unstable_count(crossings, cr.delta))  # strictly below δ_k
+            others = min(below, below + cr.direction * cr.multiplicity)
             if cr.type == "fold":
                 points.append(
                     SpecialPoint(
@@ -147,6 +154,7 @@ def branch(
                         None,
                         None,
                         cr.direction,
+                        others,
                     )
                 )
                 continue
@@ -162,6 +170,7 @@ def branch(
                     l1,
                     criticality(l1),
                     cr.direction,
+                    others,
                 )
             )
     points.sort(key=lambda s: s.omega)

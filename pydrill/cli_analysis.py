@@ -321,9 +321,12 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
     for pt in b.points:
         freq = f"{pt.frequency:13.6g}" if pt.frequency else f"{'-':>13s}"
         l1 = f"{pt.lyapunov:11.4g}" if pt.lyapunov is not None else f"{'-':>11s}"
+        # A point where the steady state is unstable anyway changes nothing one can see.
+        n = pt.others_unstable
+        others = f"({n} other eigenvalue{'s' if n > 1 else ''} unstable)" if n else ""
         print(
             f"{pt.type:5s} {pt.wob:12.8g} {pt.torque:13.8g} {pt.omega:14.8g} {freq} {l1}  "
-            f"{pt.criticality or ''}"
+            + " ".join(x for x in (pt.criticality, others) if x)
         )
     if not b.points:
         print("no Hopf or fold point on this branch")

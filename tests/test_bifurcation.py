@@ -243,3 +243,22 @@ def test_first_hopf_point_is_subcritical_across_the_parameter_space():
         checked += 1
         assert _core.first_lyapunov_coefficient(p.to_core(), first.delta, first.frequency) > 0
     assert checked > 50
+
+
+@pytest.mark.parametrize(("dof", "vary", "fixed"), [(2, "wob", 8.1), (4, "torque", 80.0)])
+def test_other_unstable_eigenvalues_at_each_point_are_counted_by_brute_force(dof, vary, fixed):
+    """``others_unstable``: eigenvalues in Re > 0 on both sides of a point besides its own,
+    counted here from dense eigenvalues just below and just above its δ."""
+    p = pydrill.preset(dof=dof)
+    kw = {"torque": fixed} if vary == "wob" else {"wob": fixed}
+    b = branch(p, vary=vary, **kw)
+    assert any(pt.others_unstable for pt in b.points)  # the case exists on both branches
+    assert any(pt.type == "HB" and not pt.others_unstable for pt in b.points)
+    for pt in b.points:
+        counts = [
+            int((np.linalg.eigvals(st.jacobian(p, pt.delta * f)).real > 0).sum())
+            for f in (1 - 1e-7, 1 + 1e-7)
+        ]
+        own = 2 if pt.type == "HB" else 1
+        assert abs(counts[0] - counts[1]) == own
+        assert pt.others_unstable == min(counts)
