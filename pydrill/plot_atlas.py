@@ -238,24 +238,50 @@ def _edges(v):
     return np.concatenate([[v[0] - (mid[0] - v[0])], mid, [v[-1] + (v[-1] - mid[-1])]])
 
 
+#: the hatching's colours: dark grey on the light cells, white on the dark ones
+HATCH_DARK, HATCH_LIGHT = "0.3", "white"
+
+
 def _hatch_cells(ax, mesh, where, hatch: str, label: str):
     """Hatch exactly the cells where ``where`` (x, y) holds, with the edges the colour mesh
     gives them (a contour would interpolate between grid points: a diagonal band across
-    neighbouring cells); the legend's handle."""
+    neighbouring cells), in whichever of dark grey and white stands out more on each cell's
+    colour (grey on viridis' dark purple, a severity of 0, could not be seen); the legend's
+    handle."""
     import numpy as np
     from matplotlib.collections import PatchCollection
+    from matplotlib.colors import to_rgba
     from matplotlib.patches import Patch, Rectangle
 
     edges = mesh.get_coordinates()  # (len(y) + 1, len(x) + 1, 2)
-    cells = [
-        Rectangle(edges[i, j], *(edges[i + 1, j + 1] - edges[i, j]))
-        for i, j in zip(*np.nonzero(np.asarray(where).T), strict=True)
-    ]
-    ax.add_collection(
-        PatchCollection(cells, facecolor="none", edgecolor="0.3", lw=0, hatch=hatch),
-        autolim=False,
-    )
-    return Patch(facecolor="none", edgecolor="0.3", hatch=hatch, label=label)
+    faces = mesh.to_rgba(mesh.get_array()).reshape(*edges.shape[:2] - np.array([1, 1]), 4)
+    dark, light = {}, {}
+    for i, j in zip(*np.nonzero(np.asarray(where).T), strict=True):
+        cell = Rectangle(edges[i, j], *(edges[i + 1, j + 1] - edges[i, j]))
+        face = faces[i, j]
+        better = contrast(face, to_rgba(HATCH_LIGHT)) > contrast(face, to_rgba(HATCH_DARK))
+        (light if better else dark)[i, j] = cell
+    for color, cells in ((HATCH_DARK, dark), (HATCH_LIGHT, light)):
+        if cells:
+            ax.add_collection(
+                PatchCollection(
+                    list(cells.values()), facecolor="none", edgecolor=color, lw=0, hatch=hatch
+                ),
+                autolim=False,
+            )
+    return Patch(facecolor="none", edgecolor=HATCH_DARK, hatch=hatch, label=label)
+
+
+def contrast(a, b) -> float:
+    """The WCAG contrast ratio of two RGB(A) colours (1: the same lightness, 21: black and
+    white)."""
+
+    def luminance(c) -> float:
+        rgb = [x / 12.92 if x <= 0.04045 else ((x + 0.055) / 1.055) ** 2.4 for x in c[:3]]
+        return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+
+    hi, lo = sorted((luminance(a), luminance(b)), reverse=True)
+    return (hi + 0.05) / (lo + 0.05)
 
 
 def _cells(x, y):
@@ -318,6 +344,6 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     blank = "no steady state (or not computed)" if metric in fmt.EQ_FIELDS else "no value"
     handles = [Patch(color="#d5d8dc", label=blank)] if values.mask.any() else []
     if stuck is not None and stuck.any():
-        handles.append(_hatch_cells(ax, mesh, stuck, "//", "bit stuck"))
+        handles.append(_hatch_cells(ax, mesh, stuck, "////", "bit stuck"))
     steady = metric in fmt.EQ_FIELDS
     return handles, f"{metric} " + ("of the fastest steady state" if steady else f"from {init}")

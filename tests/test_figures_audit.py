@@ -431,3 +431,68 @@ def test_simulation_figure_says_a_caveat_under_its_regime_and_only_then():
     longer = pydrill.simulate(pipes=10, wob=40.0, torque=8.3, t_end=200.0, initial="equilibrium")
     assert not longer.summary.note
     assert not [t for t in texts(simulation_figure(longer)) if t.startswith("caveat")]
+
+
+def test_stuck_hatching_of_an_equilibrium_severity_map_covers_whole_cells_visibly(tmp_path):
+    """The audit saw the "bit stuck" hatch on triangular slivers of the cells: grey lines on
+    viridis' dark purple (a severity of 0) could hardly be seen, the few that could made
+    slivers. Each stuck cell is hatched whole, as the cell, and in every quarter of it the
+    lines stand out from its colour."""
+    from matplotlib.transforms import Bbox
+
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import atlas_figure, contrast
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    spec = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [60.0, 80.0, 100.0, 120.0]
+torque = [4.0, 5.0, 6.0, 7.0]
+[simulation]
+t_end = 300.0
+initial = ["equilibrium"]
+"""
+    out = tmp_path / "eq.h5"
+    run_sweep(parse_spec(spec), out, serial=True)
+    with Atlas(out) as atlas:
+        stuck = (atlas.regimes("equilibrium") == "stuck").T  # (torque, wob), the map's rows
+        fig = atlas_figure(atlas, initial="equilibrium", metric="severity")
+    assert stuck.sum() >= 3
+    ax = fig.axes[0]
+    mesh = ax.collections[0]
+    corners = mesh.get_coordinates()
+    faces = mesh.to_rgba(mesh.get_array())
+    hatched = [a for a in ax.collections if a.get_hatch()]
+    # The hatched patches are the stuck cells, exactly.
+    drawn = sorted(
+        tuple(np.round(p.get_extents().get_points().ravel(), 9))
+        for a in hatched
+        for p in a.get_paths()
+    )
+    cells = sorted(
+        tuple(np.round(np.r_[corners[i, j], corners[i + 1, j + 1]], 9))
+        for i, j in zip(*np.nonzero(stuck), strict=True)
+    )
+    assert drawn == cells
+    # And the lines are seen on every quarter of each.
+    fig.canvas.draw()
+    image = np.asarray(fig.canvas.buffer_rgba())[::-1, :, :3] / 255.0  # row 0 at the bottom
+    for i, j in zip(*np.nonzero(stuck), strict=True):
+        (x0, y0), (x1, y1) = ax.transData.transform([corners[i, j], corners[i + 1, j + 1]])
+        # The part in view (edge cells show half), inside its borders.
+        box = Bbox.intersection(Bbox.from_extents(x0, y0, x1, y1), ax.bbox)
+        box = Bbox.from_extents(box.x0 + 2, box.y0 + 2, box.x1 - 2, box.y1 - 2)
+        xm, ym = (box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2
+        for qx0, qx1, qy0, qy1 in (
+            (box.x0, xm, box.y0, ym),
+            (xm, box.x1, box.y0, ym),
+            (box.x0, xm, ym, box.y1),
+            (xm, box.x1, ym, box.y1),
+        ):
+            quarter = image[int(qy0) : int(qy1), int(qx0) : int(qx1)].reshape(-1, 3)
+            seen = [contrast(px, faces[i, j]) >= 3 for px in quarter]
+            assert sum(seen) >= 0.05 * len(seen), ((i, j), sum(seen), len(seen))
