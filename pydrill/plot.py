@@ -165,6 +165,21 @@ def simulation_figure(result: SimulationResult) -> Figure:
     return fig
 
 
+def fit_suptitle(fig: Figure, text: str, **kwargs):
+    """``fig.suptitle(text)``, wrapped onto more lines where one would be wider than the figure
+    (a one-panel figure cut a long title off at both edges); the title's Text."""
+    import textwrap
+
+    title = fig.suptitle(text, **kwargs)
+    renderer = fig.canvas.get_renderer()
+    room = 0.96 * fig.bbox.width
+    width = title.get_window_extent(renderer).width
+    if width > room:
+        chars = max(20, int(len(text) * room / width))
+        title.set_text("\n".join(textwrap.wrap(text, chars)))
+    return title
+
+
 def save(fig: Figure, path: str | Path, dpi: int = 130) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

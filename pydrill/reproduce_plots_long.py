@@ -10,7 +10,7 @@ import numpy as np
 
 from .model import preset
 from .operating import hopf_curve_wu
-from .plot import plt, save
+from .plot import fit_suptitle, plt, save
 from .reproduce_plots import FOLD, SUPER, _branch_panel, _hopf_wu
 
 
@@ -47,7 +47,8 @@ def fig12_long(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> Pa
         ax.legend(fontsize=8, loc="upper left")
         s = n["summary"]
         ax.set_title(f"{pp} pipes (n' = {s['n_prime']}): {s['hopf']} Hopf curves", fontsize=10)
-    fig.suptitle(
+    fit_suptitle(  # one panel (--quick) is narrower than the title
+        fig,
         "Fig. 12 for long strings: the first Hopf curve bounds stable drilling; the "
         "others lie just beyond it",
         fontweight="bold",

@@ -496,3 +496,32 @@ initial = ["equilibrium"]
             quarter = image[int(qy0) : int(qy1), int(qx0) : int(qx1)].reshape(-1, 3)
             seen = [contrast(px, faces[i, j]) >= 3 for px in quarter]
             assert sum(seen) >= 0.05 * len(seen), ((i, j), sum(seen), len(seen))
+
+
+def test_long_string_fig12_of_one_panel_keeps_its_whole_title_on_the_figure(tmp_path, monkeypatch):
+    """``reproduce --quick`` draws one panel; its title was cut off at both edges."""
+    from pydrill import reproduce_plots_long
+    from pydrill.reproduce_analysis import hopf_curves, string_summary
+    from pydrill.stability import critical_deltas
+
+    numbers = {}
+    for key, p in (
+        ("dof2", pydrill.preset("reduced-scale", dof=2)),
+        ("pipes10", pydrill.preset("reduced-scale", pipes=10)),
+    ):
+        crossings = critical_deltas(p)
+        numbers[key] = {"summary": string_summary(p, crossings), "fig12": hopf_curves(p, crossings)}
+    numbers["strings"] = {"dof2": numbers.pop("dof2")}
+    drawn = []
+    monkeypatch.setattr(reproduce_plots_long, "save", lambda fig, path: drawn.append(fig))
+    reproduce_plots_long.fig12_long(tmp_path, numbers, (10,))
+    (fig,) = drawn
+    _drawn(fig)
+    title = fig._suptitle
+    box = title.get_window_extent()
+    assert box.x0 >= fig.bbox.x0 and box.x1 <= fig.bbox.x1 and box.y1 <= fig.bbox.y1
+    words = "Fig. 12 for long strings: the first Hopf curve bounds stable drilling; the others"
+    assert " ".join(title.get_text().split()).startswith(words)
+    assert title.get_text().rstrip().endswith("lie just beyond it")
+    # Clear of the panel's own title below it.
+    assert box.y0 >= fig.axes[0].title.get_window_extent().y1
