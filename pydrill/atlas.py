@@ -195,7 +195,8 @@ class Atlas:
         }
         metrics = {}
         for name in fmt.RUN_FIELDS:
-            vals = f[name][idx]
+            # (not recorded by the pydrill that wrote an older atlas: None)
+            vals = f[name][idx] if name in f else [math.nan] * len(self.initials)
             metrics[name] = {init: _clean(v) for init, v in zip(self.initials, vals, strict=True)}
         out["metrics"] = metrics
         eq = {name: [_clean(v) for v in f[name][idx]] for name in fmt.EQ_FIELDS}
@@ -324,7 +325,12 @@ class Atlas:
         the stuck boundary and the first Hopf curve are drawn on top."""
         from .plot_atlas import atlas_figure
 
-        self._file()  # closed: refused like every other read
+        f = self._file()  # closed: refused like every other read
+        if metric in fmt.ADDED_RUN_FIELDS and metric not in f:
+            raise AtlasError(
+                f"{self.path}: metric = {metric!r} is not in this atlas: the pydrill that wrote "
+                "it did not record it; sweep the spec again into a new atlas to map it"
+            )
         return atlas_figure(self, initial=initial, x=x, y=y, at=at, metric=metric)
 
     def to_xarray(self):
@@ -352,7 +358,7 @@ _DATASETS = (
     "status",
     "message",
     "regime",
-    *fmt.RUN_FIELDS,
+    *(name for name in fmt.RUN_FIELDS if name not in fmt.ADDED_RUN_FIELDS),
     *fmt.EQ_FIELDS,
     "eigenvalues_real",
     "eigenvalues_imag",

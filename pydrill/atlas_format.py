@@ -70,7 +70,18 @@ RUN_FIELDS = {
     "period": ("f8", math.nan, "s", "stick-slip or oscillation period"),
     "stick_events": ("i4", -1, "1", "stick events in the judged window"),
     "wall_time": ("f8", math.nan, "s", "time in the C++ core"),
+    "top_min": ("f8", math.nan, "rad/s", "least top-drive velocity in the judged window"),
+    "top_max": ("f8", math.nan, "rad/s", "largest top-drive velocity in the judged window"),
+    "bit_top_ratio": (
+        "f8",
+        math.nan,
+        "1",
+        "largest bit velocity over the mean top-drive velocity (how far the bit overshoots)",
+    ),
 }
+#: Run fields added after the format's first version: an atlas written before reads them as
+#: not recorded (NaN) and gains them when a sweep writes it again (--resume).
+ADDED_RUN_FIELDS = ("top_min", "top_max", "bit_top_ratio")
 EQ_FIELDS = {
     "omega_eq": ("f8", math.nan, "rad/s", "steady bit velocities, fastest first"),
     "delta": ("f8", math.nan, "N m s/rad", "Stribeck slope at each steady state"),
@@ -295,21 +306,35 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
         _make_caveat(f, spec, table.caveat)
 
 
-def _make_caveat(f: h5py.File, spec: SweepSpec, data: np.ndarray) -> None:
-    """The ``caveat`` dataset; also added to an atlas written before it existed, when resumed."""
+def _make_per_run(f: h5py.File, spec: SweepSpec, name: str, data: np.ndarray, fill: Any):
+    """A dataset of one value per point and start, on the atlas's scales."""
     chunks = _chunks(data.shape)
     ds = f.create_dataset(
-        "caveat",
+        name,
         shape=data.shape,
         dtype=data.dtype,
         chunks=chunks,
         compression="gzip" if chunks else None,
         compression_opts=GZIP_LEVEL if chunks else None,
-        fillvalue=0,
+        fillvalue=fill,
     )
-    for axis, name in enumerate(spec.axes):
-        ds.dims[axis].attach_scale(f[name])
+    for axis, scale in enumerate(spec.axes):
+        ds.dims[axis].attach_scale(f[scale])
     ds.dims[len(spec.axes)].attach_scale(f["initial"])
+    return ds
+
+
+def _make_added(f: h5py.File, spec: SweepSpec, name: str, data: np.ndarray) -> None:
+    """An ``ADDED_RUN_FIELDS`` dataset, for an atlas written before it existed."""
+    _, fill, unit, desc = RUN_FIELDS[name]
+    ds = _make_per_run(f, spec, name, data, fill)
+    ds.attrs["units"] = unit
+    ds.attrs["long_name"] = desc
+
+
+def _make_caveat(f: h5py.File, spec: SweepSpec, data: np.ndarray) -> None:
+    """The ``caveat`` dataset; also added to an atlas written before it existed, when resumed."""
+    ds = _make_per_run(f, spec, "caveat", data, 0)
     ds.attrs["flag_values"] = np.array(list(CAVEATS.values()), dtype="i1")
     ds.attrs["flag_meanings"] = " ".join(k or "none" for k in CAVEATS)
     ds.attrs["long_name"] = "what the run's judgement notes (0: nothing)"
@@ -325,6 +350,8 @@ def write(path: Path, table: AtlasTable) -> None:
             f["message"][...] = table.message.astype(h5py.string_dtype())
         f["regime"][...] = table.regime
         for name in RUN_FIELDS:
+            if name not in f:
+                _make_added(f, table.spec, name, table.runs[name])
             f[name][...] = table.runs[name]
         for name in EQ_FIELDS:
             f[name][...] = table.eqs[name]
@@ -347,7 +374,8 @@ def read_table(path: Path, spec: SweepSpec) -> AtlasTable:
         ).reshape(spec.shape)
         table.regime = f["regime"][...].astype("i1")
         for name in RUN_FIELDS:
-            table.runs[name] = f[name][...]
+            if name in f:  # (an added field is missing from atlases written before it)
+                table.runs[name] = f[name][...]
         for name in EQ_FIELDS:
             table.eqs[name] = f[name][...]
         table.eig = f["eigenvalues_real"][...] + 1j * f["eigenvalues_imag"][...]

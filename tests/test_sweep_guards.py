@@ -250,6 +250,10 @@ def test_each_runs_caveat_is_kept_in_the_atlas_as_simulate_gives_it(tmp_path):
                     r = pydrill.simulate(spec.params_at(coords), wob=wob, torque=torque,
                                          t_end=300.0, initial=init, n_out=2)  # fmt: skip
                     want = r.summary.caveat or None
+                    # DESIGN §2's metrics beside the label, the top drive's range too
+                    for name in ("top_min", "top_max", "bit_top_ratio", "bit_max", "severity"):
+                        got = v["metrics"][name][init]
+                        assert got == pytest.approx(getattr(r.summary, name), rel=1e-9), name
                 except ValueError:  # no steady state to start from
                     want = None
                 assert v["caveat"][init] == want, (coords, init)
@@ -282,13 +286,23 @@ def test_an_atlas_from_before_caveats_reads_none_and_gains_them_on_resume(tmp_pa
     out = tmp_path / "old.h5"
     spec = parse_spec(CAVEATS)
     run_sweep(spec, out, serial=True)
-    with h5py.File(out, "r+") as f:  # as written before the dataset existed, half done
-        del f["caveat"]
+    with h5py.File(out, "r+") as f:  # as written before the datasets existed, half done
+        for name in ("caveat", *fmt.ADDED_RUN_FIELDS):
+            del f[name]
         f["status"][2, :] = fmt.STATUS["missing"]
     with Atlas(out) as atlas:
-        assert atlas.value(wob=50.0, torque=3.5)["caveat"] == {"rest": None, "equilibrium": None}
+        v = atlas.value(wob=50.0, torque=3.5)
+        assert v["caveat"] == {"rest": None, "equilibrium": None}
+        assert v["metrics"]["top_max"] == {"rest": None, "equilibrium": None}
+        assert v["metrics"]["bit_max"]["rest"] is not None
         assert atlas.summary()["caveats"] == {}
+        with pytest.raises(AtlasError, match="metric = 'bit_top_ratio' is not in this atlas"):
+            atlas.plot("bit_top_ratio")
     report = run_sweep(spec, out, serial=True, resume=True)
     assert report.computed == 3
     with Atlas(out) as atlas:
-        assert atlas.value(wob=145.0, torque=8.5)["caveat"]["equilibrium"] == "growing"
+        v = atlas.value(wob=145.0, torque=8.5)
+        assert v["caveat"]["equilibrium"] == "growing"
+        assert v["metrics"]["bit_top_ratio"]["rest"] is not None  # computed now: recorded
+        assert atlas.value(wob=50.0, torque=3.5)["metrics"]["top_max"]["rest"] is None
+        assert set(fmt.ADDED_RUN_FIELDS) <= set(atlas.to_xarray().data_vars)
