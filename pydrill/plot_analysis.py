@@ -117,16 +117,38 @@ def eigenvalue_figure(params, points) -> Figure:
             f" ({pt.unstable} unstable)",
         )
     re = [z.real for pt in points for z in pt.eigenvalues]
-    lo = min([*re, -0.1])
-    hi = max([*re, 0.0])
-    span = hi - lo
-    ax.set_xlim(lo - 0.05 * span, max(hi + 0.15 * span, 0.1 * span))
+    size = sorted(abs(r) for r in re if r != 0)
+    if size and size[-1] > 100 * size[0]:
+        # One eigenvalue far from the axis (Re 14 against 0.04 and -3e-5): on a linear axis
+        # all the others sat on Re = 0, and which side of it each lies on (the plot's point)
+        # could not be seen. Logarithmic on either side of zero, linear within the least |Re|.
+        linthresh = max(size[0] / 2, size[-1] * 1e-9)
+        ax.set_xscale("symlog", linthresh=linthresh, linscale=0.4)
+        neg = [-r for r in re if r < 0]
+        pos = [r for r in re if r > 0]
+        ax.set_xlim(-3 * max(neg or [linthresh * 10]), 3 * max(pos or [linthresh * 10]))
+        # Zero and whole decades clear of the linear band (whose edge labels ran into "0"), at
+        # most about a dozen of them.
+        first = math.floor(math.log10(linthresh)) + 1
+        tops = [math.floor(math.log10(-ax.get_xlim()[0])), math.floor(math.log10(ax.get_xlim()[1]))]
+        step = max(1, math.ceil((tops[0] + tops[1] - 2 * first + 2) / 12))
+        ticks = [0.0]
+        for sign, top in zip((-1, 1), tops, strict=True):
+            ticks += [sign * 10.0**d for d in range(top, first - 1, -step)]
+        ax.set_xticks(sorted(ticks))
+        xlabel = f"Re λ (1/s; logarithmic beyond ±{linthresh:.1g}, linear within)"
+    else:
+        lo = min([*re, -0.1])
+        hi = max([*re, 0.0])
+        span = hi - lo
+        ax.set_xlim(lo - 0.05 * span, max(hi + 0.15 * span, 0.1 * span))
+        xlabel = "Re λ (1/s)"
     # All of Re λ > 0 that the axes show, drawn under the points (the limits are fixed now).
     ax.axvspan(
         0, ax.get_xlim()[1], color="#f5b7b1", alpha=0.5, lw=0, zorder=0, label="unstable half-plane"
     )
     ax.axvline(0, color="black", lw=0.8)
-    ax.set_xlabel("Re λ (1/s)")
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("Im λ (rad/s)")
     ax.grid(alpha=0.3)
     # Beside the axes: eigenvalues may sit anywhere in the plane, the legend covers none.

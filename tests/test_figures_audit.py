@@ -2,7 +2,7 @@
 boxes, marker positions), against the plotted values and the axis limits."""
 
 import warnings
-from itertools import combinations
+from itertools import combinations, pairwise
 from pathlib import Path
 
 import matplotlib
@@ -525,3 +525,30 @@ def test_long_string_fig12_of_one_panel_keeps_its_whole_title_on_the_figure(tmp_
     assert title.get_text().rstrip().endswith("lie just beyond it")
     # Clear of the panel's own title below it.
     assert box.y0 >= fig.axes[0].title.get_window_extent().y1
+
+
+@pytest.mark.parametrize("wob, point", [(100.0, {"omega": 2.0}), (140.0, {"torque": 8.1})])
+def test_eigenvalue_plot_shows_each_eigenvalue_clear_of_the_axis_on_its_side(wob, point):
+    """One eigenvalue at Re 14 (or 20) set a linear axis on which all the oscillating modes
+    (Re 0.04, 0.003, -3e-5) sat on Re = 0: which side each lies on could not be seen."""
+    from pydrill.plot_analysis import eigenvalue_figure
+    from pydrill.stability import stability
+
+    p = pydrill.preset("reduced-scale", dof=4)
+    points = stability(p, wob, **point)
+    ev = np.array([z for pt in points for z in pt.eigenvalues])
+    assert ev.real.max() > 10 and np.abs(ev.real).min() < 1e-2
+    fig = eigenvalue_figure(p, points)
+    ax = fig.axes[0]
+    _drawn(fig)
+    zero = ax.transData.transform([(0.0, 0.0)])[0, 0]
+    shown = ax.transData.transform(np.column_stack([ev.real, ev.imag]))[:, 0]
+    radius = np.sqrt(28) / 2 * fig.dpi / 72  # the markers' (s = 28 pt²)
+    # Each marker whole on the side of its eigenvalue, and inside the axes.
+    assert np.all(np.sign(shown - zero) == np.sign(ev.real))
+    assert np.all(np.abs(shown - zero) > radius + 2), np.abs(shown - zero)
+    box = ax.get_window_extent()
+    assert np.all((shown - radius > box.x0) & (shown + radius < box.x1))
+    # Tick labels do not run into each other.
+    labels = [t.get_window_extent() for t in ax.get_xticklabels() if t.get_text()]
+    assert all(a.x1 < b.x0 for a, b in pairwise(labels))
