@@ -126,7 +126,8 @@ def register_atlas(sub) -> None:
         action="append",
         default=[],
         metavar="AXIS=VALUE",
-        help="hold another axis at its grid value nearest VALUE (default: its first value)",
+        help="hold another axis at its grid value nearest VALUE (default: its first value); "
+        "a VALUE beyond half a grid step past either end is refused",
     )
     from .atlas_format import EQ_FIELDS, RUN_FIELDS
 
@@ -295,12 +296,26 @@ def _cmd_query(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from .atlas import Atlas
+    from .atlas import Atlas, _on_grid
     from .plot import save
-    from .plot_atlas import atlas_figure
+    from .plot_atlas import atlas_figure, nearest_index
 
     at = _axis_values(args.set)
     with Atlas(args.atlas) as atlas:
+        for name, value in at.items():
+            if name not in atlas.axes:
+                continue  # atlas_figure says which axes there are
+            try:
+                k = nearest_index(atlas, name, value)
+            except ValueError as exc:
+                raise ValueError(f"--set {name}={value:g}: {exc}") from None
+            grid = float(atlas.axes[name][k])
+            if not _on_grid(atlas.axes[name], k, value):  # say so: the title shows the grid's
+                print(
+                    f"pydrill atlas plot: note: --set {name}={value:g} is not a grid value; "
+                    f"drawn at the nearest, {name} = {grid:g}",
+                    file=sys.stderr,
+                )
         fig = atlas_figure(
             atlas, initial=args.initial, x=args.x, y=args.y, at=at, metric=args.metric
         )

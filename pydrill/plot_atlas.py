@@ -30,7 +30,8 @@ def atlas_figure(
     metric: str | None = None,
 ) -> Figure:
     """Regime map of an atlas on the axes ``x`` and ``y`` (default: its first two swept ones),
-    every other axis held at the grid value nearest ``at[name]`` (default: its first value).
+    every other axis held at the grid value nearest ``at[name]`` (default: its first value;
+    a ValueError more than half a grid step past either end, as ``Atlas.value`` refuses).
     On (W_ob, u) the stuck boundary u = μ_sb W_ob R_b and the first Hopf curve of the string
     at those values are drawn on top (the paper's Figs. 6b and 12).
 
@@ -73,7 +74,7 @@ def atlas_figure(
         if name in (xname, yname):
             index.append(slice(None))
             continue
-        k = int(np.argmin(np.abs(values - at[name]))) if name in at else 0
+        k = nearest_index(atlas, name, at[name]) if name in at else 0
         held[name] = float(values[k])
         index.append(k)
     # A simulation's value from the start drawn; a steady state's of the fastest (column 0).
@@ -199,6 +200,18 @@ def atlas_figure(
         fontsize=10,
     )
     return fig
+
+
+def nearest_index(atlas, name: str, value: float) -> int:
+    """The index of the grid value of axis ``name`` nearest ``value``; a ValueError beyond half
+    a grid step past either end (or off an axis of one value), as ``Atlas.value(method=
+    "nearest")`` refuses: the map would be drawn for a place the sweep never went."""
+    probe = {n: float(v[0]) for n, v in atlas.axes.items()}
+    probe[name] = float(value)
+    try:
+        return atlas.index("nearest", **probe)[list(atlas.axes).index(name)]
+    except KeyError as exc:
+        raise ValueError(exc.args[0]) from None
 
 
 def _stable_side(params, crossings, w, u, xname: str, xlim, ylim) -> str:

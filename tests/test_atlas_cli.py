@@ -295,3 +295,26 @@ def test_info_counts_the_points_a_running_sweep_journaled_since_its_last_flush(t
     assert proc.returncode == 0 and "holds 2 more points, not yet in the atlas" in proc.stdout
     # What --resume then finds done: the atlas's point and the journal's two.
     assert run_sweep(spec, out, resume=True, serial=True).resumed == 3
+
+
+def test_atlas_plot_set_refuses_a_value_off_the_atlas_and_says_when_it_snaps(sizes_atlas, tmp_path):
+    """--set dof=100 on a grid of 4 and 8 drew dof 8 without a word."""
+
+    def plot(value):
+        out = tmp_path / f"map-{value}.png"
+        argv = ["atlas", "plot", str(sizes_atlas), "--out", str(out), "--set", f"dof={value}"]
+        proc = subprocess.run([*CMD, *argv], capture_output=True, text=True)
+        return proc, out
+
+    far, out = plot(100)
+    assert far.returncode == 2 and not out.exists()
+    assert far.stderr.strip() == (
+        "pydrill atlas plot: error: --set dof=100: dof = 100 is outside the atlas (4 ... 8)"
+    )
+    near, out = plot(7)
+    assert near.returncode == 0 and out.exists()
+    assert near.stderr.strip() == (
+        "pydrill atlas plot: note: --set dof=7 is not a grid value; drawn at the nearest, dof = 8"
+    )
+    exact, out = plot(8)
+    assert exact.returncode == 0 and exact.stderr == "" and out.exists()
