@@ -145,10 +145,11 @@ def register_atlas(sub) -> None:
         description="Write the atlas for other tools. netCDF (.nc, through h5netcdf): "
         "every variable, eigenvalues included, with the axes as coordinates and the regime "
         "names as CF flag meanings; it opens with xarray.open_dataset. CSV (.csv): one row "
-        "per point and initial condition: the axes, the regime (its code and name), the "
-        "metrics, the status, a failed point's message and whether rest and equilibrium "
-        "starts disagree; no steady states or eigenvalues (they are netCDF's). An existing "
-        "file at --out is replaced.",
+        "per point and initial condition: the axes, the regime, the metrics, the caveat "
+        "(what the run's judgement notes), the status, a failed point's message and whether "
+        "rest and equilibrium starts disagree (coexistence); each coded column is followed by "
+        "its names (regime_name, caveat_name, status_name, coexistence_name). No steady "
+        "states or eigenvalues (they are netCDF's). An existing file at --out is replaced.",
     )
     export.add_argument("atlas", metavar="ATLAS.h5")
     export.add_argument(
@@ -336,17 +337,40 @@ def _cmd_export(args: argparse.Namespace) -> int:
         if out.suffix.lower() == ".nc":
             ds.load().to_netcdf(out, engine="h5netcdf")
         else:  # .csv, as _export_path allows
-            from .atlas import with_regime_names
-
-            ds = with_regime_names(ds.load())
+            ds = ds.load()
             keep = [
                 v
                 for v in ds.data_vars
                 if "eigenvalue" not in ds[v].dims
                 and "equilibrium" not in ds[v].dims
-                and (ds[v].dtype.kind != "O" or v in ("regime_name", "message"))
+                and (ds[v].dtype.kind != "O" or v == "message")
             ]
-            ds[keep].to_dataframe().to_csv(out)
+            table = ds[keep].to_dataframe()
+            _name_codes(table)
+            table.to_csv(out)
         ds.close()
     print(f"wrote {out}")
     return 0
+
+
+#: what ``coexistence`` says, by its code
+COEXISTENCE_NAMES = {1: "starts-disagree", 0: "no-disagreement", -1: "unknown"}
+
+
+def _name_codes(table) -> None:
+    """Put beside each coded column of an exported table (a DataFrame) its names: regime_name,
+    caveat_name ("none" without one), status_name and coexistence_name ("unknown" with one
+    start or a point not done), each right after its codes."""
+    from . import atlas_format as fmt
+
+    names = {
+        "regime": fmt.REGIME_NAMES,
+        "caveat": {c: n or "none" for c, n in fmt.CAVEAT_NAMES.items()},
+        "status": {c: n for n, c in fmt.STATUS.items()},
+        "coexistence": COEXISTENCE_NAMES,
+    }
+    for column, meaning in names.items():
+        if column not in table:
+            continue
+        named = table[column].map(lambda c, meaning=meaning: meaning.get(int(c), "?"))
+        table.insert(table.columns.get_loc(column) + 1, f"{column}_name", named)

@@ -318,3 +318,37 @@ def test_atlas_plot_set_refuses_a_value_off_the_atlas_and_says_when_it_snaps(siz
     )
     exact, out = plot(8)
     assert exact.returncode == 0 and exact.stderr == "" and out.exists()
+
+
+def test_export_csv_names_every_coded_column_beside_its_codes(small_atlas, tmp_path):
+    """caveat, status and coexistence were bare codes (1, 3; 1; -1) in the CSV."""
+    from sweeping import TINY
+
+    from pydrill import atlas_format as fmt
+
+    one = tmp_path / "one.h5"  # one start: coexistence unknown
+    run_sweep(parse_spec(TINY), one, serial=True)
+    for atlas in (small_atlas, one):
+        table = tmp_path / f"{atlas.stem}.csv"
+        subprocess.run(
+            [*CMD, "atlas", "export", str(atlas), "--out", str(table)], check=True, timeout=120
+        )
+        with table.open(newline="") as fh:
+            reader = csv.DictReader(fh)
+            rows, columns = list(reader), reader.fieldnames
+        for code in ("regime", "caveat", "status", "coexistence"):
+            assert columns[columns.index(code) + 1] == f"{code}_name"
+        with h5py.File(atlas, "r") as f:
+            caveats = set(f["caveat"][...].ravel().tolist())
+        meaning = {1: "starts-disagree", 0: "no-disagreement", -1: "unknown"}
+        for row in rows:
+            assert row["regime_name"] == fmt.REGIME_NAMES[int(row["regime"])]
+            caveat = fmt.CAVEAT_NAMES[int(row["caveat"])]
+            assert row["caveat_name"] == (caveat or "none")
+            assert row["status_name"] == {"1": "done", "2": "failed", "0": "missing"}[row["status"]]
+            assert row["coexistence_name"] == meaning[int(row["coexistence"])]
+        if atlas == one:
+            assert {r["coexistence_name"] for r in rows} == {"unknown"}
+        else:
+            assert "unknown" not in {r["coexistence_name"] for r in rows}
+        assert {r["caveat_name"] for r in rows} == {fmt.CAVEAT_NAMES[c] or "none" for c in caveats}
