@@ -174,6 +174,19 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     if isinstance(lump, bool) or not isinstance(lump, int) or lump < 1:
         raise _fail("model.lump", f"{lump!r} is not allowed: an integer >= 1")
     if tally_path is not None and tally_text is None:
+        if isinstance(tally_path, str) and base is not None:
+            beside = base / tally_path  # what a relative path means (an absolute one: itself)
+            if not beside.exists() and not Path(tally_path).exists():
+                raise _fail(
+                    "model.tally",
+                    f"cannot read {tally_path}: there is no file {beside.absolute()}"
+                    + (
+                        ""
+                        if Path(tally_path).is_absolute()
+                        else f" (a relative path is resolved against the spec file's folder, "
+                        f"{base.absolute()})"
+                    ),
+                )
         tally_text = _read_tally(tally_path, base)
     if tally_text is not None:
         _check_tally(tally_text)

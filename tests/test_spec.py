@@ -259,3 +259,18 @@ def test_values_may_carry_units_and_make_the_same_sweep_as_si():
 )
 def test_a_unit_that_does_not_measure_the_key_is_refused(line, key):
     refused(f"[axes]\n{line}\n", key)
+
+
+def test_a_missing_relative_tally_names_the_path_it_was_looked_for_at(tmp_path, monkeypatch):
+    """The error showed the path as written, not where it was looked for nor the rule."""
+    folder = tmp_path / "specs"
+    folder.mkdir()
+    spec = folder / "depth.toml"
+    spec.write_text(DEPTHS.replace('"t.toml"', '"tallies/t.toml"'))
+    monkeypatch.chdir(tmp_path)  # run from elsewhere: the path is the spec's folder's
+    with pytest.raises(SpecError) as err:
+        load_spec("specs/depth.toml")
+    message = str(err.value)
+    assert message.startswith("model.tally: cannot read tallies/t.toml: ")
+    assert str(folder / "tallies" / "t.toml") in message
+    assert f"resolved against the spec file's folder, {folder}" in message
