@@ -72,8 +72,8 @@ def simulate(
     - ``t_out`` (s): the output times, a non-empty 1-D increasing list in ``[0, t_end]``;
       None (default) for ``n_out`` uniform times from 0 to ``t_end``.
     - ``n_out``: how many uniform output times, 2 ... 1e8 (without ``t_out``).
-    - ``rtol`` (0 < rtol < 1), ``atol`` (> 0, in the state's units): the integrator's
-      relative and absolute error tolerances per step.
+    - ``rtol`` (1e-14 <= rtol < 1), ``atol`` (>= 1e-20, in the state's units: rad and
+      rad/s): the integrator's relative and absolute error tolerances per step.
     - ``max_step`` (s): the longest internal step; 0 (default) for no limit.
     - ``max_order``: the highest order of ``"bdf"`` (1 ... 5) or ``"adams"`` (1 ... 12);
       0 (default) for the method's own. Other methods take only 0.

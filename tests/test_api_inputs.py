@@ -372,3 +372,41 @@ def test_a_weight_near_the_largest_float_is_refused_by_name(wob):
     # The message's shortest decimal read back beyond DBL_MAX and std::stod threw
     # out_of_range, which arrived as "IndexError: stod" (found by the property fuzz).
     refused(ValueError, "wob = -1.79769313", simulate, wob=wob, torque=0.0, t_end=1.0, dof=2)
+
+
+# 12. Tolerances a double can resolve.
+
+
+@pytest.mark.parametrize("method", ["auto", "dop853", "bdf", "adams", "erk"])
+@pytest.mark.parametrize(
+    ("key", "value", "allowed"),
+    [
+        ("rtol", 1e-300, "1e-14 <= rtol < 1"),
+        ("rtol", 1e-17, "1e-14 <= rtol < 1"),
+        ("atol", 1e-300, "atol >= 1e-20"),
+    ],
+)
+def test_a_tolerance_finer_than_a_double_resolves_is_refused(method, key, value, allowed):
+    # They were taken, then failed with NaN times ("h = nan", "t = nan s"), blamed the
+    # solution ("not smooth"), or (DOP853 at rtol 1e-17) claimed success.
+    message = refused(
+        ValueError,
+        f"{key} = {value:g} is not allowed",
+        simulate,
+        **{**QUICK, "method": method, key: value},
+    )
+    assert allowed in message, message
+
+
+def test_the_tolerance_floors_run():
+    for method in ("dop853", "bdf", "adams", "erk"):
+        assert simulate(**QUICK, method=method, rtol=1e-14, atol=1e-20).t[-1] == 2.0
+
+
+def test_an_erk_failure_reports_a_time_not_nan():
+    # An overflowing start: ARKODE's step went to NaN and the error said "t = nan s".
+    state = [1e150, 0, 0, 0, 0, 0, 0]
+    with pytest.raises(pydrill.SolverError) as err:
+        simulate(wob=100.0, torque=8.3, t_end=10.0, initial=state, method="erk")
+    assert err.value.t_reached == 0.0
+    assert "nan" not in str(err.value), str(err.value)

@@ -198,7 +198,9 @@ class Dop853 final : public Integrator {
     return std::fabs(h) * s5 / std::sqrt((s5 + 0.01 * s3) * m_);
   }
 
-  // Hairer's starting step (as scipy's select_initial_step, order 7).
+  // Hairer's starting step (as scipy's select_initial_step, order 7), judged on the state
+  // alone: the quadratures start at 0 with a slope, and from a steady start their weight
+  // 1/atol gave a first step below the floor (atol 1e-18: "step size fell" at t = 0).
   double initial_step(double t_end) {
     const double span = t_end - t_;
     if (span <= 0) return 0.0;
@@ -206,24 +208,24 @@ class Dop853 final : public Integrator {
     f0_ = F0::Current;
     const double* f0 = row(0);
     double d0 = 0, d1 = 0;
-    for (int i = 0; i < m_; ++i) {
+    for (int i = 0; i < n_; ++i) {
       const double sc = opt_.atol + std::fabs(y_[i]) * opt_.rtol;
       d0 += (y_[i] / sc) * (y_[i] / sc);
       d1 += (f0[i] / sc) * (f0[i] / sc);
     }
-    d0 = std::sqrt(d0 / m_);
-    d1 = std::sqrt(d1 / m_);
+    d0 = std::sqrt(d0 / n_);
+    d1 = std::sqrt(d1 / n_);
     double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     h0 = std::min(h0, span);
     for (int i = 0; i < m_; ++i) tmp_[i] = y_[i] + h0 * f0[i];
     rhs(t_ + h0, tmp_.data(), row(1));
     double d2 = 0;
-    for (int i = 0; i < m_; ++i) {
+    for (int i = 0; i < n_; ++i) {
       const double sc = opt_.atol + std::fabs(y_[i]) * opt_.rtol;
       const double v = (row(1)[i] - f0[i]) / sc;
       d2 += v * v;
     }
-    d2 = std::sqrt(d2 / m_) / h0;
+    d2 = std::sqrt(d2 / n_) / h0;
     const double h1 = (d1 <= 1e-15 && d2 <= 1e-15) ? std::max(1e-6, h0 * 1e-3)
                                                     : std::pow(0.01 / std::max(d1, d2), 1.0 / 8.0);
     double h = std::min({100 * h0, h1, span});

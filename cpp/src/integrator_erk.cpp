@@ -6,6 +6,7 @@
 #include <arkode/arkode_erkstep.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <vector>
@@ -83,9 +84,19 @@ class Erk final : public Integrator {
     const int flag = PYDRILL_ARK(Evolve)(mem_.get(), t_end, y_.get(), &t, ARK_ONE_STEP);
     if (flag < 0) {
       std::ostringstream o;
-      o << "ARKODE failed at t = " << t << " s (" << flag_text(flag) << "): " << message_;
+      if (std::isfinite(t)) {
+        o << "ARKODE failed at t = " << t << " s (" << flag_text(flag) << "): " << message_;
+      } else {
+        // ARKODE hands back t = NaN when its step size became NaN (an overflowing state or
+        // error estimate); its own message then quotes the NaNs. Report the last time
+        // reached instead.
+        t = t_reached_;
+        o << "ARKODE failed at t = " << t << " s (" << flag_text(flag)
+          << "): its step size became NaN (the state or its error estimate overflowed)";
+      }
       throw SolverError(o.str(), t);
     }
+    t_reached_ = t;
     if (flag == ARK_ROOT_RETURN) return Status::Root;
     // ARKODE sees roots at sign changes between step ends; one that crossed and came back
     // inside the step is looked for here, on ARKODE's own interpolant.
@@ -96,7 +107,7 @@ class Erk final : public Integrator {
     double troot;
     if (watch_.check(data_, t, state(), at, work_.data(), troot, hidden_found_)) {
       PYDRILL_ARK(GetDky)(mem_.get(), troot, 0, y_.get());  // state and quadratures there
-      t = troot;
+      t = t_reached_ = troot;
       hidden_ = true;
       return Status::Root;
     }
@@ -134,6 +145,7 @@ class Erk final : public Integrator {
     set_directions();
     base_ = counters();
     hidden_ = false;
+    t_reached_ = t;
     watch_.reset(data_, t, state());
   }
 
@@ -178,6 +190,7 @@ class Erk final : public Integrator {
   StepWatch watch_;
   std::vector<double> work_;
   bool hidden_ = false;
+  double t_reached_ = 0.0;  // the last time reached: what a failure reports if ARKODE says NaN
   int hidden_found_[kRoots] = {};
   long watch_reported_ = 0;
   Context ctx_;

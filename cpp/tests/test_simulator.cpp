@@ -182,6 +182,82 @@ TEST_CASE("bad options are refused before anything runs", "[simulator]") {
   CHECK_NOTHROW(simulate(p, 100.0, 8.3, o));
 }
 
+TEST_CASE("tolerances finer than a double resolves are refused", "[simulator]") {
+  // They were taken, and then CVODES stopped with "h = nan", ARKODE at "t = nan", DOP853
+  // with "not smooth" (rtol = atol = 1e-300), or DOP853 claimed success (rtol 1e-17).
+  const Params p = preset("reduced-scale", 4);
+  for (Method m : {Method::Auto, Method::DOP853, Method::BDF, Method::Adams, Method::ERK}) {
+    INFO("method " << method_name(m));
+    SimulationOptions o;
+    o.method = m;
+    o.t_end = 1.0;
+    for (double rtol : {1e-300, 1e-17, 2e-16, 9.9e-15, 0.0, 1.0, std::nan("")}) {
+      INFO("rtol " << rtol);
+      o.rtol = rtol;
+      CHECK_THROWS_AS(simulate(p, 100.0, 8.3, o), std::invalid_argument);
+    }
+    o.rtol = 1e-17;
+    CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o),
+                      Catch::StartsWith("rtol = 1e-17 is not allowed") && Catch::Contains("1e-14 <= rtol < 1"));
+    o.rtol = 1e-8;
+    for (double atol : {1e-300, 1e-30, 9.9e-21, 0.0, -1.0, HUGE_VAL}) {
+      INFO("atol " << atol);
+      o.atol = atol;
+      CHECK_THROWS_AS(simulate(p, 100.0, 8.3, o), std::invalid_argument);
+    }
+    o.atol = 1e-300;
+    CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o),
+                      Catch::StartsWith("atol = 1e-300 is not allowed") && Catch::Contains(">= 1e-20"));
+  }
+}
+
+TEST_CASE("every method runs at the tolerance floors", "[simulator][methods]") {
+  // The paper's dof-4 case: each method works down to rtol 2.3e-16 (CVODES and ARKODE
+  // give up at 1e-16); the floor 1e-14 keeps a margin.
+  const Params p = preset("reduced-scale", 4);
+  for (Method m : {Method::DOP853, Method::BDF, Method::Adams, Method::ERK}) {
+    INFO("method " << method_name(m));
+    SimulationOptions o;
+    o.method = m;
+    o.t_end = 50.0;
+    o.rtol = kMinRtol;
+    o.atol = kMinRtol;
+    const Result r = simulate(p, 100.0, 8.3, o);
+    CHECK(r.summary.regime == "stick-slip");
+    // A steady start with atol at its floor: DOP853's first step, weighted by the
+    // quadratures that start at 0, fell below its floor (real string, atol 1e-18).
+    o.rtol = 1e-8;
+    o.atol = kMinAtol;
+    o.t_end = 10.0;
+    o.initial = Initial::Equilibrium;
+    CHECK_NOTHROW(simulate(preset("real-string", 2), 1e5, 1e4, o));
+    CHECK_NOTHROW(simulate(p, 40.0, 8.3, o));
+  }
+}
+
+TEST_CASE("a solver failure reports the last time reached, never NaN", "[simulator][methods]") {
+  // ω_0 = 1e150 overflows the energy ledger: ARKODE's step went to NaN, and the error said
+  // "ARKODE failed at t = nan s" with t_reached() = NaN.
+  const Params p = preset("reduced-scale", 4);
+  for (Method m : {Method::DOP853, Method::BDF, Method::Adams, Method::ERK}) {
+    INFO("method " << method_name(m));
+    SimulationOptions o;
+    o.method = m;
+    o.t_end = 10.0;
+    o.initial = Initial::State;
+    o.state.assign(7, 0.0);
+    o.state[0] = 1e150;
+    try {
+      simulate(p, 100.0, 8.3, o);
+      FAIL("an overflowing state cannot be integrated");
+    } catch (const SolverError& e) {
+      INFO(e.what());
+      CHECK(std::isfinite(e.t_reached()));
+      CHECK(std::string(e.what()).find("t = nan") == std::string::npos);
+    }
+  }
+}
+
 TEST_CASE("DOP853's shortest step does not depend on how long the run is", "[simulator]") {
   // The floor used to be 1e-14 of t_end: at t_end = 1e10 s a step of 1e-4 s, which the
   // first stick of the bit needs to go below, so the run stopped at t = 0 with "step size
