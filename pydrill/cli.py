@@ -15,10 +15,13 @@ from typing import Any
 
 from .cli_options import (
     _finite,
+    _fraction,
+    _integer,
     _list,
     _no_tally_options,
     _positive,
     _string_options,
+    as_options,
     figure_path,
     print_json,
     string_json,
@@ -27,6 +30,8 @@ from .cli_options import (
 
 EXIT_USAGE = 2
 EXIT_SOLVER = 3
+#: --max-steps at most: a trillion steps is days of computing (simulate() takes up to 2**62)
+MAX_STEPS = 10**12
 
 SIMULATE_EPILOG = """\
 examples:
@@ -150,17 +155,22 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--rtol", type=_positive("--rtol"), default=1e-8, help="relative tolerance")
     run.add_argument("--atol", type=_positive("--atol"), default=1e-8, help="absolute tolerance")
-    run.add_argument("--n-out", type=int, default=3001, help="number of output times")
+    run.add_argument(
+        "--n-out",
+        type=_integer("--n-out", 2, 10**8),
+        default=3001,
+        help="number of output times",
+    )
     run.add_argument(
         "--max-steps",
-        type=int,
+        type=_integer("--max-steps", 1, MAX_STEPS),
         default=50_000_000,
         help="internal steps allowed over the whole run (default 5e7): a long run of a stiff "
         "or chattering string may need more",
     )
     run.add_argument(
         "--window",
-        type=_positive("--window"),
+        type=_fraction("--window"),
         default=0.5,
         help="fraction of the run (at its end) judged for the regime (default 0.5)",
     )
@@ -179,7 +189,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from . import simulate
+    from . import SolverError, simulate
 
     overrides: dict[str, Any] = {}
     for key in ("inertias", "stiffnesses", "dampings"):
@@ -190,21 +200,24 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     else:
         _no_tally_options(args)
         string = {"preset": args.preset or "reduced-scale", "dof": args.dof, "pipes": args.pipes}
-    result = simulate(
-        **string,
-        wob=args.wob,
-        torque=args.torque,
-        t_end=args.t_end,
-        initial=args.initial,
-        friction=args.friction,
-        method=args.method,
-        rtol=args.rtol,
-        atol=args.atol,
-        n_out=args.n_out,
-        max_steps=args.max_steps,
-        window_fraction=args.window,
-        **overrides,
-    )
+    try:
+        result = simulate(
+            **string,
+            wob=args.wob,
+            torque=args.torque,
+            t_end=args.t_end,
+            initial=args.initial,
+            friction=args.friction,
+            method=args.method,
+            rtol=args.rtol,
+            atol=args.atol,
+            n_out=args.n_out,
+            max_steps=args.max_steps,
+            window_fraction=args.window,
+            **overrides,
+        )
+    except (ValueError, SolverError) as exc:  # worded for the API: name the options instead
+        raise as_options(exc) from None
     if args.plot:
         from .plot import save, simulation_figure
 

@@ -51,6 +51,65 @@ def _finite(name: str, kind: str | None = None):
     return parse
 
 
+def _count(n: int) -> str:
+    """A bound as a reader takes it in: 1e12, not 1000000000000."""
+    digits = len(str(n)) - 1
+    return f"1e{digits}" if n >= 10**6 and n == 10**digits else str(n)
+
+
+def _integer(name: str, low: int, high: int):
+    """An argparse type: an integer ``low`` ... ``high``, refused naming the option."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(
+                f"{name} = {value} is not allowed: need an integer {_count(low)} ... {_count(high)}"
+            )
+        return value
+
+    return parse
+
+
+def _fraction(name: str):
+    """An argparse type: a number in (0, 1]."""
+
+    def parse(text: str) -> float:
+        value = _number(name, text, None)
+        if not 0 < value <= 1:  # (a NaN fails it too)
+            raise argparse.ArgumentTypeError(
+                f"{name} = {text} is not allowed: need 0 < {name} <= 1 (a fraction of the run)"
+            )
+        return value
+
+    return parse
+
+
+#: the API's names of the options in messages from simulate(), as the command line names them
+OPTION_NAMES = {
+    "window_fraction": "--window",
+    "n_out": "--n-out",
+    "max_steps": "--max-steps",
+    "t_end": "--t-end",
+    "rtol": "--rtol",
+    "atol": "--atol",
+}
+
+
+def as_options(exc: Exception, names: dict[str, str] = OPTION_NAMES) -> Exception:
+    """``exc`` with the API's parameter names in its message replaced by the options that set
+    them (``max_steps`` -> ``--max-steps``): the same exception, its other attributes kept."""
+    import re
+
+    if exc.args and isinstance(exc.args[0], str):
+        pattern = r"(?<![\w-])(" + "|".join(map(re.escape, names)) + r")(?![\w])"
+        exc.args = (re.sub(pattern, lambda m: names[m.group(1)], exc.args[0]), *exc.args[1:])
+    return exc
+
+
 # What matplotlib writes with what it installs, chosen by the file's suffix. Checked when the
 # command line is read, so that a long computation does not end in "format not supported".
 FIGURE_SUFFIXES = tuple(".png .pdf .svg .svgz .eps .ps .jpg .jpeg .tif .tiff .webp".split())

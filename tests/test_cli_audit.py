@@ -103,7 +103,7 @@ def test_export_onto_the_atlas_itself_is_refused(tmp_path):
 
 def test_simulate_takes_max_steps_as_its_solver_message_advises():
     proc = run("simulate", "--wob", "100", "--torque", "8.3", "--max-steps", "1000")
-    assert proc.returncode == 3 and "max_steps = 1000" in proc.stderr
+    assert proc.returncode == 3 and "--max-steps = 1000" in proc.stderr
     assert "--max-steps" in run("simulate", "--help").stdout
 
 
@@ -206,3 +206,26 @@ def test_sweep_and_atlas_json_are_indented_too(tmp_path):
         assert proc.returncode == 0, proc.stderr
         assert proc.stdout.startswith("{\n  "), proc.stdout[:80]
         _strict(proc.stdout)
+
+
+@pytest.mark.parametrize(
+    "option, words",
+    [
+        (("--window", "1.5"), "--window = 1.5 is not allowed: need 0 < --window <= 1"),
+        (("--n-out", "1"), "--n-out = 1 is not allowed: need an integer 2 ... 1e8"),
+        (("--max-steps", "0"), "--max-steps = 0 is not allowed: need an integer 1 ... 1e12"),
+        (("--rtol", "2"), "--rtol = 2 is not allowed: need "),
+    ],
+)
+def test_simulate_errors_name_the_option_as_typed_with_a_sensible_range(option, words):
+    """They said window_fraction, n_out and max_steps, and a range up to 4611686018427387904."""
+    proc = run("simulate", "--wob", "100", "--torque", "8.3", *option)
+    assert refused(proc, words)
+    for internal in ("window_fraction", "n_out", "max_steps", "4611686018427387904"):
+        assert internal not in proc.stderr
+
+
+def test_simulate_solver_failure_names_the_options_to_change():
+    proc = run("simulate", "--wob", "100", "--torque", "8.3", "--t-end", "1e4", "--max-steps", 50)
+    assert proc.returncode == 3, proc.stderr
+    assert "raise --max-steps or shorten --t-end" in proc.stderr and "max_steps" not in proc.stderr
