@@ -75,3 +75,12 @@ def test_long_simulations_release_the_gil():
 
 def test_core_version_matches_package():
     assert pydrill.__version__ == _core.__version__
+
+
+def test_the_core_boundary_refuses_a_slope_without_a_weight_on_bit():
+    # _core.boundary_wob(δ <= 0) returned W_ob <= 0 (-91.1 N at δ = -1) instead of refusing.
+    p = pydrill.preset(dof=4).to_core()
+    for delta in (-1.0, 0.0):
+        with pytest.raises(ValueError, match=r"delta = -?[01] is not allowed: must be > 0"):
+            _core.boundary_wob(p, delta, 1.0)
+    assert _core.boundary_wob(p, 2.7, 0.0) == pytest.approx(100.0)  # δ = W_ob·0.027

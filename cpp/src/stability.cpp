@@ -12,6 +12,7 @@
 #include "band_lu.hpp"
 #include "pydrill/equilibrium.hpp"
 #include "pydrill/friction.hpp"
+#include "shortest.hpp"
 
 namespace pydrill {
 namespace {
@@ -179,6 +180,11 @@ double stribeck_slope(const Params& p, double wob, double omega) {
 double boundary_wob(const Params& p, double delta, double omega) {
   p.validate();
   check_delta(delta);
+  // δ ∝ W_ob > 0: a slope <= 0 has no weight on bit (it came back as W_ob <= 0).
+  if (!(delta > 0)) {
+    throw std::invalid_argument("delta = " + detail::shortest(delta) +
+                                " is not allowed: must be > 0 N·m·s/rad (the Stribeck slope of a weight on bit > 0)");
+  }
   if (!std::isfinite(omega) || !(omega >= 0)) {
     std::ostringstream o;
     o << "omega = " << omega << " is not allowed: a boundary is drawn at a finite bit velocity >= 0 rad/s";

@@ -183,6 +183,11 @@ TEST_CASE("a slope or frequency or coefficient that is not a number is refused b
   CHECK_THROWS_WITH(first_lyapunov_coefficient(p, 0.01, 0.0), Catch::Contains("frequency = 0"));
   CHECK_THROWS_WITH(stribeck_slope(p, 100.0, -5.0), Catch::Contains("omega = -5"));
   CHECK_THROWS_WITH(boundary_wob(p, 0.01, -1.0), Catch::Contains("omega = -1"));
+  // δ <= 0 has no weight on bit: it came back as W_ob = -91.1 N or 0 N.
+  CHECK_THROWS_AS(boundary_wob(p, -1.0, 1.0), std::invalid_argument);
+  CHECK_THROWS_WITH(boundary_wob(p, -1.0, 1.0), Catch::StartsWith("delta = -1 is not allowed: must be > 0"));
+  CHECK_THROWS_WITH(boundary_wob(p, 0.0, 1.0), Catch::StartsWith("delta = 0 is not allowed"));
+  CHECK_THROWS_WITH(boundary_wob(p, -0.0, 1.0), Catch::Contains("must be > 0 N·m·s/rad"));
   CHECK_THROWS_WITH(bit_impedance(p, complex(nan, 1.0)), Catch::Contains("lambda"));
   CHECK_THROWS_WITH(hurwitz_determinants({1.0, nan, 1.0}), Catch::Contains("ascending[1] = nan"));
   CHECK_THROWS_WITH(hurwitz_determinants({1.0, 2.0, -1.0}), Catch::Contains("ascending[2] = -1"));

@@ -22,7 +22,7 @@ using complex = std::complex<double>;
 
 // δ(Ω, W_ob), N·m·s/rad.
 double stribeck_slope(const Params& params, double wob, double omega);
-// The weight on bit at which δ(Ω, W_ob) = delta.
+// The weight on bit (N) at which δ(Ω, W_ob) = delta; delta must be > 0 and Ω >= 0 (rad/s).
 double boundary_wob(const Params& params, double delta, double omega);
 
 // Z_b(λ) = J_b λ + c_b + Z_string(λ), evaluated in O(dof).
