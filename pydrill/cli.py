@@ -23,6 +23,7 @@ from .cli_options import (
     _string_options,
     as_options,
     figure_path,
+    os_error_message,
     print_json,
     string_json,
     string_params,
@@ -218,17 +219,24 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         )
     except (ValueError, SolverError) as exc:  # worded for the API: name the options instead
         raise as_options(exc) from None
+    unsaved = None
     if args.plot:
         from .plot import save, simulation_figure
 
-        save(simulation_figure(result), args.plot)
+        try:
+            save(simulation_figure(result), args.plot)
+        except OSError as exc:  # the results are computed: print them, then say so
+            unsaved = exc
+    plot = args.plot if unsaved is None else None
     if args.json:
         data = {**result.to_dict(), **string_json(args)}
-        if args.plot:
-            data["plot"] = args.plot
+        if plot:
+            data["plot"] = plot
         print_json(data)
     else:
-        print(_describe(result, args.plot))
+        print(_describe(result, plot))
+    if unsaved is not None:
+        raise unsaved
     return 0
 
 
@@ -278,8 +286,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:  # Ctrl-C: the user knows why; a traceback would only hide it
         sys.stderr.write(f"\npydrill {command}: interrupted\n")
         return 130
-    # Bad input of every kind, including paths that cannot be read or written (OSError).
-    except (ValueError, TallyError, AtlasError, SchedulerError, OSError) as exc:
+    except OSError as exc:  # a path that cannot be read or written: name it, and its option
+        message = os_error_message(exc, sys.argv[1:] if argv is None else argv)
+        sys.stderr.write(f"pydrill {command}: error: {message}\n")
+        return EXIT_USAGE
+    # Bad input of every kind.
+    except (ValueError, TallyError, AtlasError, SchedulerError) as exc:
         sys.stderr.write(f"pydrill {command}: error: {exc}\n")
         return EXIT_USAGE
     except SolverError as exc:

@@ -7,7 +7,7 @@ import sys
 import textwrap
 from pathlib import Path
 
-from .cli_options import figure_path, print_json
+from .cli_options import figure_path, print_json, writable_place
 
 
 def axis_line(name: str, size: int, low: float, high: float) -> str:
@@ -172,6 +172,7 @@ def _export_path(text: str) -> str:
     """An argparse type for ``atlas export --out``: the format is the suffix."""
     if Path(text).suffix.lower() not in (".nc", ".csv"):
         raise argparse.ArgumentTypeError(f"{text!r}: the suffix must be .nc (netCDF) or .csv")
+    writable_place(text)
     return text
 
 
@@ -332,7 +333,6 @@ def _cmd_export(args: argparse.Namespace) -> int:
     if out.resolve() == Path(args.atlas).resolve():
         raise ValueError(f"--out {args.out} is the atlas itself; give another file")
     with Atlas(args.atlas) as atlas:
-        out.parent.mkdir(parents=True, exist_ok=True)  # as for every other output of pydrill
         ds = atlas.to_xarray()
         if out.suffix.lower() == ".nc":
             ds.load().to_netcdf(out, engine="h5netcdf")

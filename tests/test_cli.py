@@ -177,11 +177,17 @@ def test_an_output_that_cannot_be_written_is_one_line_not_a_traceback(tmp_path):
     assert proc.stderr.startswith("pydrill simulate: error: ") and "Traceback" not in proc.stderr
 
 
-def test_an_atlas_in_a_new_directory_is_written_like_every_other_output(tmp_path):
+def test_an_atlas_in_a_folder_that_does_not_exist_is_refused_like_every_other_output_file(
+    tmp_path,
+):
+    """A typo in the folder made a tree of folders (at / if need be); now it is refused, as for
+    every output file (--plot, atlas plot/export --out). reproduce --out DIR still makes its
+    folder: it is one."""
     out = tmp_path / "new" / "dir" / "m.h5"
     spec = Path(__file__).resolve().parents[1] / "sweeps" / "minimal.toml"
-    run("sweep", str(spec), "--out", str(out), "--serial")
-    assert out.exists()
+    proc = run("sweep", str(spec), "--out", str(out), "--serial", check=False)
+    assert proc.returncode == 2 and f"there is no folder {out.parent}" in proc.stderr
+    assert not (tmp_path / "new").exists()
 
 
 def test_sweep_progress_in_a_log_is_a_plain_line_now_and_then(capsys):

@@ -229,3 +229,76 @@ def test_simulate_solver_failure_names_the_options_to_change():
     proc = run("simulate", "--wob", "100", "--torque", "8.3", "--t-end", "1e4", "--max-steps", 50)
     assert proc.returncode == 3, proc.stderr
     assert "raise --max-steps or shorten --t-end" in proc.stderr and "max_steps" not in proc.stderr
+
+
+def test_a_reproduce_out_that_is_a_file_is_one_line_naming_the_option(tmp_path):
+    existing = tmp_path / "small.toml"
+    existing.write_text("")
+    proc = run("reproduce", "--out", existing, "--quick")
+    assert refused(proc, f"--out {existing}: a file of that name exists; give a folder")
+    assert "Errno" not in proc.stderr and proc.stderr.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    "args, option",
+    [
+        (("simulate", "--wob", "100", "--torque", "8.3", "--plot", "/proc/x.png"), "--plot"),
+        (("atlas", "export", "ATLAS", "--out", "/proc/x.csv"), "--out"),
+    ],
+)
+def test_an_output_the_os_refuses_is_one_line_naming_the_option_and_path(tmp_path, args, option):
+    """They said "[Errno 2] No such file or directory: '/proc/x.png'"."""
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    atlas = tmp_path / "small.h5"
+    if "ATLAS" in args:
+        run_sweep(parse_spec(SMALL.replace("t_end = 200.0", "t_end = 10.0")), atlas, serial=True)
+    proc = run(*[atlas if a == "ATLAS" else a for a in args])
+    path = args[-1]
+    assert proc.returncode == 2 and "Errno" not in proc.stderr, proc.stderr
+    assert proc.stderr.startswith(f"pydrill {args[0]}")
+    assert option in proc.stderr and path in proc.stderr and proc.stderr.count("\n") == 1
+
+
+def test_simulate_prints_its_results_before_saying_its_figure_could_not_be_saved(
+    monkeypatch, capsys, tmp_path
+):
+    from pydrill import cli, plot
+
+    def refuse(fig, path):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(plot, "save", refuse)
+    png = tmp_path / "x.png"
+    assert cli.main(["simulate", "--wob", "100", "--torque", "8.3", "--plot", str(png)]) == 2
+    out, err = capsys.readouterr()
+    assert out.startswith("regime          stick-slip") and "figure" not in out
+    assert err == f"pydrill simulate: error: --plot {png}: Permission denied\n"
+    assert cli.main(["simulate", "--wob", "100", "--torque", "8.3", "--plot", str(png), "--json"])
+    out, err = capsys.readouterr()
+    data = json.loads(out)
+    assert data["regime"] == "stick-slip" and "plot" not in data and "--plot" in err
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("simulate", "--wob", "100", "--torque", "8.3", "--plot", "OUT.png"),
+        ("atlas", "export", "ATLAS", "--out", "OUT.csv"),
+        ("atlas", "plot", "ATLAS", "--out", "OUT.png"),
+        ("sweep", ROOT / "sweeps" / "minimal.toml", "--out", "OUT.h5", "--serial"),
+    ],
+)
+def test_an_output_file_in_a_folder_that_does_not_exist_is_refused_and_no_folder_made(
+    tmp_path, args
+):
+    """--plot /nonexistent/dir/x.png made /nonexistent/dir."""
+    atlas = tmp_path / "a.h5"
+    if "ATLAS" in args:
+        (tmp_path / "a.h5").write_bytes(b"")  # refused before it is read
+    missing = tmp_path / "no" / "such"
+    argv = [atlas if a == "ATLAS" else missing / a if str(a).startswith("OUT") else a for a in args]
+    proc = run(*argv)
+    assert refused(proc, f"there is no folder {missing}; make it first")
+    assert not (tmp_path / "no").exists()
