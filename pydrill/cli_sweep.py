@@ -119,6 +119,32 @@ class _LogProgress:
         pass
 
 
+def _refuse_complete(out: str, spec) -> None:
+    """Refuse, saying so, to sweep again into an atlas that already holds this whole sweep
+    (without --resume the sweep would say "use --resume to complete it", though nothing is
+    left to complete)."""
+    from pathlib import Path
+
+    from .atlas import Atlas
+    from .sweep import AtlasError
+
+    if not Path(out).is_file():
+        return
+    try:
+        with Atlas(out) as atlas:
+            s = atlas.summary()
+    except (AtlasError, OSError, KeyError, ValueError):
+        return  # not an atlas, or a damaged one: the sweep says which
+    if s["spec_digest"] != spec.digest or s["status"]["missing"] or s["journal"]:
+        return
+    failed = s["status"]["failed"]
+    raise ValueError(
+        f"{out} already holds this sweep, complete: {s['points']} points"
+        + (f" ({failed} of them failed; 'pydrill atlas query' shows why)" if failed else "")
+        + "; nothing to resume. To compute it again, delete it or give another --out"
+    )
+
+
 def _say(bar, line: str) -> None:
     """A line on stderr, above a tqdm bar (which stays whole) or in a log."""
     if hasattr(bar, "write"):
@@ -167,6 +193,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         writable_place(args.out)
     except argparse.ArgumentTypeError as exc:
         raise ValueError(f"--out {exc}") from None
+    if not args.resume:
+        _refuse_complete(args.out, spec)
     if args.plot and len(spec.axes) < 2:  # found out now, not after the whole sweep
         raise ValueError(
             f"--plot draws a map over two axes; this sweep has one ({next(iter(spec.axes))}): "

@@ -302,3 +302,16 @@ def test_an_output_file_in_a_folder_that_does_not_exist_is_refused_and_no_folder
     proc = run(*argv)
     assert refused(proc, f"there is no folder {missing}; make it first")
     assert not (tmp_path / "no").exists()
+
+
+def test_sweeping_again_into_a_complete_atlas_says_it_is_complete(tmp_path):
+    """It said "use --resume to complete it" of an atlas with nothing left to complete."""
+    spec, out = ROOT / "sweeps" / "minimal.toml", tmp_path / "m.h5"
+    assert run("sweep", spec, "--out", out, "--serial", "--no-progress").returncode == 0
+    before = out.read_bytes()
+    proc = run("sweep", spec, "--out", out, "--serial")
+    assert refused(proc, f"{out} already holds this sweep, complete: 57 points; nothing to resume")
+    assert "delete it or give another --out" in proc.stderr and "complete it" not in proc.stderr
+    assert out.read_bytes() == before
+    again = run("sweep", spec, "--out", out, "--serial", "--resume", "--no-progress")
+    assert again.returncode == 0 and "0 computed now" in again.stdout
