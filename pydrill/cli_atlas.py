@@ -71,7 +71,8 @@ def register_atlas(sub) -> None:
         "  condition; coords, status, by_initial {regime, metrics, caveat}, stability\n"
         "  {omega_eq, delta, spectral_abscissa, hopf_margin, unstable, eigenvalues},\n"
         "  coexistence, units;\n"
-        "  message for a failed point",
+        "  message for a failed point; with --nearest, asked (the values given: coords are\n"
+        "  the grid point's)",
     )
     query.add_argument("atlas", metavar="ATLAS.h5")
     from .cli_options import _finite
@@ -198,9 +199,11 @@ def _cmd_info(args: argparse.Namespace) -> int:
     print("  status  " + ", ".join(f"{k} {v}" for k, v in s["status"].items()))
     for init, counts in s["regimes"].items():
         print(f"  from {init:12s}" + ", ".join(f"{k} {v}" for k, v in counts.items()))
-    print(
-        f"  safe points {s['safe_points']}, rest/equilibrium disagree at {s['coexistence_points']}"
+    # With one start there is nothing to disagree with: no such count.
+    disagree = (
+        f", rest/equilibrium disagree at {s['coexistence_points']}" if len(s["initial"]) > 1 else ""
     )
+    print(f"  safe points {s['safe_points']}{disagree}")
     for init, counts in s["caveats"].items():
         notes = ", ".join(f"{k} {v}" for k, v in counts.items())
         print(f"  caveats from {init}: {notes} (points to simulate longer; query shows which)")
@@ -252,6 +255,8 @@ def _cmd_query(args: argparse.Namespace) -> int:
     if args.json:
         first = initials[0]
         flat = {"regime": v["regime"][first], "coords": v["coords"], "status": v["status"]}
+        if args.nearest:  # coords: the grid point's; asked: the values given
+            flat["asked"] = coords
         flat.update({k: m[first] for k, m in v["metrics"].items()})
         flat["caveat"] = v["caveat"][first]
         flat["by_initial"] = {"regime": v["regime"], "metrics": v["metrics"], "caveat": v["caveat"]}
@@ -272,6 +277,10 @@ def _cmd_query(args: argparse.Namespace) -> int:
         print_json(flat)
         return 0
     print(", ".join(f"{k} = {x:g}" for k, x in v["coords"].items()) + f": {v['status']}")
+    moved = {k: x for k, x in coords.items() if f"{x:g}" != f"{v['coords'][k]:g}"}
+    if args.nearest and moved:  # say it: the point shown is not the one asked for
+        asked = ", ".join(f"{k} = {x:g}" for k, x in moved.items())
+        print(f"  (the grid point nearest {asked})")
     if "message" in v:
         print(f"  {v['message']}")
     for init, regime in v["regime"].items():

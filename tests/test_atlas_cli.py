@@ -352,3 +352,32 @@ def test_export_csv_names_every_coded_column_beside_its_codes(small_atlas, tmp_p
         else:
             assert "unknown" not in {r["coexistence_name"] for r in rows}
         assert {r["caveat_name"] for r in rows} == {fmt.CAVEAT_NAMES[c] or "none" for c in caveats}
+
+
+def test_info_of_a_one_start_atlas_counts_no_disagreement(tmp_path):
+    """'rest/equilibrium disagree at 0' was printed for atlases with one start."""
+    from sweeping import TINY
+
+    one = tmp_path / "one.h5"
+    run_sweep(parse_spec(TINY), one, serial=True)
+    text = subprocess.run(
+        [*CMD, "atlas", "info", str(one)], capture_output=True, text=True, check=True
+    ).stdout
+    assert "safe points" in text and "disagree" not in text
+
+
+def test_query_nearest_says_it_moved_to_the_grid_point(small_atlas):
+    """SMALL's grid: wob 40, 100, 160; torque 6, 8.3."""
+
+    def query(*args):
+        argv = [*CMD, "atlas", "query", str(small_atlas), *args]
+        return subprocess.run(argv, capture_output=True, text=True, check=True).stdout
+
+    moved = query("--wob", "97", "--torque", "8.3", "--nearest").splitlines()
+    assert moved[0] == "wob = 100, torque = 8.3: done"
+    assert moved[1] == "  (the grid point nearest wob = 97)"
+    exact = query("--wob", "100", "--torque", "8.3", "--nearest")
+    assert "nearest" not in exact
+    data = json.loads(query("--wob", "97", "--torque", "8.2", "--nearest", "--json"))
+    assert data["coords"] == {"wob": 100.0, "torque": 8.3}
+    assert data["asked"] == {"wob": 97.0, "torque": 8.2}
