@@ -76,18 +76,29 @@ void check_operating_point(double wob, double torque) {
   if (!std::isfinite(torque)) refuse("torque", torque, "must be a finite number");
 }
 
+namespace {
+constexpr int kMaxPresetDof = 100'000;
+}  // namespace
+
+int pipes_to_dof(int pipes) {
+  if (pipes < 1 || pipes > kMaxPresetDof - 3) {
+    throw std::invalid_argument("pipes = " + std::to_string(pipes) + " is not allowed: need 1 <= pipes <= " +
+                                std::to_string(kMaxPresetDof - 3) + " (dof = pipes + 3)");
+  }
+  return pipes + 3;
+}
+
 std::vector<std::string> preset_names() { return {"reduced-scale", "real-string"}; }
 
 Params preset(const std::string& name, int dof) {
   // A preset allocates its string: a mistyped size (1e9) would take all memory first.
-  constexpr int kMaxPresetDof = 100'000;
   if (dof > kMaxPresetDof) {
     throw std::invalid_argument("dof = " + std::to_string(dof) + " is not allowed: at most " +
                                 std::to_string(kMaxPresetDof) + " inertias");
   }
   if (dof < 2) {
     throw std::invalid_argument("dof = " + std::to_string(dof) +
-                                " is not allowed: a string needs dof >= 2 (pipes >= 0 means dof = pipes + 3)");
+                                " is not allowed: a string needs dof >= 2 (pipes >= 1 means dof = pipes + 3)");
   }
   Params p;
   if (name == "reduced-scale") {

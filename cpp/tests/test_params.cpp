@@ -24,6 +24,16 @@ std::string refusal(const Params& p) {
 }
 }  // namespace
 
+TEST_CASE("pipes_to_dof refuses a string without pipes", "[params]") {
+  // pipes_to_dof(-5) returned -2 without complaint.
+  CHECK(pydrill::pipes_to_dof(1) == 4);
+  CHECK(pydrill::pipes_to_dof(99997) == 100000);
+  CHECK_THROWS_AS(pydrill::pipes_to_dof(-5), std::invalid_argument);
+  CHECK_THROWS_WITH(pydrill::pipes_to_dof(-5), Catch::StartsWith("pipes = -5 is not allowed: need 1 <= pipes"));
+  CHECK_THROWS_AS(pydrill::pipes_to_dof(0), std::invalid_argument);
+  CHECK_THROWS_AS(pydrill::pipes_to_dof(2147483647), std::invalid_argument);
+}
+
 TEST_CASE("reduced-scale preset builds the chain of Eq. (14) for any dof", "[params]") {
   for (int dof : {2, 3, 4, 13, 503}) {
     const Params p = preset("reduced-scale", dof);

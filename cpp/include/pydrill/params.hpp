@@ -38,8 +38,10 @@ struct Params {
 Params preset(const std::string& name, int dof);
 std::vector<std::string> preset_names();
 
-// Number of drill pipes p for a given dof (dof = p + 3), and the inverse.
-inline int pipes_to_dof(int pipes) { return pipes + 3; }
+// dof of a reduced-scale string with `pipes` drill pipes between the top drive, the
+// BHA and the bit: dof = pipes + 3. Throws std::invalid_argument unless
+// 1 <= pipes <= 99997 (preset's dof cap minus 3).
+int pipes_to_dof(int pipes);
 
 // Validation helpers shared by the simulator and the analysis code.
 void check_operating_point(double wob, double torque);

@@ -1,8 +1,11 @@
-// Event-driven simulation of the drillstring with CVODES (DESIGN.md §2).
+// Event-driven simulation of the drillstring (DESIGN.md §2) with one of four integrators:
+// DOP853 (explicit Runge–Kutta 8(5,3), our own; what Method::Auto picks for non-stiff
+// strings), BDF or Adams (SUNDIALS CVODES), ERK (SUNDIALS ARKODE, Fehlberg 7(8)).
 //
-// Every stick/slip/reversal switch is located by CVODES's rootfinding and the
-// integrator is re-initialised there, so no smoothing band is ever used for
-// the exact friction law and no chattering occurs.
+// Every stick/slip/reversal switch is located as a root of the integrator's interpolant
+// (CVODES's and ARKODE's rootfinding, DOP853's dense output) and the integrator is
+// restarted there, so no smoothing band is ever used for the exact friction law and no
+// chattering occurs.
 #pragma once
 
 #include <cstdint>
@@ -68,7 +71,7 @@ struct Switch {
 };
 
 struct SolverStats {
-  std::string method;          // "bdf" or "adams" (what actually ran)
+  std::string method;          // what actually ran: "dop853", "bdf", "adams" or "erk"
   std::string method_reason;   // why "auto" chose it
   double stiffness_ratio = 0;  // estimate used by "auto"
   long steps = 0, rhs_evals = 0, jac_evals = 0, lin_setups = 0, lin_solves = 0;
@@ -103,18 +106,21 @@ struct Result {
   std::vector<double> t;        // output times
   std::vector<double> states;   // row-major (t.size(), 2·dof−1), twist coordinates
   std::vector<double> top_angle;  // φ_0 at the output times (φ_0(0) = 0)
-  // Energy ledger at the output times (J), all zero at t = 0:
-  std::vector<double> work_input;        // ∫ u ω_0 dt
-  std::vector<double> viscous_loss;      // ∫ viscous dissipation dt
-  std::vector<double> friction_loss;     // ∫ T_f ω_b dt
-  std::vector<double> energy;            // kinetic + elastic at the output times
+  // Energy ledger at the output times (J). The three integrals count from t = 0 (zero
+  // there); the stored energy E is not zero at a start in motion (Initial::Equilibrium
+  // or a state). The balance to check is W_in − D_visc − D_fric = E(t) − E(0).
+  std::vector<double> work_input;        // W_in = ∫ u ω_0 dt
+  std::vector<double> viscous_loss;      // D_visc = ∫ viscous dissipation dt
+  std::vector<double> friction_loss;     // D_fric = ∫ T_f ω_b dt
+  std::vector<double> energy;            // E = kinetic + elastic at the output times
   std::vector<int> modes;                // Mode at each output time
   std::vector<Switch> switches;
   SolverStats stats;
   Summary summary;
 };
 
-// A solver failure: CVODES's own message and where the integration stopped.
+// A solver failure: the integrator's message (CVODES's or ARKODE's own text, or DOP853's
+// or the run's: step size too small, max_steps reached, chattering) and the time reached.
 class SolverError : public std::runtime_error {
  public:
   SolverError(const std::string& what, double t_reached)
@@ -150,7 +156,8 @@ double stiffness_ratio(const Params& params);
 Method choose_method(const Params& params, std::string* reason = nullptr);
 
 // Runs one simulation. Throws std::invalid_argument on bad input (nothing is
-// computed) and SolverError if CVODES fails. Thread-safe: no global state.
+// computed), SolverError if the integrator fails, Interrupted if options.interrupt
+// says so. Thread-safe: no global state.
 Result simulate(const Params& params, double wob, double torque, const SimulationOptions& options);
 
 }  // namespace pydrill
