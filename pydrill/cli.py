@@ -154,26 +154,30 @@ def build_parser() -> argparse.ArgumentParser:
         "Runge-Kutta 8(5,3), non-stiff strings), bdf (CVODES, stiff strings), adams (CVODES) "
         "or erk (ARKODE explicit Runge-Kutta 7(8))",
     )
-    run.add_argument("--rtol", type=_positive("--rtol"), default=1e-8, help="relative tolerance")
-    run.add_argument("--atol", type=_positive("--atol"), default=1e-8, help="absolute tolerance")
+    run.add_argument(
+        "--rtol", type=_positive("--rtol"), default=1e-8, help="relative tolerance (default 1e-8)"
+    )
+    run.add_argument(
+        "--atol", type=_positive("--atol"), default=1e-8, help="absolute tolerance (default 1e-8)"
+    )
     run.add_argument(
         "--n-out",
         type=_integer("--n-out", 2, 10**8),
         default=3001,
-        help="number of output times",
+        help="number of output times (default 3001; 2 ... 1e8)",
     )
     run.add_argument(
         "--max-steps",
         type=_integer("--max-steps", 1, MAX_STEPS),
         default=50_000_000,
-        help="internal steps allowed over the whole run (default 5e7): a long run of a stiff "
-        "or chattering string may need more",
+        help="internal steps allowed over the whole run (default 5e7, at most 1e12): a long "
+        "run of a stiff or chattering string may need more",
     )
     run.add_argument(
         "--window",
         type=_fraction("--window"),
         default=0.5,
-        help="fraction of the run (at its end) judged for the regime (default 0.5)",
+        help="fraction of the run (at its end) judged for the regime, 0 < F <= 1 (default 0.5)",
     )
     out = sim.add_argument_group("output")
     out.add_argument("--json", action="store_true", help="print one JSON object for scripts")

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 
 from .cli_options import (
     _finite,
+    _integer,
     _positive,
     _string_options,
     figure_path,
@@ -107,7 +108,8 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     bif.add_argument(
         "--omega-max",
         type=_positive("--omega-max", "velocity"),
-        help="largest Omega on the branch (rad/s)",
+        help="largest Omega on the branch (rad/s; default: with --vary wob, u / (c_r + c_b), "
+        "where W_ob reaches 0; with --vary torque, 40)",
     )
     bif.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     bif.add_argument(
@@ -142,10 +144,11 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     )
     omap.add_argument(
         "--check",
-        type=int,
+        type=_integer("--check", 0, 40),
         default=0,
         metavar="K",
-        help="simulate from rest on a K x K grid and overlay the regimes",
+        help="simulate from rest on a K x K grid and overlay the regimes (K <= 40; default 0: "
+        "no simulations)",
     )
     omap.add_argument(
         "--t-end",

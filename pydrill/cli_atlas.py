@@ -119,7 +119,12 @@ def register_atlas(sub) -> None:
         type=figure_path,
         help="the figure to write; its suffix is the format (.png, .pdf, .svg, ...)",
     )
-    plot.add_argument("--initial", help="which start to draw (default: the first)")
+    plot.add_argument(
+        "--initial",
+        choices=("rest", "equilibrium"),
+        help="which start to draw, of those the atlas holds: rest or equilibrium (default: the "
+        "first it holds)",
+    )
     plot.add_argument("--x", metavar="AXIS", help="horizontal axis (default: the first swept)")
     plot.add_argument("--y", metavar="AXIS", help="vertical axis (default: the next swept)")
     plot.add_argument(

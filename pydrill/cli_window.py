@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from .cli_options import _positive, figure_path, print_json
+from .cli_options import _integer, _positive, figure_path, print_json
 
 # No drill bit takes 2000 kN (200 t): a bare number that large was meant in newtons.
 LARGEST_BARE_KN = 2000.0
@@ -125,10 +125,11 @@ def register_tally(sub) -> None:
     )
     win.add_argument(
         "--check",
-        type=int,
+        type=_integer("--check", 0, 20),
         default=0,
         metavar="K",
-        help="simulate a K x K sample of the chart at each depth and compare with the verdict",
+        help="simulate a K x K sample of the chart at each depth and compare with the verdict "
+        "(K <= 20; default 0: none)",
     )
     win.add_argument(
         "--check-dof", type=int, help="reduce the checking model to this many inertias"

@@ -3,6 +3,7 @@ that meant something else than the help said, figures of nothing, outputs that c
 written found out only after the work."""
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -315,3 +316,39 @@ def test_sweeping_again_into_a_complete_atlas_says_it_is_complete(tmp_path):
     assert out.read_bytes() == before
     again = run("sweep", spec, "--out", out, "--serial", "--resume", "--no-progress")
     assert again.returncode == 0 and "0 computed now" in again.stdout
+
+
+@pytest.mark.parametrize(
+    "command, words",
+    [
+        (["simulate"], ["relative tolerance (default 1e-8)", "absolute tolerance (default 1e-8)"]),
+        (["simulate"], ["number of output times (default 3001; 2 ... 1e8)", "at most 1e12"]),
+        (["bifurcation"], ["where W_ob reaches 0; with --vary torque, 40)"]),
+        (["map"], ["(K <= 40; default 0"]),
+        (["window"], ["(K <= 20; default 0"]),
+        (["atlas", "plot"], ["--initial {rest,equilibrium}"]),
+    ],
+)
+def test_help_shows_defaults_limits_and_choices(command, words):
+    """--rtol, --atol, --n-out and bifurcation --omega-max showed no default; the limits of
+    map/window --check were found out by trying; atlas plot --initial listed no choices."""
+    proc = subprocess.run(
+        [*CMD, *command, "--help"],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "COLUMNS": "200"},
+    )
+    assert proc.returncode == 0
+    for w in words:
+        assert w in proc.stdout, proc.stdout
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (("map", "--check", "41"), "argument --check: --check = 41 is not allowed"),
+        (("window", PAPER, "--check", "21"), "argument --check: --check = 21 is not allowed"),
+    ],
+)
+def test_check_beyond_its_limit_is_refused_when_read(args, words):
+    assert refused(run(*args), words)
