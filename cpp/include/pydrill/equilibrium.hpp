@@ -9,15 +9,18 @@
 
 namespace pydrill {
 
-// Surface torque u needed to turn at Ω > 0 with the given weight on bit.
+// Each function throws std::invalid_argument for invalid Params, a weight on bit (N) not
+// finite and > 0, a torque (N·m) that is not finite, or an Ω not finite and > 0.
+
+// Surface torque u (N·m) needed to turn at Ω > 0 with the given weight on bit.
 double equilibrium_torque(const Params& params, double wob, double omega);
 
-// Every Ω > 0 with u = c_r Ω + c_b Ω + T_fb(Ω), in increasing order. The
+// Every Ω > 0 (rad/s) with u = c_r Ω + c_b Ω + T_fb(Ω), in increasing order. The
 // right side is convex in Ω, so there are 0, 1 or 2 solutions; each is found
 // by bracketed bisection to machine precision.
 std::vector<double> equilibrium_velocities(const Params& params, double wob, double torque);
 
-// Twist-coordinate steady state (size 2·dof − 1) for velocity Ω.
+// Twist-coordinate steady state (size 2·dof − 1, layout of model.hpp) for velocity Ω.
 std::vector<double> equilibrium_state(const Params& params, double wob, double omega);
 
 }  // namespace pydrill

@@ -24,10 +24,12 @@ enum class Mode {
   Band,          // Karnopp band |ω_b| < D_v with |T_e| > T_s: friction = ±T_s, the bit creeps
 };
 
-const char* mode_name(Mode m);
+const char* mode_name(Mode m);  // "slip+", "slip-", "stick", "band"
 
 class Chain {
  public:
+  // Throws std::invalid_argument for invalid Params, a wob (N) not finite and > 0, or a
+  // torque (N·m) that is not finite.
   Chain(const Params& params, double wob, double torque);
 
   int dof() const { return dof_; }

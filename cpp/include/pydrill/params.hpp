@@ -12,18 +12,19 @@ namespace pydrill {
 
 // Mechanical chain plus bit–rock friction law. Operating inputs (weight on bit,
 // surface torque) are not part of it: they are the axes of every study.
+// Allowed values (validate() checks them; every number finite):
 struct Params {
-  std::vector<double> inertias;     // I_0 (top drive) ... I_{N-1} (bit), kg·m²
-  std::vector<double> stiffnesses;  // k_i joins inertia i and i+1, N·m/rad
-  std::vector<double> dampings;     // c_i joins inertia i and i+1, N·m·s/rad
-  double top_damping = 0.0;         // c_r, viscous torque at the top drive
-  double bit_damping = 0.0;         // c_b, viscous torque at the bit (mud)
-  double bit_radius = 0.0;          // R_b, m
-  double mu_coulomb = 0.0;          // μ_cb, Coulomb (dynamic) friction coefficient
-  double mu_static = 0.0;           // μ_sb, static friction coefficient
-  double stribeck_decay = 0.0;      // γ_b, velocity decrease rate of friction
-  double stribeck_velocity = 1.0;   // v_f, rad/s, makes γ_b·ω/v_f dimensionless
-  double karnopp_band = 1e-6;       // D_v, rad/s, zero-velocity band of Eq. (9)
+  std::vector<double> inertias;     // I_0 (top drive) ... I_{N-1} (bit), kg·m²; dof >= 2, each > 0
+  std::vector<double> stiffnesses;  // k_i joins inertia i and i+1, N·m/rad; dof − 1 of them, > 0
+  std::vector<double> dampings;     // c_i joins inertia i and i+1, N·m·s/rad; dof − 1, >= 0
+  double top_damping = 0.0;         // c_r, viscous torque at the top drive, N·m·s/rad, >= 0
+  double bit_damping = 0.0;         // c_b, viscous torque at the bit (mud), N·m·s/rad, >= 0
+  double bit_radius = 0.0;          // R_b, m, > 0
+  double mu_coulomb = 0.0;          // μ_cb, Coulomb (dynamic) friction coefficient, 0 < μ_cb < μ_sb
+  double mu_static = 0.0;           // μ_sb, static friction coefficient, > μ_cb
+  double stribeck_decay = 0.0;      // γ_b, velocity decrease rate of friction, > 0
+  double stribeck_velocity = 1.0;   // v_f, rad/s, makes γ_b·ω/v_f dimensionless, > 0
+  double karnopp_band = 1e-6;       // D_v, rad/s, zero-velocity band of Eq. (9), > 0
 
   int dof() const { return static_cast<int>(inertias.size()); }
 
@@ -33,17 +34,20 @@ struct Params {
 };
 
 // Named parameter sets of DESIGN.md §4.
-//   "reduced-scale": laboratory-scale string of Eq. (14), any dof >= 2.
+//   "reduced-scale": laboratory-scale string of Eq. (14), 2 <= dof <= 100000.
 //   "real-string":   the 2-DOF string of Eq. (53); other dof are refused.
+// Throws std::invalid_argument for an unknown name or a dof outside these ranges (the
+// cap stops a mistyped size from taking all memory; a hand-built Params has none).
 Params preset(const std::string& name, int dof);
-std::vector<std::string> preset_names();
+std::vector<std::string> preset_names();  // {"reduced-scale", "real-string"}
 
 // dof of a reduced-scale string with `pipes` drill pipes between the top drive, the
 // BHA and the bit: dof = pipes + 3. Throws std::invalid_argument unless
 // 1 <= pipes <= 99997 (preset's dof cap minus 3).
 int pipes_to_dof(int pipes);
 
-// Validation helpers shared by the simulator and the analysis code.
+// The operating-point check every entry point runs (BitFriction's constructor calls it):
+// throws std::invalid_argument unless wob (N) is finite and > 0 and torque (N·m) finite.
 void check_operating_point(double wob, double torque);
 
 }  // namespace pydrill

@@ -23,7 +23,8 @@ enum class Method { Auto, BDF, Adams, ERK, DOP853 };
 enum class FrictionLaw { Exact, Karnopp };
 enum class Initial { Rest, Equilibrium, State };
 
-const char* method_name(Method m);
+// Names and their parsers; a parser throws std::invalid_argument for any other name.
+const char* method_name(Method m);                    // "auto", "bdf", "adams", "erk", "dop853"
 Method parse_method(const std::string& s);            // "auto", "bdf", "adams", "erk", "dop853"
 FrictionLaw parse_friction(const std::string& s);     // "exact", "karnopp"
 Initial parse_initial(const std::string& s);          // "rest", "equilibrium", "state"
@@ -34,14 +35,16 @@ Initial parse_initial(const std::string& s);          // "rest", "equilibrium", 
 constexpr double kMinRtol = 1e-14;
 constexpr double kMinAtol = 1e-20;
 
+// validate() (called by simulate) throws std::invalid_argument naming the option, its value
+// and the allowed range, for any value outside the ranges below.
 struct SimulationOptions {
-  double t_end = 300.0;              // s
-  std::vector<double> t_out;         // output times in [0, t_end]; empty: n_out uniform
-  int n_out = 3001;                  // used when t_out is empty
+  double t_end = 300.0;              // s, finite and > 0
+  std::vector<double> t_out;         // s, strictly increasing in [0, t_end]; empty: n_out uniform
+  int n_out = 3001;                  // used when t_out is empty; 2 .. 1e8 (each keeps 2·dof + 4 doubles)
   Method method = Method::Auto;
   FrictionLaw friction = FrictionLaw::Exact;
   Initial initial = Initial::Rest;
-  std::vector<double> state;         // twist-coordinate start (Initial::State)
+  std::vector<double> state;         // Initial::State: 2·dof − 1 finite numbers, layout of model.hpp
   double perturbation = 1e-3;        // Initial::Equilibrium: ω_b = (1 + perturbation)·Ω
   // Error tolerances per step. rtol: kMinRtol <= rtol < 1. atol: one scalar for every
   // state component (twists in rad, velocities in rad/s), finite and >= kMinAtol.
@@ -49,9 +52,9 @@ struct SimulationOptions {
   double atol = 1e-8;
   double max_step = 0.0;             // s, the longest internal step; 0: no limit
   int max_order = 0;                 // 0: the method's default; BDF 1..5, Adams 1..12, others 0
-  long max_steps = 50'000'000;       // internal steps over the whole run
-  double window_fraction = 0.5;      // last fraction of the run judged for the regime
-  double max_switch_rate = 1e4;      // switches per simulated second before it is chattering
+  long max_steps = 50'000'000;       // internal steps over the whole run (>= 1), then SolverError
+  double window_fraction = 0.5;      // last fraction of the run judged for the regime, in (0, 1]
+  double max_switch_rate = 1e4;      // switches per simulated second (> 0) before it is chattering
   // Asked about every 0.1 s of wall time while the run goes on; true stops it with
   // Interrupted (a Ctrl-C from Python, a cancel button in a program that embeds pydrill).
   // Empty: never asked.
@@ -81,18 +84,20 @@ struct SolverStats {
   double wall_time = 0;        // s spent in the core
 };
 
+// The regime judged on the window [window_start, window_end] (the last window_fraction of
+// the run): velocities, severity, fractions, period and stick_events describe that window.
 struct Summary {
   std::string regime;          // "steady", "stick-slip", "stuck", "oscillation"
-  double window_start = 0, window_end = 0;
-  double bit_min = 0, bit_max = 0, bit_mean = 0;
-  double top_min = 0, top_max = 0, top_mean = 0;
+  double window_start = 0, window_end = 0;        // s
+  double bit_min = 0, bit_max = 0, bit_mean = 0;  // bit velocity ω_b, rad/s
+  double top_min = 0, top_max = 0, top_mean = 0;  // top-drive velocity ω_0, rad/s
   double severity = 0;         // (max ω_b − min ω_b) / (2 mean ω_b)
   double bit_top_ratio = 0;    // max ω_b / mean ω_top (min ω_b / mean ω_top when u < 0)
   double stuck_fraction = 0;   // fraction of the window spent in stick
   double period = -1;          // s; < 0 when there is none
   long stick_events = 0;       // slip→stick transitions in the window
-  double static_torque = 0;    // T_s = μ_sb W_ob R_b
-  std::vector<double> omega_equilibrium;  // every steady Ω for (W_ob, u): > 0, or < 0 when u < 0
+  double static_torque = 0;    // T_s = μ_sb W_ob R_b, N·m
+  std::vector<double> omega_equilibrium;  // rad/s, every steady Ω for (W_ob, u): > 0, or < 0 when u < 0
   std::string note;            // caveat about the judgement, empty when there is none
   // The note's kind, for tables (a sweep's atlas keeps this, not the text): "first-wind-up",
   // "one-stick-phase", "one-break-away", "late-stick", "growing", "short-window"; empty
@@ -144,6 +149,7 @@ class Interrupted : public std::runtime_error {
 
 // Stiffness estimate behind Method::Auto, from Gershgorin bounds and a
 // Rayleigh estimate of the fundamental (the string clamped at a still bit).
+// These three throw std::invalid_argument for invalid Params.
 struct StiffnessEstimate {
   double fastest_decay = 0;      // 1/s, bound on the largest decay rate (M⁻¹C)
   double fastest_frequency = 0;  // rad/s, bound on the highest natural frequency (M⁻¹K)
@@ -153,9 +159,11 @@ StiffnessEstimate estimate_stiffness(const Params& params);
 // fastest_decay / fundamental: how much faster the fastest mode dies than the
 // slowest one moves.
 double stiffness_ratio(const Params& params);
+// What Method::Auto runs: DOP853, or BDF for a stiff string; `reason` (if given) says why.
 Method choose_method(const Params& params, std::string* reason = nullptr);
 
-// Runs one simulation. Throws std::invalid_argument on bad input (nothing is
+// Runs one simulation at weight on bit `wob` (N, finite and > 0) and surface torque
+// `torque` (N·m, finite). Throws std::invalid_argument on bad input (nothing is
 // computed), SolverError if the integrator fails, Interrupted if options.interrupt
 // says so. Thread-safe: no global state.
 Result simulate(const Params& params, double wob, double torque, const SimulationOptions& options);

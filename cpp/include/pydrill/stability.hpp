@@ -16,21 +16,25 @@
 
 #include "pydrill/params.hpp"
 
+// Every function below throws std::invalid_argument for invalid Params (Params::validate)
+// and for a slope δ that is not a finite number; other ranges are given with each one.
+// Units: δ in N·m·s/rad, Ω and frequencies in rad/s, W_ob in N, torques in N·m, λ in 1/s.
 namespace pydrill {
 
 using complex = std::complex<double>;
 
-// δ(Ω, W_ob), N·m·s/rad.
+// δ(Ω, W_ob), N·m·s/rad; W_ob > 0, Ω >= 0.
 double stribeck_slope(const Params& params, double wob, double omega);
 // The weight on bit (N) at which δ(Ω, W_ob) = delta; delta must be > 0 and Ω >= 0 (rad/s).
 double boundary_wob(const Params& params, double delta, double omega);
 
-// Z_b(λ) = J_b λ + c_b + Z_string(λ), evaluated in O(dof).
+// Z_b(λ) = J_b λ + c_b + Z_string(λ) in N·m·s/rad, λ in 1/s (finite), evaluated in O(dof).
 complex bit_impedance(const Params& params, complex lambda);
 
 // Dense reduced Jacobian at slope δ, row-major n' × n' (twist coordinates).
 std::vector<double> jacobian(const Params& params, double delta);
-// Its eigenvalues (brute force, O(n'³)); sorted by decreasing real part.
+// Its eigenvalues (brute force, O(n'³)); sorted by decreasing real part. Throws
+// std::runtime_error if the dense eigenvalue solver does not converge.
 std::vector<complex> eigenvalues(const Params& params, double delta);
 // The same eigenvalues in O(n'²), as the roots of Z_b(λ) = δ found all at once
 // (Ehrlich–Aberth on the chain's recurrence, started from the free chain's modes
@@ -45,13 +49,15 @@ bool roots_of_impedance(const Params& params, double delta, std::vector<complex>
 // Characteristic polynomial det(λI − J) at slope δ, monic, coefficients in
 // ascending powers a_0 … a_{n'} (a_{n'} = 1), from exact polynomial
 // recurrences of the continued fraction. Meant for small strings (the
-// coefficients span many decades as dof grows); refused above dof 12.
+// coefficients span many decades as dof grows); std::invalid_argument above dof 12.
 std::vector<double> characteristic_polynomial(const Params& params, double delta);
 // Hurwitz determinants Δ_1 … Δ_{n−1} of a polynomial given in ascending
-// powers (leading coefficient last, positive).
+// powers (leading coefficient last, positive). std::invalid_argument for degree < 1,
+// a coefficient that is not finite or a leading one <= 0.
 std::vector<double> hurwitz_determinants(const std::vector<double>& ascending);
 // The paper's n' = 3 closed form (dof 2, Eq. 50–51 with Δ_2 = a_2 a_1 − a_0):
 // the δ at which Δ_2 = 0, in increasing order (0, 1 or 2 values > 0).
+// std::invalid_argument unless dof = 2.
 std::vector<double> hopf_deltas_dof2(const Params& params);
 
 // A value of δ at which eigenvalues reach the imaginary axis.
@@ -72,25 +78,32 @@ std::vector<Crossing> critical_deltas(const Params& params);
 // (Kuznetsov's formula; the only nonlinearity is the bit friction, whose
 // Taylor terms about Ω are T'' = δγ/v_f and T''' = −δ(γ/v_f)²). Negative:
 // supercritical (a small stable oscillation is born); positive: subcritical
-// (the motion jumps away, with hysteresis). Dense linear algebra: O(dof³).
+// (the motion jumps away, with hysteresis). frequency finite and > 0 (rad/s).
+// Normalisation: the eigenvector q of iω has unit Euclidean norm in twist coordinates
+// (which mix rad and rad/s) and ⟨p, q⟩ = 1, so the value depends on that choice: use
+// its sign, and compare sizes only between Hopf points of one string. O(dof²) (the Jacobian is built
+// dense; the solves are banded).
 double first_lyapunov_coefficient(const Params& params, double delta, double frequency);
 
-// Number of eigenvalues with positive real part at slope δ, from the crossings.
+// Number of eigenvalues with positive real part at slope δ, from the crossings (any
+// finite δ; 0 below the first crossing, so for every δ <= 0).
 int unstable_count(const std::vector<Crossing>& crossings, double delta);
 
 struct StabilityPoint {
+  // The steady state: Ω (rad/s; < 0 for a negative torque), W_ob (N), u (N·m), δ (N·m·s/rad).
   double omega = 0, wob = 0, torque = 0, delta = 0;
   int unstable = 0;                  // eigenvalues in the right half-plane
   bool stable = false;
   double delta_margin = 0;           // δ distance to the nearest crossing (> 0 inside the
                                      // stable region: how much δ may grow before it is lost)
-  double spectral_abscissa = 0;      // max Re λ (brute force)
-  std::vector<complex> eigenvalues;  // sorted by decreasing real part
+  double spectral_abscissa = 0;      // max Re λ, 1/s
+  std::vector<complex> eigenvalues;  // λ in 1/s, sorted by decreasing real part
 };
 
-// Stability of the steady state at velocity Ω (the torque it needs follows).
+// Stability of the steady state at velocity Ω (finite, > 0; the torque it needs follows),
+// W_ob > 0.
 StabilityPoint stability_at_velocity(const Params& params, double wob, double omega);
-// Stability of every steady state for (W_ob, u): 0, 1 or 2 of them. For u < 0, the mirror
+// Stability of every steady state for (W_ob > 0, finite u): 0, 1 or 2 of them. For u < 0, the mirror
 // image of |u|: the same points with Ω and u reversed.
 std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque);
 // The same with the string's crossings (critical_deltas(params)) already at hand: they
