@@ -27,6 +27,7 @@ from .cli_options import (
     print_json,
     string_json,
     string_params,
+    unit_notes,
 )
 
 EXIT_USAGE = 2
@@ -204,6 +205,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         string = {"params": string_params(args)}
     else:
         _no_tally_options(args)
+        if args.preset == "real-string":
+            unit_notes(args)
         string = {"preset": args.preset or "reduced-scale", "dof": args.dof, "pipes": args.pipes}
     try:
         result = simulate(

@@ -8,6 +8,7 @@ import argparse
 import json
 import math
 import os
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -254,6 +255,8 @@ def string_params(args: argparse.Namespace):
 
     if args.tally is None:
         _no_tally_options(args)
+        if args.preset == "real-string":
+            unit_notes(args)
         return preset(args.preset or "reduced-scale", dof=args.dof, pipes=args.pipes)
     if args.preset is not None:
         raise ValueError("give --preset or --tally, not both")
@@ -264,7 +267,29 @@ def string_params(args: argparse.Namespace):
         )
     tally, params = tally_params(args.tally, args.depth, args.lump, args.dof)
     # Titles and reports say which depth: strings of one tally differ by it alone.
-    return params.replace(name=f"{tally.name} at {tally.length:.1f} m")
+    params = params.replace(name=f"{tally.name} at {tally.length:.1f} m")
+    unit_notes(args)
+    return params
+
+
+def unit_notes(args: argparse.Namespace) -> None:
+    """A bare number is SI, but a driller thinks in kN and rpm: on a real string, a weight of
+    a few newtons or a speed of hundreds of rpm was most likely typed in the wrong unit.
+    Said on stderr, and the command goes on (the value may be meant)."""
+    wob, omega = getattr(args, "wob", None), getattr(args, "omega", None)
+    notes = []
+    if wob is not None and 0 < wob < 1000.0:
+        notes.append(
+            f"--wob is {wob:g} N, light for a real string: a bare number is N; for kN write "
+            f"{wob:g}kN"
+        )
+    if omega is not None and omega > 30.0:
+        notes.append(
+            f"--omega is {omega:g} rad/s = {omega * 30 / math.pi:.0f} rpm: a bare number is "
+            f"rad/s; for rpm write {omega:g}rpm"
+        )
+    for note in notes:
+        print(f"pydrill: note: {note}", file=sys.stderr)
 
 
 def string_json(args: argparse.Namespace) -> dict[str, Any]:

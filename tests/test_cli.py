@@ -246,3 +246,40 @@ def test_commands_without_a_figure_do_not_load_matplotlib(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip().splitlines()[-1] == "[]"
+
+
+TALLY = str(Path(__file__).resolve().parents[1] / "examples" / "tallies" / "paper-eq53.toml")
+
+
+@pytest.mark.parametrize(
+    ("args", "notes"),
+    [
+        # bare numbers on a real string: 60 N and 573 rpm, where 60 kN and 60 rpm were meant
+        (["stability", "--tally", TALLY, "--wob", "60", "--omega", "60"], ["60kN", "60rpm"]),
+        (
+            [
+                "simulate",
+                "--preset",
+                "real-string",
+                "--wob",
+                "50",
+                "--torque",
+                "9kN*m",
+                "--t-end",
+                "5",
+            ],
+            ["50kN"],
+        ),
+        # in units, or plausible: nothing to say
+        (["stability", "--tally", TALLY, "--wob", "60kN", "--omega", "60rpm"], []),
+        (["stability", "--dof", "4", "--wob", "60", "--omega", "60"], []),  # laboratory scale
+    ],
+)
+def test_a_bare_number_implausible_for_a_real_string_gets_a_note(args, notes):
+    """A bare number is SI, and the command still runs as typed; stderr says what it took."""
+    r = subprocess.run([*CMD, *args], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    said = [line for line in r.stderr.splitlines() if line.startswith("pydrill: note:")]
+    assert len(said) == len(notes)
+    for line, fix in zip(said, notes, strict=True):
+        assert f"write {fix}" in line
