@@ -84,3 +84,12 @@ def test_the_core_boundary_refuses_a_slope_without_a_weight_on_bit():
         with pytest.raises(ValueError, match=r"delta = -?[01] is not allowed: must be > 0"):
             _core.boundary_wob(p, delta, 1.0)
     assert _core.boundary_wob(p, 2.7, 0.0) == pytest.approx(100.0)  # δ = W_ob·0.027
+
+
+def test_core_messages_quote_numbers_as_typed():
+    # std::to_string wrote "omega = -0.000000 is not allowed" for -1e-9.
+    p = pydrill.preset(dof=4).to_core()
+    with pytest.raises(ValueError, match=r"^omega = -1e-09 is not allowed"):
+        _core.equilibrium_torque(p, 100.0, -1e-9)
+    with pytest.raises(ValueError, match=r"^omega = -0\.1234567891 is not allowed"):
+        _core.stribeck_slope(p, 100.0, -0.1234567891)

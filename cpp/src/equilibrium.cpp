@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "pydrill/friction.hpp"
+#include "shortest.hpp"
 
 namespace pydrill {
 namespace {
@@ -41,7 +42,7 @@ double equilibrium_torque(const Params& params, double wob, double omega) {
   params.validate();
   check_operating_point(wob, 0.0);
   if (!std::isfinite(omega) || !(omega > 0)) {
-    throw std::invalid_argument("omega = " + std::to_string(omega) +
+    throw std::invalid_argument("omega = " + detail::shortest(omega) +
                                 " is not allowed: steady drilling needs a finite omega > 0 rad/s");
   }
   const BitFriction f(params, wob);

@@ -26,6 +26,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "pydrill/stability.hpp"
+#include "shortest.hpp"
 
 namespace pydrill {
 
@@ -242,7 +243,7 @@ bool roots_of_impedance(const Params& p, double delta, std::vector<complex>& out
   p.validate();
   if (!std::isfinite(delta)) {
     std::ostringstream o;
-    o << "delta = " << delta << " is not allowed: the Stribeck slope must be a finite number (N·m·s/rad)";
+    o << "delta = " << detail::shortest(delta) << " is not allowed: the Stribeck slope must be a finite number (N·m·s/rad)";
     throw std::invalid_argument(o.str());
   }
   std::vector<complex> z = starting_points(p, delta);

@@ -153,7 +153,7 @@ Poly times_linear(const Poly& a, double c0, double c1) {  // a·(c0 + c1 λ)
 void check_delta(double delta) {
   if (!std::isfinite(delta)) {
     std::ostringstream o;
-    o << "delta = " << delta << " is not allowed: the Stribeck slope must be a finite number (N·m·s/rad)";
+    o << "delta = " << detail::shortest(delta) << " is not allowed: the Stribeck slope must be a finite number (N·m·s/rad)";
     throw std::invalid_argument(o.str());
   }
 }
@@ -171,7 +171,7 @@ double stribeck_slope(const Params& p, double wob, double omega) {
   check_operating_point(wob, 0.0);
   if (!std::isfinite(omega) || !(omega >= 0)) {
     std::ostringstream o;
-    o << "omega = " << omega << " is not allowed: the Stribeck slope is defined at a finite bit velocity >= 0 rad/s";
+    o << "omega = " << detail::shortest(omega) << " is not allowed: the Stribeck slope is defined at a finite bit velocity >= 0 rad/s";
     throw std::invalid_argument(o.str());
   }
   return wob * stribeck_factor(p) * std::exp(-p.stribeck_decay * omega / p.stribeck_velocity);
@@ -187,7 +187,7 @@ double boundary_wob(const Params& p, double delta, double omega) {
   }
   if (!std::isfinite(omega) || !(omega >= 0)) {
     std::ostringstream o;
-    o << "omega = " << omega << " is not allowed: a boundary is drawn at a finite bit velocity >= 0 rad/s";
+    o << "omega = " << detail::shortest(omega) << " is not allowed: a boundary is drawn at a finite bit velocity >= 0 rad/s";
     throw std::invalid_argument(o.str());
   }
   return delta * std::exp(p.stribeck_decay * omega / p.stribeck_velocity) / stribeck_factor(p);
@@ -197,7 +197,7 @@ complex bit_impedance(const Params& p, complex lambda) {
   p.validate();
   if (!std::isfinite(lambda.real()) || !std::isfinite(lambda.imag())) {
     std::ostringstream o;
-    o << "lambda = " << lambda << " is not allowed: the impedance is evaluated at a finite complex number";
+    o << "lambda = (" << detail::shortest(lambda.real()) << "," << detail::shortest(lambda.imag()) << ")" << " is not allowed: the impedance is evaluated at a finite complex number";
     throw std::invalid_argument(o.str());
   }
   return impedance(p, lambda);
@@ -275,13 +275,13 @@ std::vector<double> hurwitz_determinants(const std::vector<double>& a) {
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (!std::isfinite(a[i])) {
       std::ostringstream o;
-      o << "ascending[" << i << "] = " << a[i] << " is not allowed: coefficients must be finite";
+      o << "ascending[" << i << "] = " << detail::shortest(a[i]) << " is not allowed: coefficients must be finite";
       throw std::invalid_argument(o.str());
     }
   }
   if (!(a.back() > 0)) {
     std::ostringstream o;
-    o << "ascending[" << n << "] = " << a.back()
+    o << "ascending[" << n << "] = " << detail::shortest(a.back())
       << " is not allowed: the leading coefficient (last) must be > 0";
     throw std::invalid_argument(o.str());
   }
@@ -423,7 +423,7 @@ std::vector<Crossing> critical_deltas(const Params& p) {
 double first_lyapunov_coefficient(const Params& p, double delta, double w) {
   if (!std::isfinite(w) || !(w > 0)) {
     std::ostringstream o;
-    o << "frequency = " << w << " is not allowed: a Hopf point needs a finite frequency > 0 rad/s";
+    o << "frequency = " << detail::shortest(w) << " is not allowed: a Hopf point needs a finite frequency > 0 rad/s";
     throw std::invalid_argument(o.str());
   }
   const int n = 2 * p.dof() - 1, b = n - 1;
@@ -505,7 +505,7 @@ StabilityPoint point_at(const Params& p, double wob, double omega,
                         const std::vector<Crossing>& crossings) {
   if (!std::isfinite(omega) || !(omega > 0)) {
     std::ostringstream o;
-    o << "omega = " << omega << " is not allowed: steady drilling needs a finite omega > 0 rad/s";
+    o << "omega = " << detail::shortest(omega) << " is not allowed: steady drilling needs a finite omega > 0 rad/s";
     throw std::invalid_argument(o.str());
   }
   StabilityPoint s;

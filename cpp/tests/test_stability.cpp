@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "pydrill/equilibrium.hpp"
 #include "pydrill/stability.hpp"
 
 using namespace pydrill;
@@ -183,6 +184,12 @@ TEST_CASE("a slope or frequency or coefficient that is not a number is refused b
   CHECK_THROWS_WITH(first_lyapunov_coefficient(p, 0.01, 0.0), Catch::Contains("frequency = 0"));
   CHECK_THROWS_WITH(stribeck_slope(p, 100.0, -5.0), Catch::Contains("omega = -5"));
   CHECK_THROWS_WITH(boundary_wob(p, 0.01, -1.0), Catch::Contains("omega = -1"));
+  // Numbers in messages are the shortest that read back, as everywhere else (std::to_string
+  // wrote "omega = -0.000000", the streams six digits).
+  CHECK_THROWS_WITH(equilibrium_torque(p, 100.0, -1e-9), Catch::StartsWith("omega = -1e-09 is not allowed"));
+  CHECK_THROWS_WITH(stribeck_slope(p, 100.0, -0.1234567891), Catch::StartsWith("omega = -0.1234567891 is not"));
+  CHECK_THROWS_WITH(first_lyapunov_coefficient(p, 0.01, -1.0000001), Catch::StartsWith("frequency = -1.0000001 is"));
+  CHECK_THROWS_WITH(hurwitz_determinants({1.0, 2.0, -1.0000001}), Catch::Contains("ascending[2] = -1.0000001 is"));
   // δ <= 0 has no weight on bit: it came back as W_ob = -91.1 N or 0 N.
   CHECK_THROWS_AS(boundary_wob(p, -1.0, 1.0), std::invalid_argument);
   CHECK_THROWS_WITH(boundary_wob(p, -1.0, 1.0), Catch::StartsWith("delta = -1 is not allowed: must be > 0"));
