@@ -75,6 +75,11 @@ void SimulationOptions::validate(int dof) const {
   if (!(rtol >= kMinRtol) || !(rtol < 1)) refuse("rtol = " + num(rtol) + " is not allowed: need " + num(kMinRtol) + " <= rtol < 1 (a double resolves ~2.2e-16)");
   if (!(atol >= kMinAtol) || !std::isfinite(atol)) refuse("atol = " + num(atol) + " is not allowed: need a finite atol >= " + num(kMinAtol) + " (rad and rad/s)");
   if (!(max_step >= 0) || !std::isfinite(max_step)) refuse("max_step = " + num(max_step) + " is not allowed: must be >= 0 (0 = no limit)");
+  // An enum holds any value of its type: a cast (static_cast<Method>(42)) ran as if it
+  // were a method and reported "?".
+  if (std::string(method_name(method)) == "?") refuse("method = " + std::to_string(static_cast<int>(method)) + " is not a pydrill::Method");
+  if (friction != FrictionLaw::Exact && friction != FrictionLaw::Karnopp) refuse("friction = " + std::to_string(static_cast<int>(friction)) + " is not a pydrill::FrictionLaw");
+  if (initial != Initial::Rest && initial != Initial::Equilibrium && initial != Initial::State) refuse("initial = " + std::to_string(static_cast<int>(initial)) + " is not a pydrill::Initial");
   if (max_steps < 1) refuse("max_steps = " + std::to_string(max_steps) + " is not allowed: must be >= 1");
   // CVODES caps BDF at order 5 and Adams at 12; the explicit methods have a fixed order, so
   // a max_order there would be silently ignored. "auto" may pick either family: it takes

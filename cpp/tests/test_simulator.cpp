@@ -201,6 +201,22 @@ TEST_CASE("bad options are refused before anything runs", "[simulator]") {
   CHECK_NOTHROW(simulate(p, 100.0, 8.3, o));
 }
 
+TEST_CASE("an enum value outside its type is refused", "[simulator]") {
+  // static_cast<Method>(42) ran, and reported stats.method == "?".
+  const Params p = preset("reduced-scale", 4);
+  SimulationOptions o;
+  o.t_end = 1.0;
+  o.method = static_cast<Method>(42);
+  CHECK_THROWS_AS(simulate(p, 100.0, 8.3, o), std::invalid_argument);
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::StartsWith("method = 42 is not a pydrill::Method"));
+  o.method = Method::Auto;
+  o.friction = static_cast<FrictionLaw>(-1);
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::StartsWith("friction = -1 is not"));
+  o.friction = FrictionLaw::Exact;
+  o.initial = static_cast<Initial>(7);
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::StartsWith("initial = 7 is not"));
+}
+
 TEST_CASE("tolerances finer than a double resolves are refused", "[simulator]") {
   // They were taken, and then CVODES stopped with "h = nan", ARKODE at "t = nan", DOP853
   // with "not smooth" (rtol = atol = 1e-300), or DOP853 claimed success (rtol 1e-17).
