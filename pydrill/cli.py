@@ -23,10 +23,12 @@ from .cli_options import (
     _string_options,
     as_options,
     figure_path,
+    json_document,
     os_error_message,
     print_json,
     string_json,
     string_params,
+    string_units,
     unit_notes,
 )
 
@@ -236,10 +238,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             unsaved = exc
     plot = args.plot if unsaved is None else None
     if args.json:
-        data = {**result.to_dict(), **string_json(args)}
-        if plot:
-            data["plot"] = plot
-        print_json(data)
+        data = result.to_dict()
+        inputs = {"inputs": data.pop("inputs"), **string_json(args)}
+        units = {**data.pop("units"), **string_units(args)}
+        print_json(json_document(inputs, data, units, plot))
     else:
         print(_describe(result, plot))
     if unsaved is not None:

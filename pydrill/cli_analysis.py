@@ -12,9 +12,11 @@ from .cli_options import (
     _positive,
     _string_options,
     figure_path,
+    json_document,
     print_json,
     string_json,
     string_params,
+    string_units,
 )
 from .cli_window import register_tally
 
@@ -171,10 +173,8 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
 
         save(hopf_figure(params, crossings, omega_max=args.omega_max), args.plot)
     if args.json:
-        data = {
-            "preset": params.name,
-            **string_json(args),
-            "dof": params.dof,
+        inputs = {"preset": params.name, **string_json(args), "dof": params.dof}
+        results = {
             "crossings": [
                 {
                     "type": c.type,
@@ -186,11 +186,14 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
                 }
                 for c in crossings
             ],
-            "units": {"delta": "N·m·s/rad", "frequency": "rad/s", "lyapunov": "1/s per amplitude²"},
         }
-        if args.plot:
-            data["plot"] = args.plot
-        print_json(data)
+        units = {
+            "delta": "N·m·s/rad",
+            "frequency": "rad/s",
+            "lyapunov": "1/s per amplitude²",
+            **string_units(args),
+        }
+        print_json(json_document(inputs, results, units, args.plot))
         return 0
     hopf = [c for c in crossings if c.type == "hopf"]
     print(
@@ -234,24 +237,26 @@ def _cmd_stability(args: argparse.Namespace) -> int:
 
         save(eigenvalue_figure(params, points), args.plot)
     if args.json:
-        data = {
+        inputs = {
             "preset": params.name,
             **string_json(args),
             "dof": params.dof,
             "wob": args.wob,
-            "equilibria": [pt.to_dict() for pt in points],
-            "units": {
-                "omega": "rad/s",
-                "wob": "N",
-                "torque": "N·m",
-                "delta": "N·m·s/rad",
-                "eigenvalues": "1/s",
-                "spectral_abscissa": "1/s",
-            },
+            # the one given of the two; the other (null) is each steady state's, below
+            "omega": args.omega,
+            "torque": args.torque,
         }
-        if args.torque is not None:
-            data["torque"] = args.torque
-        print_json(data)
+        units = {
+            "omega": "rad/s",
+            "wob": "N",
+            "torque": "N·m",
+            "delta": "N·m·s/rad",
+            "eigenvalues": "1/s",
+            "spectral_abscissa": "1/s",
+            **string_units(args),
+        }
+        results = {"equilibria": [pt.to_dict() for pt in points]}
+        print_json(json_document(inputs, results, units, args.plot))
         return 0
     if not points:
         print(
@@ -297,23 +302,24 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
 
         save(bifurcation_figure(params, b), args.plot)
     if args.json:
-        data = {
+        results = b.to_dict()
+        inputs = {
             "preset": params.name,
             **string_json(args),
             "dof": params.dof,
-            **b.to_dict(),
-            "units": {
-                "wob": "N",
-                "torque": "N·m",
-                "omega": "rad/s",
-                "frequency": "rad/s",
-                "delta": "N·m·s/rad",
-                "lyapunov": "1/s per (rad/s)²",
-            },
+            "vary": results.pop("vary"),
+            "fixed": results.pop("fixed"),  # the torque (N·m) or weight on bit (N) held
         }
-        if args.plot:
-            data["plot"] = args.plot
-        print_json(data)
+        units = {
+            "wob": "N",
+            "torque": "N·m",
+            "omega": "rad/s",
+            "frequency": "rad/s",
+            "delta": "N·m·s/rad",
+            "lyapunov": "1/s per (rad/s)²",
+            **string_units(args),
+        }
+        print_json(json_document(inputs, results, units, args.plot))
         return 0
     fixed = f"u = {b.fixed:g} N m" if b.vary == "wob" else f"W_ob = {b.fixed:g} N"
     print(f"{params.name}, dof {params.dof}: steady states as {b.vary} varies at {fixed}")
@@ -368,10 +374,16 @@ def _cmd_map(args: argparse.Namespace) -> int:
 
         save(operating_figure(params, omap, crossings, checks), args.plot)
     if args.json:
-        data = {
+        inputs = {
             "preset": params.name,
             **string_json(args),
             "dof": params.dof,
+            "wob_max": wob_max,
+            "torque_max": torque_max,
+            "check": args.check,
+            "t_end": (args.t_end or 300.0) if args.check else None,  # of each check
+        }
+        results = {
             "categories": list(CATEGORIES),
             "fractions": omap.fractions(),
             "wob": omap.wob.tolist(),
@@ -379,9 +391,16 @@ def _cmd_map(args: argparse.Namespace) -> int:
             "category": omap.category.tolist(),
             "safe_torque_min": [None if not np.isfinite(v) else v for v in omap.safe_torque_min],
             "checks": [{"wob": w, "torque": u, "regime": r} for w, u, r in checks],
-            "units": {"wob": "N", "torque": "N·m"},
         }
-        print_json(data)
+        units = {
+            "wob": "N",
+            "torque": "N·m",
+            "wob_max": "N",
+            "torque_max": "N·m",
+            "t_end": "s",
+            **string_units(args),
+        }
+        print_json(json_document(inputs, results, units, args.plot))
         return 0
     print(f"{params.name}, dof {params.dof}: W_ob 0..{wob_max:g} N, u 0..{torque_max:g} N m")
     for name, frac in omap.fractions().items():

@@ -7,7 +7,7 @@ import sys
 import textwrap
 from pathlib import Path
 
-from .cli_options import figure_path, print_json, writable_place
+from .cli_options import figure_path, json_document, print_json, writable_place
 
 
 def axis_line(name: str, size: int, low: float, high: float) -> str:
@@ -193,7 +193,10 @@ def _cmd_info(args: argparse.Namespace) -> int:
     with Atlas(args.atlas) as atlas:
         s = atlas.summary()
     if args.json:
-        print_json(s)
+        results = dict(s)
+        inputs = {"path": results.pop("path")}
+        units = {"axes": {name: _axis_unit(name) for name in s["axes"]}}
+        print_json(json_document(inputs, results, units))
         return 0
     print(
         f"{s['path']}: {s['points']} points, pydrill {s['pydrill_version']}, "
@@ -220,6 +223,15 @@ def _cmd_info(args: argparse.Namespace) -> int:
             "or was stopped; 'pydrill sweep SPEC.toml --out ATLAS.h5 --resume' completes it"
         )
     return 0
+
+
+def _axis_unit(name: str) -> str:
+    """The SI unit of a sweep axis's values ("1": a count or a plain number)."""
+    from .model import _UNITS
+
+    known = {"wob": "N", "torque": "N·m", "depth": "m", "dof": "1", "pipes": "1"}
+    unit = known.get(name) or _UNITS.get(name, "1")
+    return "1" if unit == "friction coefficient" else unit
 
 
 def _axis_values(items: list[str]) -> dict[str, float]:
@@ -259,15 +271,17 @@ def _cmd_query(args: argparse.Namespace) -> int:
         initials = atlas.initials
     if args.json:
         first = initials[0]
+        # asked: the values given; coords: the grid point's (the same unless --nearest)
+        inputs = {"atlas": args.atlas, "asked": coords}
         flat = {"regime": v["regime"][first], "coords": v["coords"], "status": v["status"]}
-        if args.nearest:  # coords: the grid point's; asked: the values given
-            flat["asked"] = coords
+        if "message" in v:
+            flat["message"] = v["message"]
         flat.update({k: m[first] for k, m in v["metrics"].items()})
         flat["caveat"] = v["caveat"][first]
         flat["by_initial"] = {"regime": v["regime"], "metrics": v["metrics"], "caveat": v["caveat"]}
         flat["stability"] = v["stability"]
         flat["coexistence"] = v["coexistence"]
-        flat["units"] = {
+        units = {
             "bit_min": "rad/s",
             "bit_max": "rad/s",
             "bit_mean": "rad/s",
@@ -277,9 +291,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
             "wall_time": "s",
             "spectral_abscissa": "1/s",
         }
-        if "message" in v:
-            flat["message"] = v["message"]
-        print_json(flat)
+        print_json(json_document(inputs, flat, units))
         return 0
     print(", ".join(f"{k} = {x:g}" for k, x in v["coords"].items()) + f": {v['status']}")
     moved = {k: x for k, x in coords.items() if f"{x:g}" != f"{v['coords'][k]:g}"}

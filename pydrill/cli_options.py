@@ -302,7 +302,33 @@ def string_json(args: argparse.Namespace) -> dict[str, Any]:
     return {"tally": {"file": args.tally, "depth": depth, "lump": args.lump or 1}}
 
 
+def json_document(
+    inputs: dict[str, Any],
+    results: dict[str, Any],
+    units: dict[str, str] | None = None,
+    plot: str | None = None,
+) -> dict[str, Any]:
+    """Every command's --json object, laid out in one order: the ``inputs`` it was given,
+    echoed (the string, the operating point, the files); the ``results``; ``units`` of the
+    quantities; last ``plot``, the figure's path, present iff a figure was written (--plot
+    given, and neither the save failed nor the command stopped first)."""
+    both = inputs.keys() & results.keys()
+    assert not both and not {"units", "plot"} & (inputs.keys() | results.keys()), both
+    data = {**inputs, **results}
+    if units is not None:
+        data["units"] = units
+    if plot is not None:
+        data["plot"] = plot
+    return data
+
+
+def string_units(args: argparse.Namespace) -> dict[str, str]:
+    """The unit of what :func:`string_json` echoes (nothing for a preset)."""
+    return {} if args.tally is None else {"depth": "m"}
+
+
 def print_json(data: Any) -> None:
-    """Every command's --json output: one document, indented, strict JSON (no NaN/Infinity,
-    which many parsers refuse; values without a number are written as null beforehand)."""
+    """Every command's --json output: one document (laid out by :func:`json_document`),
+    indented, strict JSON (no NaN/Infinity, which many parsers refuse; values without a number
+    are written as null beforehand)."""
     print(json.dumps(data, indent=2, allow_nan=False))

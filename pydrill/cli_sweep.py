@@ -8,7 +8,7 @@ import signal
 import sys
 import time
 
-from .cli_options import figure_path, print_json, writable_place
+from .cli_options import figure_path, json_document, print_json, writable_place
 
 SWEEP_EPILOG = """\
 examples:
@@ -160,6 +160,28 @@ def _duration(seconds: float) -> str:
     return f"{h} h {m:02d} min" if h else f"{m} min {s:02d} s" if m else f"{s} s"
 
 
+_UNITS = {"wall_time": "s", "write_time": "s"}
+
+
+def _inputs(args: argparse.Namespace, run) -> dict:
+    """What ``sweep --json`` echoes of its command line: the spec and the atlas written."""
+    return {"spec": args.spec, "atlas": str(run.atlas)}
+
+
+def _results(run, cluster, interrupted: bool) -> dict:
+    """A sweep's results for --json, from its SweepReport or its SweepInterrupted."""
+    return {
+        "interrupted": interrupted,
+        "points": run.points,
+        "computed": run.computed,
+        "failed": run.failed,
+        "already_done": run.resumed,
+        "wall_time": run.wall_time,
+        "write_time": run.write_time,
+        "cluster": cluster,
+    }
+
+
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from .spec import load_spec
     from .sweep import SweepInterrupted, run_sweep
@@ -281,16 +303,10 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
         again = " ".join(shlex.quote(a) for a in ("pydrill", "sweep", args.spec, "--out", args.out))
-        if args.json:
-            print_json(
-                {
-                    "atlas": str(exc.atlas),
-                    "interrupted": True,
-                    "points": exc.points,
-                    "done": exc.done,
-                    "resume": f"{again} --resume",
-                }
-            )
+        if args.json:  # the keys of a finished sweep's, with what says it stopped
+            results = _results(exc, cluster, interrupted=True)
+            results.update(done=exc.done, resume=f"{again} --resume")
+            print_json(json_document(_inputs(args, exc), results, _UNITS))
         sys.stderr.write(
             f"pydrill sweep: interrupted; {exc.done} of {exc.points} points are saved in "
             f"{exc.atlas}\n  to compute the other {exc.points - exc.done}: {again} --resume\n"
@@ -306,21 +322,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
         with Atlas(args.out) as atlas:
             save(atlas_figure(atlas), args.plot)
-    data = {
-        "atlas": str(report.atlas),
-        "points": report.points,
-        "computed": report.computed,
-        "failed": report.failed,
-        "already_done": report.resumed,
-        "wall_time": report.wall_time,
-        "write_time": report.write_time,
-        "cluster": cluster,
-        "units": {"wall_time": "s", "write_time": "s"},
-    }
-    if args.plot:
-        data["plot"] = args.plot
     if args.json:
-        print_json(data)
+        results = _results(report, cluster, interrupted=False)
+        print_json(json_document(_inputs(args, report), results, _UNITS, args.plot))
     else:
         print(
             f"{report.atlas}: {report.points} points, {report.computed} computed now "

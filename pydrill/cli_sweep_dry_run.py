@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .cli_atlas import axis_line
-from .cli_options import print_json
+from .cli_options import json_document, print_json
 from .cli_sweep import _duration
 
 
@@ -43,33 +43,41 @@ def dry_run(args: argparse.Namespace, spec) -> int:
     compute = plan.compute_seconds
     wall = plan.wall_seconds(workers) if workers else None
     if args.json:
-        print_json(
-            {
-                "dry_run": True,
-                "spec": args.spec,
-                "points": plan.points,
-                "shape": {k: len(v) for k, v in spec.axes.items()},
-                "initial": spec.initials,
-                "atlas": {"path": args.out, "state": plan.atlas},
-                "todo": plan.todo,
-                "sampled": plan.sampled,
-                "failed": plan.failed,
-                "message": plan.message,
-                "point_seconds": {
-                    "estimate": plan.point_seconds,
-                    "low": plan.point_seconds_low,
-                    "high": plan.point_seconds_high,
-                },
-                "compute_seconds": dict(zip(("low", "estimate", "high"), compute, strict=True)),
-                "workers": workers,
-                "wall_seconds": (
-                    dict(zip(("low", "estimate", "high"), wall, strict=True)) if wall else None
-                ),
-                "atlas_bytes": plan.atlas_bytes,
-                "journal_bytes": plan.journal_bytes,
-                "units": {"point_seconds": "s", "compute_seconds": "s", "wall_seconds": "s"},
-            }
-        )
+        spread = ("low", "estimate", "high")  # the order of SweepPlan's tuples
+        inputs = {
+            "dry_run": True,
+            "spec": args.spec,
+            "atlas": {"path": args.out, "state": plan.atlas},
+            "workers": workers,
+        }
+        results = {
+            "points": plan.points,
+            "shape": {k: len(v) for k, v in spec.axes.items()},
+            "initial": spec.initials,
+            "todo": plan.todo,
+            "sampled": plan.sampled,
+            "failed": plan.failed,
+            "message": plan.message,
+            "point_seconds": dict(
+                zip(
+                    spread,
+                    (plan.point_seconds_low, plan.point_seconds, plan.point_seconds_high),
+                    strict=True,
+                )
+            ),
+            "compute_seconds": dict(zip(spread, compute, strict=True)),
+            "wall_seconds": dict(zip(spread, wall, strict=True)) if wall else None,
+            "atlas_bytes": plan.atlas_bytes,
+            "journal_bytes": plan.journal_bytes,
+        }
+        units = {
+            "point_seconds": "s",
+            "compute_seconds": "s",
+            "wall_seconds": "s",
+            "atlas_bytes": "bytes",
+            "journal_bytes": "bytes",
+        }
+        print_json(json_document(inputs, results, units))  # no figure: nothing is drawn
         return 0
     grid = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
     print(f"{args.spec}: {plan.points} points ({grid}), from " + " and ".join(spec.initials))

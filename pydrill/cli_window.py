@@ -155,10 +155,10 @@ def register_tally(sub) -> None:
 
 
 def _cmd_string(args: argparse.Namespace) -> int:
-    from .cli_options import tally_params
+    from .cli_options import json_document, string_json, tally_params
 
     tally, p = tally_params(args.tally, args.depth, args.lump, args.dof)
-    data = {
+    results = {
         "name": tally.name,
         "dof": p.dof,
         "length": tally.length,
@@ -169,18 +169,21 @@ def _cmd_string(args: argparse.Namespace) -> int:
         "top_damping": p.top_damping,
         "bit_damping": p.bit_damping,
         "bit_radius": p.bit_radius,
-        "units": {
-            "length": "m",
-            "inertias": "kg·m2",
-            "stiffnesses": "N·m/rad",
-            "dampings": "N·m·s/rad",
-            "top_damping": "N·m·s/rad",
-            "bit_damping": "N·m·s/rad",
-            "bit_radius": "m",
-        },
+    }
+    units = {
+        "depth": "m",
+        "length": "m",
+        "inertias": "kg·m2",
+        "stiffnesses": "N·m/rad",
+        "dampings": "N·m·s/rad",
+        "top_damping": "N·m·s/rad",
+        "bit_damping": "N·m·s/rad",
+        "bit_radius": "m",
     }
     if args.json:
-        print_json(data)
+        # the tally as the other commands echo it; "dof", the inertias, follows with the
+        # results (the tally's own number, or the one asked for)
+        print_json(json_document(string_json(args), results, units))
         return 0
     print(f"{tally.name}: {tally.length:.1f} m ({tally.bha_length:.1f} m BHA), dof {p.dof}")
     print(f"  top drive   J = {p.inertias[0]:.6g} kg m^2, c_r = {p.top_damping:g} N m s/rad")

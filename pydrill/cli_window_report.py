@@ -6,14 +6,21 @@ from __future__ import annotations
 def window_json(tally, dw, grid, checks, args) -> dict:
     import numpy as np
 
+    from .cli_options import json_document
+
     wob, rpm, windows = grid
-    return {
+    inputs = {
         "tally": tally.name,
         "depths": dw.depth.tolist(),
-        "wob": wob.tolist(),
-        "rpm": rpm.tolist(),
+        "lump": args.lump,
         "at_rpm": dw.rpm.tolist(),
         "at_wob": dw.wob.tolist(),
+        "check": args.check,
+        "check_from": args.check_from if checks else None,
+    }
+    results = {
+        "wob": wob.tolist(),
+        "rpm": rpm.tolist(),
         "windows": [
             {
                 "depth": float(d),
@@ -41,17 +48,19 @@ def window_json(tally, dw, grid, checks, args) -> dict:
         ],
         "wob_max_unstuck": dw.wob_max_unstuck.tolist(),
         "rpm_min_unstuck": dw.rpm_min_unstuck.tolist(),
-        "check_from": args.check_from if checks else None,
-        "units": {
-            "depths": "m",
-            "wob": "N",
-            "rpm": "rpm",
-            "min_rpm": "rpm",
-            "wob_max": "N",
-            "rpm_min": "rpm",
-            "delta_limit": "N·m·s/rad",
-        },
     }
+    units = {
+        "depths": "m",
+        "at_rpm": "rpm",
+        "at_wob": "N",
+        "wob": "N",
+        "rpm": "rpm",
+        "min_rpm": "rpm",
+        "wob_max": "N",
+        "rpm_min": "rpm",
+        "delta_limit": "N·m·s/rad",
+    }
+    return json_document(inputs, results, units, args.plot)
 
 
 def print_window(tally, dw, checks, args) -> None:

@@ -68,8 +68,23 @@ class SweepInterrupted(KeyboardInterrupt):
     sweep. Everything finished is saved: in the journal, and flushed into the atlas on the way
     out. A KeyboardInterrupt, so code that stops on Ctrl-C still does."""
 
-    def __init__(self, atlas: Path, points: int, done: int, signum: int = signal.SIGINT):
+    def __init__(
+        self,
+        atlas: Path,
+        points: int,
+        done: int,
+        signum: int = signal.SIGINT,
+        *,
+        computed: int = 0,
+        failed: int = 0,
+        resumed: int = 0,
+        wall_time: float = 0.0,
+        write_time: float = 0.0,
+    ):
         self.atlas, self.points, self.done, self.signum = atlas, points, done, signum
+        # as in SweepReport: what this run computed (failed of them), found done, and took
+        self.computed, self.failed, self.resumed = computed, failed, resumed
+        self.wall_time, self.write_time = wall_time, write_time
         super().__init__(
             f"sweep interrupted: {done} of {points} points are saved in {atlas}; resuming "
             f"(resume=True, --resume) computes the other {points - done}"
@@ -276,10 +291,22 @@ def _sweep_locked(
             # What was absorbed is in the journal already; the flush lets the atlas show it
             # before --resume. A second Ctrl-C waits for the flush (the journal would
             # rebuild a damaged atlas, but there is no need).
+            tw = time.perf_counter()
             with contextlib.suppress(KeyboardInterrupt), stop.hold():
                 fmt.write(out, table)
+            write_time += time.perf_counter() - tw
             done = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
-            raise SweepInterrupted(out, spec.size, done, stop.signum or signal.SIGINT) from None
+            raise SweepInterrupted(
+                out,
+                spec.size,
+                done,
+                stop.signum or signal.SIGINT,
+                computed=computed,
+                failed=failed,
+                resumed=resumed,
+                wall_time=time.perf_counter() - t0,
+                write_time=write_time,
+            ) from None
         except Exception:
             if fresh and computed == 0:  # e.g. no scheduler at that address: leave no trace
                 out.unlink(missing_ok=True)

@@ -1,0 +1,138 @@
+"""Every command's --json in one layout, for scripts: the inputs it was given (echoed), then the
+results, then ``units``, then ``plot`` (the figure written), present iff --plot was given."""
+
+import json
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from sweeping import SMALL, interrupt_mid_sweep
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = str(ROOT / "examples" / "tallies" / "paper-eq53.toml")
+CMD = [sys.executable, "-m", "pydrill"]
+ANY = object()  # an input echoed, whatever its value
+
+
+def run_json(*args, cwd):
+    proc = subprocess.run(
+        [*CMD, *map(str, args), "--json"], capture_output=True, text=True, cwd=cwd, timeout=300
+    )
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout)
+
+
+def check_layout(data: dict, inputs: dict, plot: str | None) -> None:
+    """The rule: ``inputs`` (with their values) first, in that order; ``units`` after every
+    result; ``plot`` last, present iff a figure was asked for (and written)."""
+    keys = list(data)
+    assert keys[: len(inputs)] == list(inputs), keys
+    for key, value in inputs.items():
+        if value is not ANY:
+            assert data[key] == value, (key, data[key])
+    tail = ["units", "plot"] if plot else ["units"]
+    assert keys[-len(tail) :] == tail, keys
+    assert len(keys) > len(inputs) + len(tail), f"no results: {keys}"
+    assert isinstance(data["units"], dict) and data["units"]
+    if plot:
+        assert data["plot"] == plot
+
+
+STRING = {"preset": "reduced-scale", "dof": 4}
+CASES = {
+    "simulate": (
+        ["simulate", "--wob", "100", "--torque", "8.3", "--t-end", "20", "--plot", "f.png"],
+        {"inputs": ANY},
+    ),
+    "simulate-tally": (
+        "simulate --tally PAPER --depth 3000m --wob 60kN --torque 9kN*m --t-end 5".split(),
+        {"inputs": ANY, "tally": {"file": PAPER, "depth": 3000.0, "lump": 1}},
+    ),
+    "hopf": (["hopf", "--dof", "4", "--plot", "f.png"], STRING),
+    "stability-torque": (
+        ["stability", "--wob", "100", "--torque", "8.3"],
+        {**STRING, "wob": 100.0, "omega": None, "torque": 8.3},
+    ),
+    "stability-omega": (
+        ["stability", "--wob", "100", "--omega", "2", "--plot", "f.png"],
+        {**STRING, "wob": 100.0, "omega": 2.0, "torque": None},
+    ),
+    "bifurcation": (
+        ["bifurcation", "--dof", "2", "--vary", "wob", "--torque", "8.1", "--plot", "f.png"],
+        {"preset": "reduced-scale", "dof": 2, "vary": "wob", "fixed": 8.1},
+    ),
+    "map": (
+        ["map", "--dof", "2", "--plot", "f.png"],
+        {"preset": "reduced-scale", "dof": 2, "wob_max": 250.0, "torque_max": 25.0}
+        | {"check": 0, "t_end": None},
+    ),
+    "string": (
+        ["string", PAPER, "--depth", "3000m"],
+        {"tally": {"file": PAPER, "depth": 3000.0, "lump": 1}},
+    ),
+    "window": (
+        "window PAPER --depth 3000m --at-rpm 60 --at-wob 50kN --plot f.png".split(),
+        {"tally": ANY, "depths": [3000.0], "lump": 1, "at_rpm": [60.0], "at_wob": [50e3]}
+        | {"check": 0, "check_from": None},
+    ),
+    "sweep": (
+        ["sweep", "s.toml", "--out", "s.h5", "--serial", "--plot", "f.png"],
+        {"spec": "s.toml", "atlas": "s.h5"},
+    ),
+    "sweep-dry-run": (
+        ["sweep", "s.toml", "--dry-run", "--serial"],
+        {"dry_run": True, "spec": "s.toml", "atlas": {"path": None, "state": "none"}}
+        | {"workers": 1},
+    ),
+    "atlas-info": (["atlas", "info", "s.h5"], {"path": "s.h5"}),
+    "atlas-query": (
+        ["atlas", "query", "s.h5", "--wob", "100", "--torque", "8.3"],
+        {"atlas": "s.h5", "asked": {"wob": 100.0, "torque": 8.3}},
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def atlas_dir(tmp_path_factory):
+    """A folder holding s.toml, a small sweep's spec, and s.h5, its atlas."""
+    folder = tmp_path_factory.mktemp("json")
+    (folder / "s.toml").write_text(SMALL.replace("t_end = 200.0", "t_end = 20.0"))
+    run_json("sweep", "s.toml", "--out", "s.h5", "--serial", cwd=folder)
+    return folder
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_every_commands_json_is_inputs_results_units_plot(name, atlas_dir, tmp_path):
+    args, inputs = CASES[name]
+    args = [PAPER if a == "PAPER" else a for a in args]
+    cwd = atlas_dir if "s.h5" in args and args[0] == "atlas" else tmp_path
+    if args[0] == "sweep":
+        (tmp_path / "s.toml").write_text((atlas_dir / "s.toml").read_text())
+    data = run_json(*args, cwd=cwd)
+    plot = "f.png" if "--plot" in args else None
+    check_layout(data, inputs, plot)
+    if plot:
+        assert (cwd / plot).stat().st_size > 0
+
+
+def test_a_sweep_json_has_the_same_keys_finished_or_interrupted(atlas_dir, tmp_path):
+    (tmp_path / "s.toml").write_text((atlas_dir / "s.toml").read_text())
+    finished = run_json("sweep", "s.toml", "--out", "s.h5", "--serial", cwd=tmp_path)
+    assert finished["interrupted"] is False
+    rc, stdout, err, out = interrupt_mid_sweep(tmp_path, signal.SIGTERM, "--serial", "--json")
+    assert rc == 128 + signal.SIGTERM, err
+    stopped = json.loads(stdout)
+    check_layout(stopped, {"spec": ANY, "atlas": str(out)}, None)
+    assert set(finished) <= set(stopped), set(finished) - set(stopped)
+    assert stopped["interrupted"] is True and stopped["resume"].endswith("--resume")
+    assert stopped["already_done"] == 0 and 0 < stopped["computed"] == stopped["done"] < 512
+    assert 0 <= stopped["failed"] <= stopped["computed"] and stopped["wall_time"] > 0
+
+
+def test_the_dry_runs_time_ranges_list_their_ends_in_one_order(atlas_dir, tmp_path):
+    (tmp_path / "s.toml").write_text((atlas_dir / "s.toml").read_text())
+    data = run_json("sweep", "s.toml", "--dry-run", "--workers", "2", cwd=tmp_path)
+    ranges = [data[k] for k in ("point_seconds", "compute_seconds", "wall_seconds")]
+    assert [list(r) for r in ranges] == [["low", "estimate", "high"]] * 3
