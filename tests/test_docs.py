@@ -21,16 +21,20 @@ Markers (an HTML comment on the line(s) right before a block; invisible on the p
 - ``<!-- write-file: NAME -->``: the block's text is written to ``NAME`` in the page's
   directory before anything after it runs (a spec shown on the page is the spec it runs).
 
-Comparing shown output: whitespace is ignored, ``...`` stands for anything (a whole line of
-``...`` for any number of lines), and a number matches within one unit of its last shown
-digit (``67.12`` accepts 67.11 … 67.13), so machine-dependent figures (wall times) are written
-as ``...`` and everything else must be what pydrill prints.
+Comparing shown output: the lines shown are the output's lines, whole, in order and none left
+out, from its first line to its last (blank lines aside). A line of ``...`` stands for any
+number of lines (the only way to leave lines out), ``...`` within a line for anything there;
+whitespace is ignored, and a number matches within one unit of its last shown digit
+(``67.12`` accepts 67.11 … 67.13). So machine-dependent figures (wall times) are written as
+``...`` and everything else must be what pydrill prints. A command shown without output is
+run, its output not compared.
 """
 
 from __future__ import annotations
 
 import contextlib
 import doctest
+import functools
 import importlib.util
 import io
 import os
@@ -149,8 +153,9 @@ def _same(shown: str, actual: str) -> bool:
     return a is not None and b is not None and abs(a[0] - b[0]) <= 1.0001 * a[1]
 
 
-def line_matches(shown: str, actual: str) -> bool:
-    """``shown`` (with ``...`` wildcards) appears in ``actual``, whitespace ignored."""
+def line_matches(shown: str, actual: str, whole: bool = False) -> bool:
+    """``shown`` (with ``...`` wildcards) appears in ``actual``, whitespace ignored; with
+    ``whole``, it is all of ``actual``."""
     s, a = _tokens(shown), _tokens(actual)
 
     def match(si: int, ai: int) -> bool:
@@ -160,13 +165,51 @@ def line_matches(shown: str, actual: str) -> bool:
             if ai >= len(a) or not _same(s[si], a[ai]):
                 return False
             si, ai = si + 1, ai + 1
-        return True
+        return not whole or ai == len(a)
 
-    return any(match(0, start) for start in range(len(a) + 1))
+    return match(0, 0) if whole else any(match(0, start) for start in range(len(a) + 1))
+
+
+def check_shown(shown: str, actual: str, what: str) -> None:
+    """The output a page shows is ``actual``, line for line (see the module's docstring): a
+    line of ``...`` is the only way to leave lines out. Nothing shown: nothing to compare."""
+    want = [x for x in shown.splitlines() if x.strip()]
+    have = [x for x in actual.splitlines() if x.strip()]
+    if not want:
+        return
+
+    @functools.cache
+    def fits(i: int, k: int) -> bool:  # want[i:] is have[k:]
+        if i == len(want):
+            return k == len(have)
+        if want[i].strip() == "...":
+            return any(fits(i + 1, j) for j in range(k, len(have) + 1))
+        return k < len(have) and line_matches(want[i], have[k], whole=True) and fits(i + 1, k + 1)
+
+    if fits(0, 0):
+        return
+    absent = [
+        x
+        for x in want
+        if x.strip() != "..." and not any(line_matches(x, y, whole=True) for y in have)
+    ]
+    why = (
+        f"the documented line\n    {absent[0].strip()}\nis no whole line of the output"
+        if absent
+        else "its lines are all there, but some are out of order, or lines of the output are "
+        "left out without a line of '...' in their place"
+    )
+    raise AssertionError(
+        f"{what}: {why}\nshown:\n"
+        + "\n".join("    " + x for x in want)
+        + "\noutput:\n"
+        + "\n".join("    " + x for x in have)
+    )
 
 
 def check_output(shown: str, actual: str, what: str) -> None:
-    """Every shown line appears in ``actual``, in the same order."""
+    """Every shown line appears in ``actual``, in the same order (a C++ snippet's
+    ``// prints:`` comment, a part of a line)."""
     lines = actual.splitlines()
     at = 0
     for expected in shown.splitlines():
@@ -238,7 +281,7 @@ def run_cli(command: Command, cwd: Path, where: str) -> None:
     assert proc.returncode == 0, (
         f"{where}: `{shown}` exited with {proc.returncode}\n{proc.stderr}{proc.stdout}"
     )
-    check_output(command.shown, proc.stdout, f"{where}: `{shown}`")
+    check_shown(command.shown, proc.stdout, f"{where}: `{shown}`")
     if argv[:1] == ["simulate"] and "note" not in command.shown:
         # A caveat on the verdict ("too short to judge the regime") is not for a "..." to hide:
         # a documented run is judged without one, or the page shows it.
@@ -271,7 +314,7 @@ def run_python(block: Block, cwd: Path) -> None:
     with contextlib.redirect_stdout(printed):
         exec(code, namespace)
     if block.output is not None:
-        check_output(block.output.text, printed.getvalue(), f"{block.where} (its printed output)")
+        check_shown(block.output.text, printed.getvalue(), f"{block.where} (its printed output)")
 
 
 def check_toml(block: Block) -> None:
@@ -390,6 +433,37 @@ def test_output_comparison_rules():
     with pytest.raises(AssertionError):
         check_output("b 2\na 1", "a 1\nb 2", "order")
     check_output("a 1\n...\nb 2", "a 1\nx\nb 2", "order")
+    assert line_matches("bit velocity ... (mean ... rpm)", actual, whole=True)
+    assert not line_matches("bit velocity min 0 max 67.12 mean 13.42 rad/s", actual, whole=True)
+    assert not line_matches("max 67.12", actual, whole=True)
+
+
+@pytest.mark.parametrize(
+    "shown, ok",
+    [
+        ("a 1\nb 2\nc 3", True),
+        ("a 1\n\nb 2\nc 3\n", True),  # blank lines aside
+        ("a 1\n...\nc 3", True),
+        ("...\nc 3", True),
+        ("a 1\n...", True),
+        ("...", True),
+        ("a 1\nb ...\nc 3", True),
+        ("a 1\nc 3", False),  # b 2 left out without a "..."
+        ("b 2\nc 3", False),  # the first line left out
+        ("a 1\nb 2", False),  # the last line left out
+        ("a 1\nb\nc 3", False),  # part of a line: "b 2" is not "b"
+        ("b 2\na 1\n...", False),  # out of order
+        ("a 1\nb 2\nc 3\nd 4", False),  # a line the output does not have
+    ],
+)
+def test_shown_output_is_the_output_line_for_line(shown, ok):
+    """README's simulate output lacked "(mean 128.1 rpm)" and two lines, and passed."""
+    actual = "a 1\nb 2\n\nc 3\n"
+    if ok:
+        check_shown(shown, actual, "rule")
+    else:
+        with pytest.raises(AssertionError):
+            check_shown(shown, actual, "rule")
 
 
 # --- C++ ---------------------------------------------------------------------------------------
