@@ -242,8 +242,9 @@ reuse:
   arguments and the pydrill version); an interrupted run resumes. --force starts over.
 
 time:
-  about 75 s on 2 cores from scratch (the 500-pipe string takes a third of it), 20 s
-  when everything is cached; --quick (coarser grids, no 100/500 pipes) about 15 s.
+  a minute or two on 2 cores from scratch (the 500-pipe string takes a third of it), much
+  less when everything is cached; --quick (coarser grids, no 100/500 pipes) less still.
+  README.md gives the times measured.
 
 examples:
   pydrill reproduce --out paper/            # then read paper/report.md

@@ -352,3 +352,24 @@ def test_help_shows_defaults_limits_and_choices(command, words):
 )
 def test_check_beyond_its_limit_is_refused_when_read(args, words):
     assert refused(run(*args), words)
+
+
+def test_the_time_reproduce_takes_is_stated_in_one_place():
+    """The README said 56 s, reproduce --help about 75 s and tools/main.sh about 75 s: the
+    time measured is the README's alone (its run), the others say roughly what to expect."""
+    import re
+
+    proc = subprocess.run([*CMD, "reproduce", "--help"], capture_output=True, text=True)
+    assert proc.returncode == 0
+    time_part = proc.stdout.partition("time:")[2].partition("examples:")[0]
+    assert "a minute or two on 2 cores" in " ".join(time_part.split()), time_part
+    assert not re.search(r"\d\s*s\b", time_part), time_part
+    main_sh = (ROOT / "tools" / "main.sh").read_text()
+    assert not re.search(r"\d\s*s\b", main_sh.partition("pydrill reproduce")[0].split("\n\n")[-1])
+    readme = (ROOT / "README.md").read_text()
+    section = readme.partition("## Reproducing the paper")[2].partition("\n## ")[0]
+    shown = re.findall(r"paper/report\.md: \d+ figures, (\d+) s", section)
+    assert len(shown) == 1, "the README shows one run of reproduce, with its time"
+    assert "from scratch on 2 cores" in " ".join(section.split())
+    scratch = [m for m in re.findall(r"(\d+) s\b", section) if m == shown[0]]
+    assert len(scratch) == 1, "the time measured is given once, in the run shown"

@@ -24,8 +24,8 @@ pydrill bifurcation --dof 2 --vary wob --torque 8.1 --plot out/bifurcation.png >
 pydrill simulate --preset reduced-scale --dof 4 --wob 100 --torque 8.3 --t-end 300 \
   --json --plot out/stick-slip.png > out/stick-slip.json
 pydrill simulate --preset reduced-scale --dof 4 --wob 100 --torque 8.3 --t-end 300
-# The paper's Sections 3-4 recomputed with a report (about 75 s from scratch, seconds when
-# out/paper/ already holds its atlases and analyses).
+# The paper's Sections 3-4 recomputed with a report (a minute or two from scratch, README.md
+# gives the time measured; less when out/paper/ already holds its atlases and analyses).
 pydrill reproduce --out out/paper --no-progress
 echo "wrote out/: paper-atlas.h5, regimes-rest.png, regimes-equilibrium.png, severity-rest.png,"
 echo "            growth-rate.png, operating-map.png,"
