@@ -142,8 +142,13 @@ def test_an_axis_given_twice_to_query_is_refused(failing_atlas):
     assert "wob is given twice" in proc.stderr
 
 
-def test_export_makes_its_directory_as_sweep_does(failing_atlas, tmp_path):
+def test_export_into_a_missing_folder_is_refused_as_every_output_file_is(failing_atlas, tmp_path):
+    # A typo in a folder's name made folders where nobody looked: refused, nothing made.
     out = tmp_path / "exports" / "f.nc"
+    proc = run("atlas", "export", failing_atlas, "--out", out)
+    assert proc.returncode == 2 and "there is no folder" in proc.stderr
+    assert not out.parent.exists()
+    out.parent.mkdir()
     assert run("atlas", "export", failing_atlas, "--out", out).returncode == 0
     ds = xr.open_dataset(out, engine="h5netcdf")
     assert ds["regime"].dims == ("wob", "torque", "initial")
