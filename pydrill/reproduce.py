@@ -294,7 +294,13 @@ def _cmd_reproduce(args) -> int:
         progress=False if args.no_progress else None,
     )
     if args.json:
-        print(json.dumps(_plain(summary), allow_nan=False))
+        from .cli_options import json_document, print_json
+
+        # Laid out as every other command's --json: what it was given, then what it made.
+        results = _plain(summary)
+        inputs = {"out": results.pop("out"), "quick": results.pop("quick"), "force": args.force}
+        units = {"wall_time": "s"}
+        print_json(json_document(inputs, results, units))
         return 0
     h = summary["highlights"]
     print(f"{summary['report']}: {len(summary['figures'])} figures, {summary['wall_time']:.0f} s")

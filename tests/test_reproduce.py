@@ -17,6 +17,7 @@ import sys
 import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
+from test_cli_json import check_layout
 
 from pydrill import preset
 from pydrill import reproduce_analysis as ra
@@ -178,6 +179,9 @@ def test_reproduce_end_to_end_quick(tmp_path):
     first = json.loads(
         subprocess.run([*cmd, "--json"], capture_output=True, text=True, check=True).stdout
     )
+    # Laid out as every command's --json (test_cli_json): inputs, results, units.
+    check_layout(first, {"out": str(tmp_path), "quick": True, "force": False}, None)
+    assert first["units"] == {"wall_time": "s"}
     assert len(first["figures"]) == 12
     for f in first["figures"]:
         assert (tmp_path / f.split("/")[-1]).stat().st_size > 20_000
