@@ -120,8 +120,12 @@ def test_other_spec_is_never_overwritten(tmp_path):
     with pytest.raises(AtlasError, match="--resume"):
         run_sweep(parse_spec(SMALL), out, serial=True)
     assert out.read_bytes() == before
-    # Resuming a finished sweep computes nothing.
+    # Resuming a finished sweep computes nothing, and the atlas it reads back and writes again
+    # keeps every dataset (both starts, coexistence, eigenvalues, caveats) as it was.
+    reference = tmp_path / "before.h5"
+    reference.write_bytes(before)
     assert run_sweep(parse_spec(SMALL), out, serial=True, resume=True).computed == 0
+    same_atlas(out, reference)
 
 
 def test_damaged_atlas_gives_a_clear_error(tmp_path):

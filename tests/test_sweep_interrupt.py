@@ -67,6 +67,10 @@ def test_ctrl_c_stops_a_dask_sweep_quietly_and_keeps_every_finished_point(tmp_pa
     report = run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
     assert report.resumed == len(journaled) and report.computed == total - len(journaled)
     assert not journal.exists()
+    # Both starts, so the coexistence flags and every run's fields come back from the journal.
+    reference = tmp_path / "uninterrupted.h5"
+    run_sweep(parse_spec(LONGER), reference, serial=True)
+    same_atlas(out, reference)
 
 
 def test_sigterm_stops_a_serial_sweep_like_ctrl_c(tmp_path):
