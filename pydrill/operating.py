@@ -9,6 +9,7 @@ drilling parameters are where neither happens: a stable steady state and u > T_s
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,23 +39,58 @@ class OperatingMap:
         return {name: float(np.mean(self.category == code)) for code, name in enumerate(CATEGORIES)}
 
 
+def _steady_torque(params: Params, wob: float, omega: float) -> float:
+    """u of the steady state Ω at ``wob``: the core's friction law, not a copy of it."""
+    from . import equilibrium_torque
+
+    if omega == 0.0:  # not a steady state (the core refuses it); its limit Ω → 0+ is T_s
+        return params.mu_static * wob * params.bit_radius
+    return equilibrium_torque(params, wob, omega)
+
+
 def stable_torques(
-    params: Params, wob: float, crossings: list[Crossing], samples: int = 4000
+    params: Params, wob: float, crossings: list[Crossing]
 ) -> list[tuple[float, float]]:
-    """Intervals of surface torque over which a stable steady state exists at ``wob``."""
+    """Intervals of surface torque over which a stable steady state exists at ``wob``, exact.
+
+    The Stribeck slope δ(Ω) falls from δ(0) to 0 as Ω grows, so stability changes only at the
+    Ω_k where δ(Ω_k) = δ_k, a crossing's (closed form, :func:`stribeck_slope` inverted). On each
+    piece of Ω between them the count of unstable eigenvalues is constant; u(Ω) = cΩ + T_fb(Ω)
+    is convex (u'' = −δ' > 0), so over a piece it is least at Ω_c, where δ(Ω_c) = c, or at an
+    end, and greatest at an end (unbounded on the last piece)."""
     p = params
-    c = p.top_damping + p.bit_damping
     g = p.stribeck_decay / p.stribeck_velocity
-    # Ω up to where the damping torque alone exceeds any torque of interest.
-    omega = np.geomspace(1e-6, 200.0 / g, samples)
-    mu = p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(-g * omega)
-    u = c * omega + wob * p.bit_radius * mu
-    stable = unstable_count(crossings, stribeck_slope(p, wob, omega)) == 0
-    intervals = []
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], stable.astype(int), [0]])))
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
-        intervals.append((float(u[a:b].min()), float(u[a:b].max()) if b < len(u) else np.inf))
+    top = float(stribeck_slope(p, wob, 0.0))  # δ(0)
+
+    def omega_at(delta: float) -> float:  # δ(Ω) = delta, for 0 < delta <= δ(0)
+        return float(np.log(top / delta) / g)
+
+    cuts = sorted(omega_at(c.delta) for c in crossings if 0 < c.delta < top)
+    ends = [0.0, *cuts, np.inf]
+    c_total = p.top_damping + p.bit_damping
+    omega_c = omega_at(c_total) if 0 < c_total < top else 0.0
+    intervals: list[tuple[float, float]] = []
+    for a, b in itertools.pairwise(ends):
+        mid = a + 1.0 if b == np.inf else 0.5 * (a + b)
+        if unstable_count(crossings, stribeck_slope(p, wob, mid)) != 0:
+            continue
+        lo = _steady_torque(p, wob, min(max(omega_c, a), b))
+        hi = np.inf if b == np.inf else max(_steady_torque(p, wob, a), _steady_torque(p, wob, b))
+        intervals.append((lo, hi))
     return intervals
+
+
+def _grid(name: str, values: ArrayLike) -> NDArray[np.float64]:
+    """A grid axis as a 1-d float array: numbers (not strings), finite, at least one."""
+    arr = np.atleast_1d(np.asarray(values))
+    if arr.dtype.kind not in "iuf" or arr.ndim != 1:
+        raise TypeError(f"{name} must be a number or a 1-d sequence of numbers, not {values!r}")
+    arr = arr.astype(float)
+    if arr.size == 0:
+        raise ValueError(f"{name} is empty: give at least one value")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} = {arr[~np.isfinite(arr)][0]} is not allowed: finite values only")
+    return arr
 
 
 def operating_map(
@@ -64,10 +100,9 @@ def operating_map(
     crossings: list[Crossing] | None = None,
 ) -> OperatingMap:
     """Classify every (W_ob, u) of the grid ``wob`` × ``torque`` (see :data:`CATEGORIES`)."""
-    wob = np.asarray(wob, dtype=float)
-    torque = np.asarray(torque, dtype=float)
-    if np.any(wob <= 0) or not np.all(np.isfinite(wob)):
-        raise ValueError("wob values must be finite and > 0 (N)")
+    wob, torque = _grid("wob", wob), _grid("torque", torque)
+    if np.any(wob <= 0):
+        raise ValueError(f"wob = {wob[wob <= 0][0]:g} is not allowed: every wob must be > 0 N")
     if crossings is None:
         crossings = critical_deltas(params)
     ts = params.mu_static * wob * params.bit_radius
@@ -92,8 +127,5 @@ def hopf_curve_wu(
     """The two-parameter Hopf (or fold) curve δ(Ω, W_ob) = δ_k in (W_ob, u), by Ω."""
     omega = np.asarray(omega, dtype=float)
     w = boundary_wob(params, delta, omega)
-    p = params
-    mu = p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(
-        -p.stribeck_decay * omega / p.stribeck_velocity
-    )
-    return w, (p.top_damping + p.bit_damping) * omega + w * p.bit_radius * mu
+    u = [_steady_torque(params, wi, om) for wi, om in zip(w.ravel(), omega.ravel(), strict=True)]
+    return w, np.reshape(u, w.shape)

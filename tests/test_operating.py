@@ -94,6 +94,40 @@ def test_safe_torque_min_against_a_brute_force_scan(dof):
     assert 0 < above_ts < len(wob)  # both cases: the stable branch's start, and T_s
 
 
+@pytest.mark.parametrize("dof", [2, 4, 7])
+def test_safe_torque_min_is_the_closed_form_edge_of_the_stable_branch(dof):
+    """Exact, not sampled: the steady state is stable where the Stribeck slope δ(Ω) lies
+    below δ_1, the first crossing (it falls with Ω), i.e. for Ω > Ω_1 = (v_s/γ) ln(δ(0)/δ_1);
+    u(Ω) = (c_t + c_b) Ω + W_ob R_b μ(Ω) is least there, or at Ω_c where u' = 0, whichever is
+    larger; safe drilling also needs u > T_s. Written from the model's formulas (DESIGN §1),
+    checked to rounding; the first crossing's eigenvalues confirm the side."""
+    p = pydrill.preset("reduced-scale", dof=dof)
+    first = st.critical_deltas(p)[0]
+    assert first.direction == 1  # the string is stable below δ_1
+    g = p.stribeck_decay / p.stribeck_velocity
+    c = p.top_damping + p.bit_damping
+    wob = np.array([1.0, 3.0, 8.0, 15.0, 25.0, 40.0, 120.0])
+    omap = operating_map(p, wob, [1.0])
+    above = 0
+    for w, safe in zip(wob, omap.safe_torque_min, strict=True):
+        scale = w * p.bit_radius * (p.mu_static - p.mu_coulomb)
+        omega_1 = max(0.0, np.log(scale * g / first.delta) / g)
+        omega_c = max(0.0, np.log(scale * g / c) / g)
+        om = max(omega_1, omega_c)
+        u = c * om + w * p.bit_radius * (
+            p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(-g * om)
+        )
+        ts = p.mu_static * w * p.bit_radius
+        assert safe == pytest.approx(max(u, ts), rel=1e-12, abs=1e-12), (w, safe, u, ts)
+        above += u > ts
+        if omega_1 > 0:  # just past Ω_1 stable, just before it not
+            for sign in (-1, 1):
+                delta = scale * g * np.exp(-g * omega_1 * (1 + sign * 1e-6))
+                stable = np.max(st.eigenvalues(p, delta).real) < 0
+                assert stable == (sign > 0), (w, sign)
+    assert 0 < above < len(wob)  # both cases met: the branch's edge, and T_s
+
+
 def _check_regimes_against_categories(p, data):
     """Each ``map --check`` point (simulated from rest, t_end 300 s) against its category in
     the same map (the grid's value at that point), by what the category means
@@ -168,3 +202,18 @@ def test_map_check_at_small_weights_meets_the_band_between_stuck_and_stable():
     data = _map_json("--check", "4", "--wob-max", "20", "--torque-max", "2")
     p = pydrill.preset("reduced-scale", dof=2)
     assert _check_regimes_against_categories(p, data) == {0, 2, 3}
+
+
+@pytest.mark.parametrize(
+    ("wob", "torque", "error", "says"),
+    [
+        ([100.0], [float("nan"), 5.0], ValueError, "torque = nan is not allowed"),
+        ([100.0], "5", TypeError, "torque must be a number"),
+        ([], [5.0], ValueError, "wob is empty"),
+        ([100.0, -3.0], [5.0], ValueError, "wob = -3 is not allowed: every wob must be > 0 N"),
+        ([[100.0]], [5.0], TypeError, "wob must be a number or a 1-d sequence"),
+    ],
+)
+def test_operating_map_refuses_a_bad_grid_by_name(wob, torque, error, says):
+    with pytest.raises(error, match=says):
+        operating_map(pydrill.preset("reduced-scale", dof=2), wob, torque)
