@@ -339,6 +339,12 @@ def _with_defaults(doc: dict[str, Any], section: str, defaults: dict[str, Any]) 
     return {**defaults, **doc}
 
 
+#: The simulator's tolerance floors (kMinRtol, kMinAtol in cpp/include/pydrill/simulator.hpp;
+#: tests/test_spec.py checks that simulate refuses just below them and accepts them).
+RTOL_MIN = 1e-14
+ATOL_MIN = 1e-20
+
+
 def _simulation(doc: dict[str, Any]) -> dict[str, Any]:
     sim = _with_defaults(doc, "simulation", SIMULATION_KEYS)
     initial = sim["initial"]
@@ -355,10 +361,15 @@ def _simulation(doc: dict[str, Any]) -> dict[str, Any]:
             f"{sim['initial']!r}: a list of distinct values from 'rest', 'equilibrium'",
         )
     sim["initial"] = initial
-    for key in ("t_end", "rtol", "atol"):
+    # simulate's own ranges, so that a spec it would refuse at every point is refused here.
+    for key, ok, allowed in (
+        ("t_end", lambda v: v > 0, "a finite number > 0 (s)"),
+        ("rtol", lambda v: RTOL_MIN <= v < 1, f"{RTOL_MIN:g} <= rtol < 1"),
+        ("atol", lambda v: v >= ATOL_MIN, f"a finite number >= {ATOL_MIN:g}"),
+    ):
         v = sim[key]
-        if not _is_number(v) or not v > 0:
-            raise _fail(f"simulation.{key}", f"{v!r} is not allowed: a finite number > 0")
+        if not _is_number(v) or not ok(v):
+            raise _fail(f"simulation.{key}", f"{v!r} is not allowed: {allowed}")
         sim[key] = float(v)
     # window and max_steps kept as written (1, not 1.0): the digest of existing specs with them.
     if not _is_number(sim["window"]) or not 0 < sim["window"] <= 1:

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from sweeping import ROOT
 
+import pydrill
 from pydrill.spec import SpecError, load_spec, parse_spec
 
 # The smallest valid grid; each bad spec below changes one thing in it.
@@ -41,6 +42,24 @@ def test_a_section_that_is_not_a_table_is_refused(text, key):
 def test_window_must_be_a_number(value):
     msg = refused(GRID + f"[simulation]\nwindow = {value}\n", "simulation.window")
     assert "0 < window <= 1" in msg
+
+
+@pytest.mark.parametrize(
+    ("key", "refuse", "accept"),
+    [("rtol", [2.0, 1.0, 9.9e-15, 1e-20], [1e-14, 0.5]), ("atol", [9.9e-21, 1e-30], [1e-20, 1e-3])],
+)
+def test_tolerances_are_refused_exactly_where_simulate_refuses_them(key, refuse, accept):
+    """A spec simulate would refuse at every point (so that every point of a sweep fails) is
+    refused before anything runs; a value simulate takes is kept. Both sides are asked."""
+    for value in refuse:
+        with pytest.raises(ValueError, match=f"{key} = "):
+            pydrill.simulate(wob=100, torque=8.3, dof=2, t_end=1.0, n_out=2, **{key: value})
+        msg = refused(GRID + f"[simulation]\n{key} = {value!r}\n", f"simulation.{key}")
+        assert "is not allowed" in msg
+    for value in accept:
+        pydrill.simulate(wob=100, torque=8.3, dof=2, t_end=1.0, n_out=2, **{key: value})
+        spec = parse_spec(GRID + f"[simulation]\n{key} = {value!r}\n")
+        assert spec.simulation[key] == value
 
 
 @pytest.mark.parametrize(
