@@ -151,6 +151,10 @@ def run_sweep(
         if not 1 <= workers <= MAX_WORKERS:
             raise ValueError(f"workers = {workers!r} is not allowed: {allowed}")
         workers = int(workers)
+    for name, call in (("progress", progress), ("on_cluster", on_cluster)):
+        if call is not None and not callable(call):
+            raise TypeError(f"{name} = {call!r} is not allowed: None or a function")
+    stop_on = _signals(stop_on)
     if (workers is not None) + bool(scheduler) + bool(serial) > 1:
         raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
     implicit = None  # where the sweep goes when told nowhere, as Dask's own work would
@@ -224,6 +228,24 @@ def run_sweep(
                 with contextlib.suppress(OSError):
                     d.rmdir()
         raise
+
+
+def _signals(stop_on: Any) -> tuple[int, ...]:
+    """``stop_on`` checked before anything is written: signals this system has, not SIGKILL or
+    SIGSTOP (they cannot be caught)."""
+    allowed = "a tuple of signals, e.g. (signal.SIGINT, signal.SIGTERM)"
+    try:
+        found = tuple(stop_on)
+    except TypeError:
+        raise TypeError(f"stop_on = {stop_on!r} is not allowed: {allowed}") from None
+    valid = set(signal.valid_signals()) - {signal.SIGKILL, signal.SIGSTOP}
+    for s in found:
+        if isinstance(s, bool) or not isinstance(s, int) or s not in valid:
+            raise ValueError(
+                f"stop_on = {stop_on!r} is not allowed: {s!r} is not a signal that can be "
+                f"caught here; {allowed}"
+            )
+    return tuple(signal.Signals(s) for s in found)
 
 
 def _sweep_locked(

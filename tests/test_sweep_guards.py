@@ -4,6 +4,7 @@ atlas as it was before a resume), so that a slip in the atlas layer cannot hide 
 itself."""
 
 import json
+import signal
 import subprocess
 
 import h5py
@@ -306,3 +307,23 @@ def test_an_atlas_from_before_caveats_reads_none_and_gains_them_on_resume(tmp_pa
         assert v["metrics"]["bit_top_ratio"]["rest"] is not None  # computed now: recorded
         assert atlas.value(wob=50.0, torque=3.5)["metrics"]["top_max"]["rest"] is None
         assert set(fmt.ADDED_RUN_FIELDS) <= set(atlas.to_xarray().data_vars)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "says"),
+    [
+        ({"stop_on": (99999,)}, ValueError, "stop_on = .* 99999 is not a signal"),
+        ({"stop_on": (signal.SIGKILL,)}, ValueError, "is not a signal that can be caught"),
+        ({"stop_on": signal.SIGINT}, TypeError, "stop_on = .* a tuple of signals"),
+        ({"progress": 5}, TypeError, "progress = 5 is not allowed: None or a function"),
+        ({"on_cluster": "x"}, TypeError, "on_cluster = 'x' is not allowed"),
+    ],
+)
+def test_bad_arguments_are_refused_before_anything_is_written(tmp_path, kwargs, error, says):
+    """They once failed after the atlas and its journal were made, and the next run was
+    refused as if a sweep were there to resume."""
+    out = tmp_path / "sub" / "a.h5"
+    with pytest.raises(error, match=says):
+        run_sweep(parse_spec(SMALL), out, serial=True, **kwargs)
+    assert not (tmp_path / "sub").exists()
+    assert run_sweep(parse_spec(TINY), out, serial=True, stop_on=[signal.SIGTERM]).computed == 6
