@@ -86,6 +86,15 @@ class Atlas:
             self._f.close()
             raise AtlasError(f"{self.path} is damaged or incomplete: {exc}") from None
 
+    def __repr__(self) -> str:
+        """One line for a notebook: the file, the grid and the starts (no file read)."""
+        grid = " x ".join(f"{name} {len(v)}" for name, v in self.axes.items())
+        state = ", closed" if self.closed else ""
+        return (
+            f"<pydrill.Atlas {str(self.path)!r}: {self.spec.size} points ({grid}), "
+            f"from {', '.join(self.initials)}{state}>"
+        )
+
     def _source(self) -> Path | io.BytesIO:
         """What to open: the file, or the copy taken while a sweep was writing it."""
         return self.path if self._image is None else io.BytesIO(self._image)
@@ -146,20 +155,8 @@ class Atlas:
                     f"{name} = {shown} is not on the grid (nearest {near}); "
                     "use method='nearest' (--nearest)"
                 )
-            if method == "nearest" and len(values) == 1 and not _on_grid(values, 0, v):
-                # One value: no grid step to be near within. Only that value is in the atlas.
-                shown, only = _distinct(v, values[0])
-                raise KeyError(f"{name} = {shown} is outside the atlas (only {only})")
-            if method == "nearest" and len(values) > 1:
-                # Beyond half a grid step past either end, the "nearest" point would answer
-                # for a place the sweep never went.
-                ends = np.sort(values)
-                lo = ends[0] - 0.5 * (ends[1] - ends[0])
-                hi = ends[-1] + 0.5 * (ends[-1] - ends[-2])
-                if not lo <= v <= hi:
-                    raise KeyError(
-                        f"{name} = {v:g} is outside the atlas ({ends[0]:g} ... {ends[-1]:g})"
-                    )
+            if method == "nearest":
+                _near_enough(name, values, v)
             idx.append(i)
         return tuple(idx)
 
@@ -233,8 +230,16 @@ class Atlas:
         return self.initials.index(initial)
 
     def safe_region(self) -> np.ndarray:
-        """Points where every start drills steadily and the fastest steady state is stable."""
+        """Points where every start drills steadily and the fastest steady state is stable.
+        Raises ``ValueError`` for an atlas whose sweep did not record stability
+        (``[record] stability = false``): without it no point can be called safe."""
         f = self._file()
+        if not self.spec.record["stability"]:
+            raise ValueError(
+                f"{self.path} has no safe region: its sweep did not record stability "
+                "([record] stability = false), and a steady run alone does not say the steady "
+                "state is stable. Sweep the spec with stability = true into a new atlas"
+            )
         codes = f["regime"][...]
         steady = np.all(codes == fmt.REGIMES["steady"], axis=-1)
         stable = f["unstable"][..., 0] == 0
@@ -277,7 +282,10 @@ class Atlas:
             "initial": self.initials,
             "status": {name: int(np.sum(status == code)) for name, code in fmt.STATUS.items()},
             "regimes": regimes,
-            "safe_points": int(np.sum(self.safe_region())),
+            # None when stability was not recorded (see safe_region)
+            "safe_points": (
+                int(np.sum(self.safe_region())) if self.spec.record["stability"] else None
+            ),
             "coexistence_points": int(np.sum(f["coexistence"][...] == 1)),
             # Judgements that carry a note, by start and kind (runs to simulate longer)
             "caveats": caveats,
@@ -305,8 +313,15 @@ class Atlas:
                 f"{sorted(unknown)[0]} is not an axis of this atlas; axes: "
                 + ", ".join([*self.axes, "initial"])
             )
+        if method == "nearest":  # as value() and index(): never an answer from off the grid
+            for name, v in coords.items():
+                if name in self.axes:
+                    for one in np.atleast_1d(np.asarray(v, dtype=float)):
+                        _near_enough(name, self.axes[name], float(one))
         ds = with_regime_names(self.to_xarray().load())
-        return ds.sel(method=method, **coords)
+        if "initial" in coords:  # a name, chosen exactly: "nearest" has no meaning for it
+            ds = ds.sel(initial=coords.pop("initial"))
+        return ds.sel(method=method, **coords) if coords else ds
 
     def plot(
         self,
@@ -400,3 +415,18 @@ def _clean(v: Any) -> Any:
     if isinstance(v, int) and v == -1:
         return None
     return v
+
+
+def _near_enough(name: str, values: np.ndarray, v: float) -> None:
+    """Refuse (KeyError) a value whose nearest grid point would answer for a place the sweep
+    never went: beyond half a grid step past either end, or off a one-value axis."""
+    if len(values) == 1:
+        if not _on_grid(values, 0, v):
+            shown, only = _distinct(v, values[0])
+            raise KeyError(f"{name} = {shown} is outside the atlas (only {only})")
+        return
+    ends = np.sort(values)
+    lo = ends[0] - 0.5 * (ends[1] - ends[0])
+    hi = ends[-1] + 0.5 * (ends[-1] - ends[-2])
+    if not lo <= v <= hi:
+        raise KeyError(f"{name} = {v:g} is outside the atlas ({ends[0]:g} ... {ends[-1]:g})")

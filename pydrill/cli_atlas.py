@@ -46,8 +46,9 @@ def register_atlas(sub) -> None:
         formatter_class=raw,
         epilog="JSON fields: path, pydrill_version, spec_digest, points, axes {NAME: {size, "
         "min, max}},\n  initial, status {missing, done, failed}, regimes {INITIAL: {REGIME: "
-        "count}},\n  safe_points, coexistence_points, journal (its path, or null),\n"
-        "  journal_points (in the journal, not yet in the atlas)",
+        "count}},\n  safe_points (null: stability not recorded), coexistence_points,\n"
+        "  journal (its path, or null),"
+        " journal_points (in the journal, not yet in the atlas)",
     )
     info.add_argument("atlas", metavar="ATLAS.h5")
     info.add_argument("--json", action="store_true", help="print one JSON object for scripts")
@@ -211,7 +212,9 @@ def _cmd_info(args: argparse.Namespace) -> int:
     disagree = (
         f", rest/equilibrium disagree at {s['coexistence_points']}" if len(s["initial"]) > 1 else ""
     )
-    print(f"  safe points {s['safe_points']}{disagree}")
+    safe = s["safe_points"]
+    safe = "unknown (stability not recorded)" if safe is None else safe
+    print(f"  safe points {safe}{disagree}")
     for init, counts in s["caveats"].items():
         notes = ", ".join(f"{k} {v}" for k, v in counts.items())
         print(f"  caveats from {init}: {notes} (points to simulate longer; query shows which)")

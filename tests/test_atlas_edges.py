@@ -196,3 +196,51 @@ def test_an_atlas_whose_spec_is_now_refused_says_so_and_still_reads(failing_atla
     assert proc.returncode == 2 and "is refused by pydrill" in proc.stderr
     with xr.open_dataset(old, engine="h5netcdf") as ds, Atlas(failing_atlas) as atlas:
         assert ds["regime"].shape == atlas.to_xarray()["regime"].shape
+
+
+def test_without_stability_there_is_no_safe_region_rather_than_an_empty_one(tmp_path):
+    """``[record] stability = false``: the runs are there (steady ones too), but no point can be
+    called safe or unsafe. The region and its count say so instead of "none"."""
+    out = tmp_path / "nostab.h5"
+    run_sweep(parse_spec(SMALL + "[record]\nstability = false\n"), out, serial=True)
+    with Atlas(out) as atlas:
+        assert atlas.summary()["regimes"]["rest"]["steady"] > 0
+        with pytest.raises(ValueError, match="did not record stability"):
+            atlas.safe_region()
+        assert atlas.summary()["safe_points"] is None
+    info = subprocess.run(
+        [*CMD, "atlas", "info", str(out)], capture_output=True, text=True, check=True
+    ).stdout
+    assert "safe points unknown (stability not recorded)" in info
+    out2 = tmp_path / "stab.h5"  # the same sweep with stability: a region, and steady points in it
+    run_sweep(parse_spec(SMALL), out2, serial=True)
+    with Atlas(out2) as atlas:
+        assert 0 < atlas.summary()["safe_points"] == int(atlas.safe_region().sum())
+
+
+def test_sel_nearest_refuses_what_value_refuses(tmp_path):
+    """``sel(method="nearest")`` once answered torque = 100 with the grid's 8.3 (the grid runs
+    6 ... 8.3), where ``value`` says it is outside the atlas."""
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    with Atlas(out) as atlas:
+        for coords in ({"torque": 100.0}, {"torque": [6.0, 100.0]}, {"wob": -50.0}):
+            with pytest.raises(KeyError, match="is outside the atlas"):
+                atlas.sel(method="nearest", **coords)
+        with pytest.raises(KeyError, match="is outside the atlas"):
+            atlas.value(method="nearest", wob=100.0, torque=100.0)
+        # within half a grid step of an end it is the end, as value() says
+        near = atlas.sel(method="nearest", torque=8.9, initial="rest")
+        assert float(near.torque) == 8.3
+        assert atlas.value(method="nearest", wob=100.0, torque=8.9)["coords"]["torque"] == 8.3
+
+
+def test_an_atlas_shows_its_file_grid_and_starts_in_a_notebook(tmp_path):
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    atlas = Atlas(out)
+    assert repr(atlas) == (
+        f"<pydrill.Atlas {str(out)!r}: 6 points (wob 3 x torque 2), from rest, equilibrium>"
+    )
+    atlas.close()
+    assert repr(atlas).endswith("from rest, equilibrium, closed>")
