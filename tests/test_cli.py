@@ -102,25 +102,24 @@ def test_bad_input_exits_2_without_traceback(args, needle):
     assert proc.stdout == ""
 
 
-def test_solver_failure_exits_3_with_cvodes_message():
+@pytest.mark.parametrize("method", ["bdf", "dop853"])
+def test_solver_failure_exits_3_naming_the_limit_and_the_time_reached(method):
+    """A run that cannot finish (here: 50 internal steps for 300 s) exits 3 with one line that
+    says where it stopped and what to change, never a traceback; --json scripts get nothing
+    on stdout to mistake for a result."""
     proc = run(
         "simulate",
-        "--wob",
-        "100",
-        "--torque",
-        "8.3",
-        "--t-end",
-        "300",
-        "--rtol",
-        "1e-14",
-        "--atol",
-        "1e-20",
+        *("--wob", "100", "--torque", "8.3", "--t-end", "300"),
+        *("--method", method, "--max-steps", "50", "--json"),
         check=False,
     )
-    # Either CVODES gives up or it succeeds; it never crashes.
-    assert proc.returncode in (0, 3)
-    if proc.returncode == 3:
-        assert "solver failed" in proc.stderr and "Traceback" not in proc.stderr
+    assert proc.returncode == 3, proc.stderr
+    assert proc.stdout == ""
+    err = proc.stderr.strip()
+    assert err.startswith("pydrill simulate: solver failed (reached t = ") and "\n" not in err
+    t = float(err.split("reached t = ")[1].split(" s")[0])
+    assert 0 < t < 300
+    assert "--max-steps = 50" in err and "raise --max-steps or shorten --t-end" in err
 
 
 def test_help_teaches():

@@ -38,6 +38,24 @@ def test_chattering_guard_raises_instead_of_hanging():
         pydrill.simulate(wob=100.0, torque=8.3, dof=4, t_end=600.0, max_switch_rate=1e-3)
 
 
+def test_chattering_guard_trips_exactly_at_its_rate():
+    """The guard raises when 50 switches fall within 50 / max_switch_rate seconds. From an
+    unguarded run's own switch times, the fastest 50 take min_dt: a limit a hair above
+    50 / min_dt lets the same run through, a hair below stops it at that burst."""
+    kw = {"wob": 100.0, "torque": 8.3, "dof": 4, "t_end": 900.0, "n_out": 2}
+    free = pydrill.simulate(**kw, max_switch_rate=None)
+    t = np.array([s.t for s in free.switches])
+    assert t.size > 60
+    spans = t[50:] - t[:-50]
+    k = int(np.argmin(spans))
+    rate = 50.0 / spans[k]
+    ok = pydrill.simulate(**kw, max_switch_rate=rate * (1 + 1e-9))
+    assert [s.t for s in ok.switches] == t.tolist()
+    with pytest.raises(pydrill.SolverError, match="chattering: 50 friction switches") as err:
+        pydrill.simulate(**kw, max_switch_rate=rate * (1 - 1e-9))
+    assert err.value.t_reached == pytest.approx(t[k + 50], rel=1e-12)
+
+
 def test_invalid_argument_becomes_value_error():
     with pytest.raises(ValueError, match="t_end"):
         pydrill.simulate(wob=100.0, torque=8.3, dof=4, t_end=-1.0)

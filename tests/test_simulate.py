@@ -383,3 +383,27 @@ def test_a_bit_that_stuck_for_good_late_in_the_window_is_stuck():
     assert long.regime == "stuck" and long.stuck_fraction == 1.0 and not long.caveat
     assert short.regime == "stuck" and short.caveat == "late-stick"
     assert short.stick_events == 1 and 0.0 < short.stuck_fraction < 1.0
+
+
+def test_the_metrics_are_the_designs_formulas_on_a_dense_trace():
+    """DESIGN §2's metrics recomputed from a dense output of the same run (a sample every
+    1.5 ms over the window): severity (max ω_b − min ω_b)/(2 mean ω_b), the ratio
+    max ω_b / mean ω_top, and the fraction of the window the bit is held. Samples can only
+    miss an extreme by a little, and trapezoid means are as close."""
+    r = pydrill.simulate(wob=100, torque=8.3, dof=4, t_end=300.0, n_out=200_001)
+    s = r.summary
+    assert s.regime == "stick-slip"
+    w = (r.t >= s.window_start) & (r.t <= s.window_end)
+    t, bit, top = r.t[w], r.bit_velocity[w], r.top_velocity[w]
+
+    def mean(y):  # trapezoids (np.trapezoid needs numpy 2)
+        return float(np.sum((y[1:] + y[:-1]) * np.diff(t)) / (2 * (t[-1] - t[0])))
+
+    bit_mean, top_mean = mean(bit), mean(top)
+    assert s.bit_mean == pytest.approx(bit_mean, rel=1e-4)
+    assert s.bit_max == pytest.approx(bit.max(), rel=1e-4) and s.bit_max >= bit.max()
+    assert s.bit_min == bit.min() == 0.0  # held: exactly zero while stuck
+    assert s.severity == pytest.approx((bit.max() - bit.min()) / (2 * bit_mean), rel=2e-4)
+    assert s.bit_top_ratio == pytest.approx(bit.max() / top_mean, rel=2e-4)
+    held = mean((bit == 0.0).astype(float))
+    assert s.stuck_fraction == pytest.approx(held, abs=2e-3)
