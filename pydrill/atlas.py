@@ -19,6 +19,7 @@ import h5py
 import numpy as np
 
 from . import atlas_format as fmt
+from .atlas_grid import coordinate, distinct, near_enough, on_grid
 from .atlas_lock import snapshot
 from .journal import JOURNAL_SUFFIX, AtlasError, journaled
 from .spec import SpecError, parse_spec
@@ -147,16 +148,16 @@ class Atlas:
             raise ValueError(f"method = {method!r}: choose 'exact' or 'nearest'")
         idx = []
         for name, values in self.axes.items():
-            v = float(coords[name])
+            v = coordinate(name, coords[name])
             i = int(np.argmin(np.abs(values - v)))
-            if method == "exact" and not _on_grid(values, i, v):
-                shown, near = _distinct(v, values[i])
+            if method == "exact" and not on_grid(values, i, v):
+                shown, near = distinct(v, values[i])
                 raise KeyError(
                     f"{name} = {shown} is not on the grid (nearest {near}); "
                     "use method='nearest' (--nearest)"
                 )
             if method == "nearest":
-                _near_enough(name, values, v)
+                near_enough(name, values, v)
             idx.append(i)
         return tuple(idx)
 
@@ -313,11 +314,13 @@ class Atlas:
                 f"{sorted(unknown)[0]} is not an axis of this atlas; axes: "
                 + ", ".join([*self.axes, "initial"])
             )
-        if method == "nearest":  # as value() and index(): never an answer from off the grid
-            for name, v in coords.items():
-                if name in self.axes:
-                    for one in np.atleast_1d(np.asarray(v, dtype=float)):
-                        _near_enough(name, self.axes[name], float(one))
+        for name, v in coords.items():
+            if name in self.axes:  # numbers, or strings with a unit ("20 kN"), as index() takes
+                many = isinstance(v, list | tuple | np.ndarray)
+                coords[name] = [coordinate(name, one) for one in v] if many else coordinate(name, v)
+                if method == "nearest":  # as value() and index(): never an answer off the grid
+                    for one in np.atleast_1d(coords[name]):
+                        near_enough(name, self.axes[name], float(one))
         ds = with_regime_names(self.to_xarray().load())
         if "initial" in coords:  # a name, chosen exactly: "nearest" has no meaning for it
             ds = ds.sel(initial=coords.pop("initial"))
@@ -381,24 +384,6 @@ _DATASETS = (
 )
 
 
-def _on_grid(values: np.ndarray, i: int, v: float) -> bool:
-    """Whether ``v`` is the grid value ``values[i]`` (its nearest): equal within 1e-6 of it,
-    float32's resolution (``np.float32(8.3)`` is 8.30000019), but never nearer than a quarter
-    of the step to its neighbours, so that no value names two grid points."""
-    g = float(values[i])
-    tol = max(1e-6 * abs(g), 1e-12)
-    if len(values) > 1:
-        others = np.delete(values, i).astype(float)
-        tol = min(tol, float(np.min(np.abs(others - g))) / 4)
-    return abs(v - g) <= tol
-
-
-def _distinct(a: float, b: Any) -> tuple[str, str]:
-    """``a`` and ``b`` printed briefly (``:g``), or in full when that shows them equal."""
-    short = f"{a:g}", f"{b:g}"
-    return short if short[0] != short[1] else (repr(float(a)), repr(float(b)))
-
-
 def with_regime_names(ds):
     """``ds`` with a ``regime_name`` variable: the regime codes as their names."""
     if "regime" not in ds:
@@ -415,18 +400,3 @@ def _clean(v: Any) -> Any:
     if isinstance(v, int) and v == -1:
         return None
     return v
-
-
-def _near_enough(name: str, values: np.ndarray, v: float) -> None:
-    """Refuse (KeyError) a value whose nearest grid point would answer for a place the sweep
-    never went: beyond half a grid step past either end, or off a one-value axis."""
-    if len(values) == 1:
-        if not _on_grid(values, 0, v):
-            shown, only = _distinct(v, values[0])
-            raise KeyError(f"{name} = {shown} is outside the atlas (only {only})")
-        return
-    ends = np.sort(values)
-    lo = ends[0] - 0.5 * (ends[1] - ends[0])
-    hi = ends[-1] + 0.5 * (ends[-1] - ends[-2])
-    if not lo <= v <= hi:
-        raise KeyError(f"{name} = {v:g} is outside the atlas ({ends[0]:g} ... {ends[-1]:g})")

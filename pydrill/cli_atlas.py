@@ -327,7 +327,8 @@ def _cmd_query(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from .atlas import Atlas, _on_grid
+    from .atlas import Atlas
+    from .atlas_grid import on_grid
     from .plot import save
     from .plot_atlas import atlas_figure, nearest_index
 
@@ -341,7 +342,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             except ValueError as exc:
                 raise ValueError(f"--set {name}={value:g}: {exc}") from None
             grid = float(atlas.axes[name][k])
-            if not _on_grid(atlas.axes[name], k, value):  # say so: the title shows the grid's
+            if not on_grid(atlas.axes[name], k, value):  # say so: the title shows the grid's
                 print(
                     f"pydrill atlas plot: note: --set {name}={value:g} is not a grid value; "
                     f"drawn at the nearest, {name} = {grid:g}",

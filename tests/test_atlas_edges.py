@@ -7,6 +7,7 @@ import subprocess
 
 import dask
 import h5py
+import numpy as np
 import pytest
 import xarray as xr
 from sweeping import CMD, SMALL
@@ -244,3 +245,22 @@ def test_an_atlas_shows_its_file_grid_and_starts_in_a_notebook(tmp_path):
     )
     atlas.close()
     assert repr(atlas).endswith("from rest, equilibrium, closed>")
+
+
+def test_coordinates_take_units_as_the_command_line_does(tmp_path):
+    """``value(wob="0.1 kN")`` is the point at 100 N (as ``--wob '0.1 kN'``); a unit of the
+    wrong kind, or a coordinate that is not a number, is refused by name."""
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    with Atlas(out) as atlas:
+        plain = atlas.value(wob=100.0, torque=8.3)
+        assert atlas.value(wob="0.1 kN", torque="8.3 N*m") == plain
+        assert atlas.value(wob=np.float32(100.0), torque=np.array(8.3)) == plain
+        sliced = atlas.sel(wob="0.1 kN", initial="rest")
+        assert float(sliced.wob) == 100.0
+        with pytest.raises(ValueError, match="wob = '80 m': unit 'm' is not a force unit"):
+            atlas.value(wob="80 m", torque=8.3)
+        with pytest.raises(TypeError, match="torque = None is not allowed: a number"):
+            atlas.value(wob=100.0, torque=None)
+        with pytest.raises(TypeError, match="wob = True is not allowed"):
+            atlas.value(wob=True, torque=8.3)

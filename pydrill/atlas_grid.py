@@ -1,0 +1,67 @@
+"""Where a coordinate given to an atlas query lies on its grid: the value as a float (units
+allowed), on a grid point or not, near enough to the grid for "nearest"."""
+
+from __future__ import annotations
+
+import numbers
+from typing import Any
+
+import numpy as np
+
+
+def on_grid(values: np.ndarray, i: int, v: float) -> bool:
+    """Whether ``v`` is the grid value ``values[i]`` (its nearest): equal within 1e-6 of it,
+    float32's resolution (``np.float32(8.3)`` is 8.30000019), but never nearer than a quarter
+    of the step to its neighbours, so that no value names two grid points."""
+    g = float(values[i])
+    tol = max(1e-6 * abs(g), 1e-12)
+    if len(values) > 1:
+        others = np.delete(values, i).astype(float)
+        tol = min(tol, float(np.min(np.abs(others - g))) / 4)
+    return abs(v - g) <= tol
+
+
+def distinct(a: float, b: Any) -> tuple[str, str]:
+    """``a`` and ``b`` printed briefly (``:g``), or in full when that shows them equal."""
+    short = f"{a:g}", f"{b:g}"
+    return short if short[0] != short[1] else (repr(float(a)), repr(float(b)))
+
+
+def near_enough(name: str, values: np.ndarray, v: float) -> None:
+    """Refuse (KeyError) a value whose nearest grid point would answer for a place the sweep
+    never went: beyond half a grid step past either end, or off a one-value axis."""
+    if len(values) == 1:
+        if not on_grid(values, 0, v):
+            shown, only = distinct(v, values[0])
+            raise KeyError(f"{name} = {shown} is outside the atlas (only {only})")
+        return
+    ends = np.sort(values)
+    lo = ends[0] - 0.5 * (ends[1] - ends[0])
+    hi = ends[-1] + 0.5 * (ends[-1] - ends[-2])
+    if not lo <= v <= hi:
+        raise KeyError(f"{name} = {v:g} is outside the atlas ({ends[0]:g} ... {ends[-1]:g})")
+
+
+def coordinate(name: str, value: Any) -> float:
+    """A coordinate as a float: a number, or a string with a unit where the axis measures
+    something (``"20 kN"`` for wob; a bare ``"80"`` is SI). TypeError or ValueError name it."""
+    from . import units
+    from .spec_rules import KINDS
+
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value.item()
+    if isinstance(value, str):
+        if name not in KINDS:
+            try:
+                return float(value)
+            except ValueError:
+                raise ValueError(f"{name} = {value!r} is not a number") from None
+        try:
+            return units.parse(value, KINDS[name])
+        except ValueError as exc:
+            raise ValueError(f"{name} = {exc}") from None  # the message starts with the value
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(
+            f"{name} = {value!r} is not allowed: a number, or a string with a unit (e.g. '20 kN')"
+        )
+    return float(value)
