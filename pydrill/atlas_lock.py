@@ -41,7 +41,7 @@ class AtlasBusy(AtlasError):
     def of(cls, atlas: Path, holder: object) -> AtlasBusy:
         return cls(
             f"{atlas} is being written by another sweep (process {holder}); wait for it to "
-            "end, or stop it (what it computed is kept) and run again with --resume"
+            "end, or stop it (what it computed is kept) and run again with --resume (resume=True)"
         )
 
 

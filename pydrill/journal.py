@@ -142,12 +142,13 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
         if not resume:
             raise AtlasError(
                 f"{jp} holds an interrupted sweep of this spec (its atlas {out.name} is gone); "
-                "use --resume to complete it from the journal, or remove the journal to start over"
+                "use --resume (resume=True) to complete it from the journal, or remove the "
+                "journal to start over"
             )
     elif not resume:
         raise AtlasError(
-            f"{out} already exists for this sweep; use --resume to complete it or remove it "
-            "to start over"
+            f"{out} already exists for this sweep; use --resume (resume=True) to complete it or "
+            "remove it to start over"
         )
     return table
 

@@ -340,7 +340,9 @@ def _sweep_locked(
     if left:
         # Every point handed out comes back (done or failed) or raises; this guards the
         # bookkeeping itself. The journal stays, so --resume completes the atlas.
-        raise AtlasError(f"{left} points of {out} were not computed; run again with --resume")
+        raise AtlasError(
+            f"{left} points of {out} were not computed; run again with --resume (resume=True)"
+        )
     jp.unlink(missing_ok=True)  # everything is in the atlas now
     write_time += time.perf_counter() - tw
     return SweepReport(
