@@ -7,7 +7,7 @@ core (``pydrill._core``), which this package re-exports with documentation and p
 from . import _core, stability, units
 from ._core import SolverError
 from .atlas import Atlas
-from .model import PRESETS, Params, preset
+from .model import PRESETS, Params, _number, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
 from .spec import SpecError, SweepSpec, load_spec, parse_spec
 from .sweep import AtlasError, ClusterInfo, SchedulerError, SweepInterrupted, SweepReport, run_sweep
@@ -25,13 +25,37 @@ with exit status 3.
 
 
 def equilibrium_velocities(params: Params, wob: float, torque: float) -> list[float]:
-    """Every steady bit velocity Ω > 0 (rad/s) at which ``torque`` balances the string."""
-    return list(_core.equilibrium_velocities(params.to_core(), float(wob), float(torque)))
+    """Every steady velocity Ω (rad/s) at which the surface ``torque`` (N·m, finite) balances
+    the string under ``wob`` (N, finite, > 0): 0, 1 or 2 of them, in increasing order.
+
+    A negative torque turns the string backwards, the mirror image (φ → −φ) of ``-torque``:
+    its steady states are those of ``-torque`` reversed, Ω → −Ω (so still in increasing
+    order, as :func:`pydrill.stability.stability` and a simulation's ``omega_equilibrium``
+    give them).
+
+    >>> p = preset("reduced-scale", dof=4)
+    >>> [round(w, 4) for w in equilibrium_velocities(p, 130, 8.3)]
+    [0.9805, 9.4696]
+    >>> [round(w, 4) for w in equilibrium_velocities(p, 130, -8.3)]
+    [-9.4696, -0.9805]
+    """
+    core = stability._params(params).to_core()
+    wob = _number("wob", wob, "N")
+    torque = _number("torque", torque, "N·m")
+    omegas = list(_core.equilibrium_velocities(core, wob, abs(torque)))
+    return [-w for w in reversed(omegas)] if torque < 0 else omegas
 
 
 def equilibrium_torque(params: Params, wob: float, omega: float) -> float:
-    """Surface torque (N·m) that keeps the whole string turning at ``omega`` rad/s."""
-    return float(_core.equilibrium_torque(params.to_core(), float(wob), float(omega)))
+    """Surface torque (N·m) that keeps the whole string turning at ``omega`` rad/s (finite,
+    not 0) under ``wob`` (N, finite, > 0). A negative ``omega`` turns it backwards: the torque
+    of ``-omega`` reversed (the inverse of :func:`equilibrium_velocities` either way)."""
+    core = stability._params(params).to_core()
+    wob = _number("wob", wob, "N")
+    omega = stability._velocity(omega)
+    if omega < 0:
+        return -float(_core.equilibrium_torque(core, wob, -omega))
+    return float(_core.equilibrium_torque(core, wob, omega))
 
 
 __all__ = [

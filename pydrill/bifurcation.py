@@ -8,6 +8,8 @@ values δ_k. Both are located by bracketing and Brent's method to ~1e-12 relativ
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from typing import Literal
 
@@ -16,8 +18,20 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from . import _core
-from .model import Params
-from .stability import Crossing, critical_deltas, criticality, stribeck_slope, unstable_count
+from .model import Params, _integer, _number
+from .stability import (
+    Crossing,
+    _check_crossings,
+    _params,
+    critical_deltas,
+    criticality,
+    stribeck_slope,
+    unstable_count,
+)
+
+#: The most samples along a branch: each costs a few floats per crossing; Brent's method
+#: refines every special point to ~1e-12 whatever the sampling.
+MAX_SAMPLES = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -68,6 +82,14 @@ class Branch:
         }
 
 
+def _positive(name: str, value: float, unit: str, why: str) -> float:
+    """``value`` as a float, refused by name unless a finite number > 0."""
+    value = _number(name, value, unit)
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"{name} = {value:g} is not allowed: {why} a finite {name} > 0 ({unit})")
+    return value
+
+
 def _mu(params: Params, omega):
     p = params
     return p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(
@@ -83,40 +105,63 @@ def branch(
     wob: float | None = None,
     omega_max: float | None = None,
     samples: int = 2000,
-    crossings: list[Crossing] | None = None,
+    crossings: Iterable[Crossing] | None = None,
 ) -> Branch:
     """The branch of steady states Ω > 0 with its stability and special points.
 
     ``vary="wob"`` holds ``torque`` fixed (W_ob(Ω) = (u − (c_r + c_b)Ω) / (R_b μ_b(Ω)));
     ``vary="torque"`` holds ``wob`` fixed (u(Ω) = (c_r + c_b)Ω + W_ob R_b μ_b(Ω)).
+
+    - ``torque`` (N·m) or ``wob`` (N): the one held fixed, a finite number > 0; the varied
+      one is not given.
+    - ``omega_max`` (rad/s): the largest Ω sampled, a finite number > 0; None (default) for
+      u / (c_r + c_b) with ``vary="wob"`` (where W_ob reaches 0; never beyond it), 40 with
+      ``vary="torque"``.
+    - ``samples``: the number of Ω sampled, an integer 2 ... ``MAX_SAMPLES`` (1000000).
+    - ``crossings``: the string's ``critical_deltas(params)``, if already at hand.
+
+    A wrong type raises ``TypeError``, a bad value ``ValueError``, naming the parameter.
     """
-    p = params
+    p = _params(params)
     c = p.top_damping + p.bit_damping
+    if not isinstance(vary, str) or vary not in ("wob", "torque"):
+        raise ValueError(f"vary = {vary!r} is not allowed: choose 'wob' or 'torque'")
+    held, varied = ("torque", "wob") if vary == "wob" else ("wob", "torque")
+    given = {"wob": wob, "torque": torque}
+    if given[varied] is not None:
+        raise ValueError(
+            f"{varied} = {given[varied]!r} is not allowed with vary = {vary!r}: {varied} is "
+            f"the varied parameter (give {held} only)"
+        )
+    if given[held] is None:
+        raise ValueError(f"{held} = None is not allowed: varying {vary} needs a {held} > 0")
+    if omega_max is not None:
+        omega_max = _positive("omega_max", omega_max, "rad/s", "need")
+    samples = _integer("samples", samples, 2, MAX_SAMPLES)
     if vary == "wob":
-        if torque is None or not np.isfinite(torque) or torque <= 0:
-            raise ValueError(f"torque = {torque!r} is not allowed: varying wob needs a torque > 0")
+        torque = _positive("torque", torque, "N·m", "varying wob needs")
         top = torque / c if c > 0 else 100.0
-        omega_max = min(omega_max or top, top)
+        omega_max = top if omega_max is None else min(omega_max, top)
 
         def wob_of(w):
             return (torque - c * np.asarray(w)) / (p.bit_radius * _mu(p, w))
 
         def torque_of(w):
             return np.full_like(np.asarray(w, dtype=float), torque)
-    elif vary == "torque":
-        if wob is None or not np.isfinite(wob) or wob <= 0:
-            raise ValueError(f"wob = {wob!r} is not allowed: varying torque needs a wob > 0")
-        omega_max = omega_max or 40.0
+    else:
+        wob = _positive("wob", wob, "N", "varying torque needs")
+        omega_max = 40.0 if omega_max is None else omega_max
 
         def wob_of(w):
             return np.full_like(np.asarray(w, dtype=float), wob)
 
         def torque_of(w):
             return c * np.asarray(w) + wob * p.bit_radius * _mu(p, w)
-    else:
-        raise ValueError(f"vary = {vary!r} is not allowed: choose 'wob' or 'torque'")
+
     if crossings is None:
         crossings = critical_deltas(p)
+    else:
+        crossings = _check_crossings(p, crossings)
 
     omega = np.linspace(omega_max * 1e-4, omega_max * (1 - 1e-9), samples)
     W = wob_of(omega)

@@ -11,13 +11,44 @@ from __future__ import annotations
 
 import math
 import numbers
+import reprlib
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from .model import Params
+from .model import Params, _number, _plain, _show
+
+
+def _velocity(omega: float) -> float:
+    """A steady velocity Ω (rad/s): a finite number, not 0; < 0 turns the string backwards."""
+    omega = _number("omega", omega, "rad/s")
+    if not math.isfinite(omega) or omega == 0:
+        raise ValueError(
+            f"omega = {omega:g} is not allowed: steady drilling needs a finite omega != 0 rad/s "
+            "(< 0 turns the string backwards)"
+        )
+    return omega
+
+
+def _params(params: Params) -> Params:
+    """``params`` if it is a :class:`Params`, else a ``TypeError`` naming it (as
+    :func:`pydrill.simulate` does)."""
+    if isinstance(params, Params):
+        return params
+    from .simulate import _type_name
+
+    hint = (
+        f" (for a preset by name, write pydrill.preset({params!r}))"
+        if isinstance(params, str)
+        else ""
+    )
+    raise TypeError(
+        "params must be a pydrill.Params (from pydrill.preset or Params(...)), got "
+        f"{_type_name(params)}{hint}"
+    )
 
 
 def criticality(l1: float | None) -> str | None:
@@ -59,9 +90,10 @@ class Crossing:
         normal form on the reduced Jacobian (banded solves, O(dof)): l₁ > 0 subcritical (past
         it the bit jumps to stick-slip; before it the two coexist), l₁ < 0 supercritical (a
         small stable oscillation is born)."""
+        core = _params(params).to_core()
         if self.type != "hopf" or self.frequency is None:
             return None
-        return _core.first_lyapunov_coefficient(params.to_core(), self.delta, self.frequency)
+        return _core.first_lyapunov_coefficient(core, self.delta, self.frequency)
 
 
 @dataclass(frozen=True)
@@ -80,8 +112,20 @@ class StabilityPoint:
 
     def to_dict(self, n_eigenvalues: int | None = 6) -> dict:
         """Plain JSON-ready data (``pydrill stability --json``), eigenvalues as ``[re, im]``
-        pairs: the leading ``n_eigenvalues`` of them, or all with ``None``."""
-        ev = self.eigenvalues if n_eigenvalues is None else self.eigenvalues[:n_eigenvalues]
+        pairs: the leading ``n_eigenvalues`` of them (an integer >= 0), or all with ``None``."""
+        ev = self.eigenvalues
+        if n_eigenvalues is not None:
+            n = _plain(n_eigenvalues)
+            if isinstance(n, bool) or not isinstance(n, int):
+                raise TypeError(
+                    f"n_eigenvalues must be an integer >= 0 (or None for all), got "
+                    f"{_show(n_eigenvalues)}"
+                )
+            if n < 0:
+                raise ValueError(
+                    f"n_eigenvalues = {n} is not allowed: need an integer >= 0 (or None for all)"
+                )
+            ev = ev[:n]
         return {
             "omega": self.omega,
             "wob": self.wob,
@@ -116,7 +160,7 @@ def _checked(name: str, value: ArrayLike, low: float, strict: bool) -> NDArray[n
 def stribeck_slope(params: Params, wob: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
     """δ(Ω, W_ob) = −dT_fb/dω at Ω (N·m·s/rad); broadcasts over arrays. Every W_ob must be
     finite and > 0 (N), every Ω finite and >= 0 (rad/s)."""
-    p = params
+    p = _params(params)
     wob = _checked("wob", wob, 0.0, strict=True)
     omega = _checked("omega", omega, 0.0, strict=False)
     factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
@@ -126,7 +170,7 @@ def stribeck_slope(params: Params, wob: ArrayLike, omega: ArrayLike) -> NDArray[
 def boundary_wob(params: Params, delta: float, omega: ArrayLike) -> NDArray[np.float64]:
     """W_ob at which δ(Ω, W_ob) = delta (N); broadcasts over Ω. ``delta`` must be finite and
     > 0 (a crossing's, :func:`critical_deltas`), every Ω finite and >= 0 (rad/s)."""
-    p = params
+    p = _params(params)
     delta = _checked("delta", delta, 0.0, strict=True)
     omega = _checked("omega", omega, 0.0, strict=False)
     factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
@@ -140,12 +184,13 @@ def critical_deltas(params: Params) -> list[Crossing]:
     >>> [c.type for c in critical_deltas(preset("reduced-scale", dof=2))]
     ['hopf', 'fold', 'hopf']
     """
-    return [Crossing(**c) for c in _core.critical_deltas(params.to_core())]
+    return [Crossing(**c) for c in _core.critical_deltas(_params(params).to_core())]
 
 
-def unstable_count(crossings: list[Crossing], delta: ArrayLike) -> NDArray[np.int64]:
+def unstable_count(crossings: Iterable[Crossing], delta: ArrayLike) -> NDArray[np.int64]:
     """Eigenvalues in the right half-plane at slope(s) δ (finite, >= 0), from the crossings
-    alone: a string's :func:`critical_deltas`, in increasing order."""
+    alone: a string's :func:`critical_deltas`, in increasing order (a list, or any iterable
+    of them)."""
     crossings = _crossing_list(crossings)
     deltas = np.array([c.delta for c in crossings], dtype=float)
     if np.any(np.diff(deltas) < 0):
@@ -158,17 +203,26 @@ def unstable_count(crossings: list[Crossing], delta: ArrayLike) -> NDArray[np.in
     return cumulative[np.searchsorted(deltas, delta, side="left")]
 
 
-def _crossing_list(crossings: list[Crossing]) -> list[Crossing]:
-    if isinstance(crossings, str) or not all(isinstance(c, Crossing) for c in crossings):
+def _crossing_list(crossings: Iterable[Crossing]) -> list[Crossing]:
+    """``crossings`` as a list (read once: an iterator is not used up by the check), every
+    entry a :class:`Crossing`; else a ``TypeError`` naming them."""
+    given = crossings
+    try:
+        if isinstance(given, (str, bytes, dict)):
+            raise TypeError
+        crossings = list(given)
+        if not all(isinstance(c, Crossing) for c in crossings):
+            raise TypeError
+    except TypeError:
         raise TypeError(
-            f"crossings = {crossings!r} is not allowed: a list of Crossing, as "
+            f"crossings = {reprlib.repr(given)} is not allowed: a list of Crossing, as "
             "critical_deltas(params) gives"
-        )
-    return list(crossings)
+        ) from None
+    return crossings
 
 
-def _check_crossings(params: Params, crossings: list[Crossing]) -> list[Crossing]:
-    """``crossings`` as given, refused when they cannot be the string's: every damped string
+def _check_crossings(params: Params, crossings: Iterable[Crossing]) -> list[Crossing]:
+    """``crossings`` as a list, refused when they cannot be the string's: every damped string
     has its fold at δ = c_r + c_b (DESIGN.md §3), an undamped one none. Crossings carry
     nothing else to compare: those of another string with the same damping pass."""
     crossings = _crossing_list(crossings)
@@ -190,30 +244,45 @@ def _check_crossings(params: Params, crossings: list[Crossing]) -> list[Crossing
 def eigenvalues(params: Params, delta: float) -> NDArray[np.complex128]:
     """Eigenvalues of the reduced Jacobian at slope δ, largest real part first (brute force,
     O(dof³)). LAPACK's dense solver (numpy's), not the core's: a check that shares no code
-    with the core's eigenvalues, and 3.5× faster at 500 pipes."""
+    with the core's eigenvalues, and 3.5× faster at 500 pipes. ``delta`` a finite number
+    (N·m·s/rad)."""
     ev = np.linalg.eigvals(jacobian(params, delta))
     return ev[np.lexsort((-ev.imag, -ev.real))]
 
 
 def jacobian(params: Params, delta: float) -> NDArray[np.float64]:
-    """The reduced Jacobian (twist coordinates, n' = 2·dof − 1) at slope δ."""
+    """The reduced Jacobian (twist coordinates, n' = 2·dof − 1) at slope δ (a finite number,
+    N·m·s/rad)."""
+    params = _params(params)
+    delta = _number("delta", delta, "N·m·s/rad")
     n = 2 * params.dof - 1
-    return np.array(_core.jacobian(params.to_core(), float(delta))).reshape(n, n)
+    return np.array(_core.jacobian(params.to_core(), delta)).reshape(n, n)
 
 
 def characteristic_polynomial(params: Params, delta: float) -> NDArray[np.float64]:
-    """det(λI − J), monic, coefficients in ascending powers (dof ≤ 12)."""
-    return np.array(_core.characteristic_polynomial(params.to_core(), float(delta)))
+    """det(λI − J) at slope δ (a finite number, N·m·s/rad), monic, coefficients in ascending
+    powers (dof ≤ 12)."""
+    core = _params(params).to_core()
+    delta = _number("delta", delta, "N·m·s/rad")
+    return np.array(_core.characteristic_polynomial(core, delta))
 
 
 def hurwitz_determinants(ascending: ArrayLike) -> NDArray[np.float64]:
-    """Hurwitz determinants Δ_1 … Δ_{n−1} of a polynomial in ascending powers."""
-    return np.array(_core.hurwitz_determinants([float(a) for a in np.asarray(ascending)]))
+    """Hurwitz determinants Δ_1 … Δ_{n−1} of a polynomial in ascending powers: ``ascending``
+    a 1-D list of finite numbers, degree >= 1."""
+    if isinstance(ascending, (str, bytes, dict)):
+        raise TypeError(f"ascending must be a 1-D list of numbers, got {_show(ascending)}")
+    # As objects: each entry is checked as it was given (a string stays a string).
+    a = ascending if isinstance(ascending, np.ndarray) else np.asarray(ascending, dtype=object)
+    if a.ndim != 1:
+        raise ValueError(f"ascending has shape {a.shape}: must be a 1-D list of numbers")
+    coefficients = [_number(f"ascending[{i}]", v, "a coefficient") for i, v in enumerate(a)]
+    return np.array(_core.hurwitz_determinants(coefficients))
 
 
 def hopf_deltas_dof2(params: Params) -> list[float]:
     """The paper's closed form (Eq. 51, n' = 3): δ where Δ_2 = a_2 a_1 − a_0 = 0 inside H_+."""
-    return list(_core.hopf_deltas_dof2(params.to_core()))
+    return list(_core.hopf_deltas_dof2(_params(params).to_core()))
 
 
 def stability(
@@ -222,7 +291,7 @@ def stability(
     *,
     omega: float | None = None,
     torque: float | None = None,
-    crossings: list[Crossing] | None = None,
+    crossings: Iterable[Crossing] | None = None,
 ) -> list[StabilityPoint]:
     """Stability of the steady state at velocity ``omega``, or of every steady state that the
     surface ``torque`` can hold (0, 1 or 2 of them) at weight on bit ``wob``.
@@ -233,19 +302,33 @@ def stability(
     of unstable eigenvalues and ``delta_margin`` come from them. They carry nothing that
     names their string; those without this string's fold (δ = c_r + c_b), ``[]`` among
     them, are refused, but those of another string of the same damping (another ``dof``)
-    would pass and answer for it."""
+    would pass and answer for it.
+
+    ``wob`` (N) must be finite and > 0, ``omega`` (rad/s) finite and non-zero, ``torque``
+    (N·m) finite. A negative ``torque`` or ``omega`` turns the string backwards: the mirror
+    image (φ → −φ) of ``-torque`` or ``-omega``, the same steady states with Ω and u
+    reversed and the same eigenvalues; the points come in increasing Ω either way."""
+    params = _params(params)
     if (omega is None) == (torque is None):
         raise ValueError("give exactly one of omega (rad/s) or torque (N·m)")
+    wob = _number("wob", wob, "N")
     if crossings is not None:
         crossings = _check_crossings(params, crossings)
     core = params.to_core()
     if omega is not None:
-        points = [_core.stability_at_velocity(core, float(wob), float(omega))]
+        omega = _velocity(omega)
+        if omega < 0:  # the core takes Ω > 0: the mirror image of |Ω|, reversed back
+            pt = _core.stability_at_velocity(core, wob, -omega)
+            points = [{**pt, "omega": -pt["omega"], "torque": -pt["torque"]}]
+        else:
+            points = [_core.stability_at_velocity(core, wob, omega)]
     elif crossings is not None:
+        torque = _number("torque", torque, "N·m")
         known = [vars(c) for c in crossings]  # their fields, as the core takes them
-        points = _core.stability_at_torque(core, float(wob), float(torque), known)
+        points = _core.stability_at_torque(core, wob, torque, known)
     else:
-        points = _core.stability_at_torque(core, float(wob), float(torque))
+        torque = _number("torque", torque, "N·m")
+        points = _core.stability_at_torque(core, wob, torque)
     return [
         StabilityPoint(
             **{k: v for k, v in pt.items() if k != "eigenvalues"},
@@ -256,12 +339,13 @@ def stability(
 
 
 def stability_map(
-    params: Params, omega: ArrayLike, wob: ArrayLike, crossings: list[Crossing] | None = None
+    params: Params, omega: ArrayLike, wob: ArrayLike, crossings: Iterable[Crossing] | None = None
 ) -> NDArray[np.int64]:
     """Unstable-eigenvalue counts on the grid ``omega`` × ``wob`` (shape (len(wob), len(omega)))
     — one lookup per point, whatever the string's length. ``omega`` (rad/s, finite, >= 0) and
     ``wob`` (N, finite, > 0) are 1-D, or numbers (an axis of one value); ``crossings``, if
     given, this string's ``critical_deltas(params)`` (see :func:`stability`)."""
+    params = _params(params)
     axes = []
     for name, values, strict in (("omega", omega, False), ("wob", wob, True)):
         a = _checked(name, values, 0.0, strict=strict)

@@ -20,6 +20,7 @@ Only δ_c depends on the string, hence on depth: the stall edge is the same at e
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,7 +28,16 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import lambertw
 
 from .model import Params
-from .stability import Crossing, critical_deltas, stribeck_slope, unstable_count
+from .stability import (
+    Crossing,
+    _check_crossings,
+    _checked,
+    _crossing_list,
+    _params,
+    critical_deltas,
+    stribeck_slope,
+    unstable_count,
+)
 
 RPM = 2 * np.pi / 60
 
@@ -55,16 +65,14 @@ class Window:
 
 
 def operating_window(
-    params: Params, wob: ArrayLike, rpm: ArrayLike, crossings: list[Crossing] | None = None
+    params: Params, wob: ArrayLike, rpm: ArrayLike, crossings: Iterable[Crossing] | None = None
 ) -> Window:
-    """Classify every (W_ob, rpm) of a grid, point by point (no closed form used)."""
-    wob = np.asarray(wob, dtype=float)
-    rpm = np.asarray(rpm, dtype=float)
-    if np.any(wob <= 0) or np.any(rpm <= 0):
-        raise ValueError("wob and rpm values must be > 0")
-    if crossings is None:
-        crossings = critical_deltas(params)
-    p = params
+    """Classify every (W_ob, rpm) of a grid, point by point (no closed form used): ``wob``
+    (N) and ``rpm`` finite numbers > 0, each a number or an array of them."""
+    p = _params(params)
+    wob = _checked("wob", wob, 0.0, strict=True)
+    rpm = _checked("rpm", rpm, 0.0, strict=True)
+    crossings = critical_deltas(p) if crossings is None else _check_crossings(p, crossings)
     omega = rpm[:, None] * RPM
     w = wob[None, :]
     mu = p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(
@@ -76,9 +84,10 @@ def operating_window(
     return Window(wob, rpm, stable, np.broadcast_to(unstick, stable.shape).copy(), torque)
 
 
-def stable_delta_limit(crossings: list[Crossing]) -> float:
+def stable_delta_limit(crossings: Iterable[Crossing]) -> float:
     """δ_c: the least Stribeck slope at which the steady state has an unstable eigenvalue
     (inf if it never has). Below it, every slope is stable (the count starts at 0)."""
+    crossings = _crossing_list(crossings)
     for c in crossings:
         if unstable_count(crossings, c.delta * (1 + 1e-12) + 1e-300) > 0:
             return float(c.delta)
@@ -87,15 +96,21 @@ def stable_delta_limit(crossings: list[Crossing]) -> float:
 
 @dataclass(frozen=True)
 class Limits:
-    """The closed-form edges of the window of one string (see the module docstring)."""
+    """The closed-form edges of the window of one string (see the module docstring).
+
+    Every ``rpm`` (surface rpm) and ``wob`` (N) its methods take is a finite number >= 0, or
+    an array of them (0 is the limit of the edge there)."""
 
     params: Params
     delta_limit: float  #: δ_c, N·m·s/rad
 
     @classmethod
-    def of(cls, params: Params, crossings: list[Crossing] | None = None) -> Limits:
+    def of(cls, params: Params, crossings: Iterable[Crossing] | None = None) -> Limits:
+        params = _params(params)
         if crossings is None:
             crossings = critical_deltas(params)
+        else:
+            crossings = _check_crossings(params, crossings)
         return cls(params, stable_delta_limit(crossings))
 
     @property
@@ -109,13 +124,13 @@ class Limits:
 
     def wob_max_stable(self, rpm: ArrayLike) -> NDArray[np.float64]:
         """Heaviest W_ob (N) at which steady drilling at ``rpm`` is stable (stick-slip edge)."""
-        omega = np.asarray(rpm, dtype=float) * RPM
+        omega = _checked("rpm", rpm, 0.0, strict=False) * RPM
         return self.delta_limit * np.exp(self._g * omega) / (self._a * self._g)
 
     def wob_max_unstuck(self, rpm: ArrayLike) -> NDArray[np.float64]:
         """Heaviest W_ob (N) at which the steady torque at ``rpm`` exceeds the static friction
         (stall edge); independent of the string."""
-        omega = np.asarray(rpm, dtype=float) * RPM
+        omega = _checked("rpm", rpm, 0.0, strict=False) * RPM
         c = self.params.top_damping + self.params.bit_damping
         with np.errstate(divide="ignore", invalid="ignore"):
             out = c * omega / (self._a * -np.expm1(-self._g * omega))
@@ -127,14 +142,14 @@ class Limits:
 
     def rpm_min_stable(self, wob: ArrayLike) -> NDArray[np.float64]:
         """Slowest surface rpm at which steady drilling with ``wob`` (N) is stable."""
-        w = np.asarray(wob, dtype=float)
+        w = _checked("wob", wob, 0.0, strict=False)
         with np.errstate(divide="ignore"):
             omega = np.log(w * self._a * self._g / self.delta_limit) / self._g
         return np.maximum(omega, 0.0) / RPM
 
     def rpm_min_unstuck(self, wob: ArrayLike) -> NDArray[np.float64]:
         """Slowest surface rpm at which the bit cannot stay stuck under ``wob`` (N)."""
-        w = np.asarray(wob, dtype=float)
+        w = _checked("wob", wob, 0.0, strict=False)
         c = self.params.top_damping + self.params.bit_damping
         s = np.asarray(w * self._a * self._g / c, dtype=float)
         x = np.zeros_like(s)
@@ -149,9 +164,10 @@ class Limits:
     def torque(self, wob: ArrayLike, rpm: ArrayLike) -> NDArray[np.float64]:
         """Surface torque of steady drilling (N·m)."""
         p = self.params
-        omega = np.asarray(rpm, dtype=float) * RPM
+        w = _checked("wob", wob, 0.0, strict=False)
+        omega = _checked("rpm", rpm, 0.0, strict=False) * RPM
         mu = p.mu_coulomb + (p.mu_static - p.mu_coulomb) * np.exp(-self._g * omega)
-        return (p.top_damping + p.bit_damping) * omega + np.asarray(wob) * p.bit_radius * mu
+        return (p.top_damping + p.bit_damping) * omega + w * p.bit_radius * mu
 
 
 @dataclass(frozen=True)
@@ -176,14 +192,13 @@ def window_against_depth(
     tally, depths: ArrayLike, rpm: ArrayLike, wob: ArrayLike, lump: int = 1
 ) -> DepthWindow:
     """The window's edges for the string of ``tally`` at each depth (m), one element per joint
-    (or per ``lump`` drill-pipe joints)."""
-    depths = np.asarray(depths, dtype=float)
-    rpm = np.asarray(rpm, dtype=float)
-    wob = np.asarray(wob, dtype=float)
-    if depths.ndim != 1 or depths.size == 0 or np.any(~np.isfinite(depths) | (depths <= 0)):
+    (or per ``lump`` drill-pipe joints). ``rpm`` and ``wob`` (N): finite numbers > 0, each a
+    number or an array of them."""
+    depths = _checked("depths", depths, 0.0, strict=True)
+    rpm = _checked("rpm", rpm, 0.0, strict=True)
+    wob = _checked("wob", wob, 0.0, strict=True)
+    if depths.ndim != 1 or depths.size == 0:
         raise ValueError("depths must be a non-empty list of finite depths > 0 (m)")
-    if np.any(rpm <= 0) or np.any(wob <= 0):
-        raise ValueError("reference rpm and wob values must be > 0")
     rows = []
     for d in depths:
         p = tally.at_depth(float(d)).to_params(lump=lump)
