@@ -46,20 +46,20 @@ class Switch:
 class SolverStats:
     """What the integrator did; counters are summed across re-initialisations."""
 
-    method: str
-    method_reason: str
-    stiffness_ratio: float
-    steps: int
-    rhs_evals: int
-    jac_evals: int
-    lin_setups: int
-    lin_solves: int
-    nonlin_iters: int
-    nonlin_conv_fails: int
-    err_test_fails: int
-    root_evals: int
-    reinits: int
-    switches: int
+    method: str  #: what ran: "dop853", "bdf", "adams" or "erk"
+    method_reason: str  #: why ``method="auto"`` chose it
+    stiffness_ratio: float  #: the stiffness estimate ``"auto"`` used
+    steps: int  #: internal steps taken
+    rhs_evals: int  #: right-hand side evaluations
+    jac_evals: int  #: Jacobian evaluations (bdf, adams)
+    lin_setups: int  #: linear solver setups (bdf, adams)
+    lin_solves: int  #: linear solves (bdf, adams)
+    nonlin_iters: int  #: nonlinear solver iterations (bdf, adams)
+    nonlin_conv_fails: int  #: nonlinear solver convergence failures (bdf, adams)
+    err_test_fails: int  #: steps refused by the error test, then retried smaller
+    root_evals: int  #: evaluations of the switching functions (rootfinding)
+    reinits: int  #: restarts of the integrator, one at each friction switch
+    switches: int  #: friction switches (stick, slip, reversal)
     wall_time: float  #: s spent in the C++ core
 
 
@@ -67,24 +67,25 @@ class SolverStats:
 class Summary:
     """The regime and its metrics, judged on the window ``[window_start, window_end]``."""
 
-    regime: str
-    window_start: float
-    window_end: float
-    #: extremes of ω_b in the window (rad/s): of the motion, not of the output samples (each
-    #: step's values and slopes place a peak between steps), so independent of ``n_out``
-    bit_min: float
-    bit_max: float
-    bit_mean: float  #: exact: from the angle turned over the window
-    top_min: float
-    top_max: float
-    top_mean: float
+    regime: str  #: "steady", "stick-slip", "stuck" or "oscillation"
+    window_start: float  #: s, the judged window's start
+    window_end: float  #: s, its end (t_end)
+    # The extremes are of the motion, not of the output samples (each step's values and
+    # slopes place a peak between steps), so they do not depend on n_out.
+    bit_min: float  #: rad/s, least ω_b in the window (of the motion, whatever ``n_out``)
+    bit_max: float  #: rad/s, greatest ω_b in the window (of the motion, whatever ``n_out``)
+    bit_mean: float  #: rad/s, exact: from the angle turned over the window
+    top_min: float  #: rad/s, least top-drive velocity ω_0 in the window
+    top_max: float  #: rad/s, greatest ω_0 in the window
+    top_mean: float  #: rad/s, mean ω_0 over the window
     severity: float  #: (max ω_b − min ω_b) / (2 mean ω_b)
-    bit_top_ratio: float  #: max ω_b / mean ω_top
-    stuck_fraction: float
+    bit_top_ratio: float  #: max ω_b / mean ω_top (min ω_b / mean ω_top when u < 0)
+    stuck_fraction: float  #: fraction of the window the bit is held (stick)
     period: float | None  #: s, stick-slip or oscillation period
-    stick_events: int
+    stick_events: int  #: slip → stick transitions in the window
     static_torque: float  #: T_s = μ_sb W_ob R_b
-    omega_equilibrium: tuple[float, ...]  #: every steady velocity Ω > 0 for (W_ob, u)
+    #: rad/s, every steady velocity Ω for (W_ob, u): > 0, or < 0 when u < 0 (the mirror image)
+    omega_equilibrium: tuple[float, ...]
     note: str = ""  #: caveat about the judgement (e.g. the run was too short)
     #: the note's kind, for tables (an atlas keeps this): "first-wind-up", "one-stick-phase",
     #: "one-break-away", "late-stick", "growing", "short-window"; "" without a note
@@ -104,22 +105,27 @@ class SimulationResult:
 
     def __init__(self, core: Any, params: Params, settings: dict[str, Any]) -> None:
         self._core = core
-        self.params = params
-        self.settings = settings
-        self.wob: float = core.wob
-        self.torque: float = core.torque
-        self.t: NDArray[np.float64] = core.t
+        self.params: Params = params  #: the string simulated
+        #: the simulation settings as given to :func:`simulate` (``t_end``, ``method``, …)
+        self.settings: dict[str, Any] = settings
+        self.wob: float = core.wob  #: N, weight on bit
+        self.torque: float = core.torque  #: N·m, surface torque u
+        self.t: NDArray[np.float64] = core.t  #: s, the output times, shape (n,)
+        #: the twist coordinates (ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b) at ``t``, shape (n, 2·dof − 1)
         self.states: NDArray[np.float64] = core.states
-        self.top_angle: NDArray[np.float64] = core.top_angle
+        self.top_angle: NDArray[np.float64] = core.top_angle  #: rad, φ_0 at ``t``
+        #: J, work done by the surface torque since t = 0, ∫ u ω_0 dt; the ledger balances:
+        #: E(t) − E(0) = work_input − viscous_loss − friction_loss
         self.work_input: NDArray[np.float64] = core.work_input
-        self.viscous_loss: NDArray[np.float64] = core.viscous_loss
-        self.friction_loss: NDArray[np.float64] = core.friction_loss
-        self.energy: NDArray[np.float64] = core.energy
+        self.viscous_loss: NDArray[np.float64] = core.viscous_loss  #: J, ∫ viscous dissipation dt
+        self.friction_loss: NDArray[np.float64] = core.friction_loss  #: J, ∫ T_f ω_b dt at the bit
+        self.energy: NDArray[np.float64] = core.energy  #: J, kinetic + elastic at ``t``
+        #: the bit's friction mode at ``t``, as codes into ``pydrill.simulate.MODES``
         self.mode_index: NDArray[np.int32] = core.modes
-        self.stats = SolverStats(**core.stats)
+        self.stats: SolverStats = SolverStats(**core.stats)  #: the solver's work
         summary = dict(core.summary)
         summary["omega_equilibrium"] = tuple(summary["omega_equilibrium"])
-        self.summary = Summary(**summary)
+        self.summary: Summary = Summary(**summary)  #: the regime and its metrics
 
     def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
         # The core's Result cannot be pickled: copy its data (the arrays, by pickle or deepcopy,

@@ -10,6 +10,7 @@ so the reference cannot drift from the code: change a docstring or ``__all__``, 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import inspect
 import re
 import sys
@@ -156,10 +157,39 @@ def _field_comments(cls: type) -> dict[str, str]:
         source = inspect.getsource(cls)
     except (OSError, TypeError):
         return {}
-    found = {}
-    for m in re.finditer(r"^\s+(\w+):[^#\n]*#:\s*(.+)$", source, re.M):
-        found[m.group(1)] = m.group(2).strip()
+    return _comments(source, r"(\w+):[^#\n=]*(?:=[^#\n]*)?")
+
+
+def _comments(source: str, target: str) -> dict[str, str]:
+    """``#:`` comments of the names ``target`` matches at the start of a line (its group 1):
+    after it on the same line, or on the ``#:`` lines just above it (Sphinx's two forms)."""
+    found: dict[str, str] = {}
+    above: list[str] = []
+    for line in source.splitlines():
+        stripped = line.strip()
+        if stripped.startswith("#:"):
+            above.append(stripped[2:].strip())
+            continue
+        m = re.match(rf"\s*{target}\s*(?:#:\s*(.+))?$", line)
+        if m and (above or m.group(2)):
+            found.setdefault(m.group(1), " ".join([*above, m.group(2) or ""]).strip())
+        above = []
     return found
+
+
+def _attribute_comments(cls: type) -> dict[str, tuple[str, str]]:
+    """The documented attributes ``__init__`` sets (``self.x: T = ...  #: meaning``, or the
+    ``#:`` lines above), with their annotations."""
+    init = vars(cls).get("__init__")
+    if not inspect.isfunction(init):
+        return {}
+    try:
+        source = inspect.getsource(init)
+    except (OSError, TypeError):
+        return {}
+    types = dict(re.findall(r"^\s*self\.(\w+):\s*([^=#\n]+?)\s*=", source, re.M))
+    notes = _comments(source, r"self\.(\w+)(?::[^=#\n]+)?\s*=[^#\n]*")
+    return {name: (types.get(name, ""), note) for name, note in notes.items()}
 
 
 def _doc(obj: Any) -> str:
@@ -174,7 +204,9 @@ def _members(cls: type) -> list[tuple[str, Any]]:
     for name, value in vars(cls).items():
         if name.startswith("_"):
             continue
-        if isinstance(value, (property, staticmethod, classmethod)) or inspect.isfunction(value):
+        if isinstance(
+            value, (property, functools.cached_property, staticmethod, classmethod)
+        ) or inspect.isfunction(value):
             out.append((name, value))
     return out
 
@@ -201,14 +233,22 @@ def render_class(qual: str, cls: type, level: int) -> list[str]:
         lines += ["| field | type | meaning |", "|---|---|---|"]
         for f in fields:
             ann = f.type if isinstance(f.type, str) else _annotation(f.type)
-            note = comments.get(f.name, "").replace("|", "\\|")
+            note = _rst_to_md(comments.get(f.name, "")).replace("|", "\\|")
             lines.append(f"| `{f.name}` | `{ann}` | {note} |")
         lines.append("")
+    attributes = _attribute_comments(cls)
+    if attributes:
+        lines += ["| attribute | type | meaning |", "|---|---|---|"]
+        for name, (ann, note) in attributes.items():
+            note = _rst_to_md(note).replace("|", "\\|")
+            lines.append(f"| `{name}` | `{ann}` | {note} |")
+        lines.append("")
     for name, member in _members(cls):
-        if isinstance(member, property):
-            ret = _annotation(inspect.signature(member.fget).return_annotation)
+        if isinstance(member, (property, functools.cached_property)):
+            fget = member.fget if isinstance(member, property) else member.func
+            ret = _annotation(inspect.signature(fget).return_annotation)
             head = f"property {qual}.{name}" + (f" -> {ret}" if ret else "")
-            doc = _doc(member.fget)
+            doc = _doc(fget)
         else:
             func = member.__func__ if isinstance(member, (staticmethod, classmethod)) else member
             sig = signature(func, f"{qual}.{name}").replace("(self, ", "(").replace("(self)", "()")
