@@ -127,12 +127,30 @@ class Params:
         return p
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain JSON-ready data: every field (lists for the chain), ``dof`` and ``name``."""
+        """Plain JSON-ready data: every field (lists for the chain), ``dof`` and ``name``;
+        :meth:`from_dict` reads it back."""
         d = {key: list(getattr(self, key)) for key in _LISTS}
         d.update({key: getattr(self, key) for key in _SCALARS})
         d["dof"] = self.dof
         d["name"] = self.name
         return d
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> Params:
+        """The Params :meth:`to_dict` wrote (e.g. read back from JSON): ``dof``, derived, must
+        agree with the chain's length if given; any other unknown key is refused by name."""
+        data = dict(data)
+        dof = data.pop("dof", None)
+        unknown = set(data) - set(_LISTS) - set(_SCALARS) - {"name"}
+        if unknown:
+            raise ValueError(
+                f"unknown parameter {sorted(unknown)[0]!r}: allowed are "
+                + ", ".join((*_LISTS, *_SCALARS, "name", "dof"))
+            )
+        params = cls(**data)
+        if dof is not None and dof != params.dof:
+            raise ValueError(f"dof = {dof!r} does not match the {params.dof} inertias given")
+        return params
 
 
 def resolve_dof(dof: int | None, pipes: int | None, default: int | None = 4) -> int:

@@ -106,3 +106,19 @@ def test_equilibrium_torque_inverts_velocities():
             assert any(
                 abs(w - omega) < 1e-12 * omega for w in pydrill.equilibrium_velocities(p, wob, u)
             )
+
+
+def test_to_dict_and_from_dict_round_trip_through_json():
+    import json
+
+    for p in (
+        pydrill.preset("reduced-scale", dof=7),
+        pydrill.preset("reduced-scale", dof=3).replace(inertias=[1.0, 2.0, 3.0], name="mine"),
+    ):
+        back = pydrill.Params.from_dict(json.loads(json.dumps(p.to_dict())))
+        assert back == p and back.name == p.name and back.dof == p.dof
+    d = pydrill.preset("reduced-scale", dof=4).to_dict()
+    with pytest.raises(ValueError, match="dof = 5 does not match the 4 inertias"):
+        pydrill.Params.from_dict({**d, "dof": 5})
+    with pytest.raises(ValueError, match="unknown parameter 'mu_dynamic'"):
+        pydrill.Params.from_dict({**d, "mu_dynamic": 0.5})
