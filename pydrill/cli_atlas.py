@@ -328,12 +328,15 @@ def _cmd_query(args: argparse.Namespace) -> int:
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .atlas import Atlas
+    from .atlas_format import EQ_FIELDS
     from .atlas_grid import on_grid
     from .plot import save
-    from .plot_atlas import atlas_figure, nearest_index
+    from .plot_atlas import NO_STABILITY, atlas_figure, nearest_index
 
     at = _axis_values(args.set)
     with Atlas(args.atlas) as atlas:
+        if args.metric in EQ_FIELDS and not atlas.spec.record["stability"]:
+            raise ValueError(f"--metric {args.metric}: {NO_STABILITY}")
         for name, value in at.items():
             if name not in atlas.axes:
                 continue  # atlas_figure says which axes there are

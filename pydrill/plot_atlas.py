@@ -14,6 +14,8 @@ METRICS = {
     **{n: (f[2], f[3]) for n, f in fmt.RUN_FIELDS.items()},
     **{n: (f[2], f[3].replace(", fastest first", "")) for n, f in fmt.EQ_FIELDS.items()},
 }
+#: why a steady state's metric (``omega_eq``, ``hopf_margin``, ...) cannot be mapped
+NO_STABILITY = "this atlas did not record stability ([record] stability = false)"
 # Signed: zero is the stability boundary, so the colours diverge there.
 SIGNED = ("spectral_abscissa", "hopf_margin")
 
@@ -39,7 +41,8 @@ def atlas_figure(
     ``spectral_abscissa``, ...) the map is coloured by that value instead, with a colour bar
     in its units: a simulation's from ``initial``, a steady state's of the fastest one. Signed
     stability values (``spectral_abscissa``, ``hopf_margin``) are coloured about zero, red
-    where unstable."""
+    where unstable. A steady state's metric of an atlas swept without stability (``[record]
+    stability = false``) is refused (ValueError): there is nothing to map."""
     import numpy as np
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
@@ -50,6 +53,8 @@ def atlas_figure(
         raise ValueError(f"initial = {init!r} is not in this atlas: {atlas.initials}")
     if metric is not None and metric not in METRICS:
         raise ValueError(f"metric = {metric!r} is not allowed: one of {', '.join(METRICS)}")
+    if metric in fmt.EQ_FIELDS and not atlas.spec.record["stability"]:
+        raise ValueError(f"metric = {metric!r}: {NO_STABILITY}")
     order = list(atlas.axes)
     if len(order) < 2:
         raise ValueError("the atlas has one axis: a map needs two")

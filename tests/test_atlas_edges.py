@@ -264,3 +264,31 @@ def test_coordinates_take_units_as_the_command_line_does(tmp_path):
             atlas.value(wob=100.0, torque=None)
         with pytest.raises(TypeError, match="wob = True is not allowed"):
             atlas.value(wob=True, torque=8.3)
+
+
+@pytest.fixture(scope="module")
+def unstable_free_atlas(tmp_path_factory):
+    """An atlas swept with ``[record] stability = false``: runs, no steady states."""
+    out = tmp_path_factory.mktemp("nostab") / "nostab.h5"
+    spec = SMALL.replace('initial = ["rest", "equilibrium"]', 'initial = ["rest"]')
+    run_sweep(parse_spec(spec + "[record]\nstability = false\n"), out, serial=True)
+    return out
+
+
+@pytest.mark.parametrize("metric", ["omega_eq", "spectral_abscissa", "hopf_margin", "unstable"])
+def test_a_stability_metric_of_an_atlas_without_stability_is_refused(
+    unstable_free_atlas, tmp_path, metric
+):
+    """``--metric omega_eq`` on such an atlas drew an all-grey map with a 0-1 colour bar."""
+    out = tmp_path / "p.png"
+    proc = run("atlas", "plot", unstable_free_atlas, "--out", out, "--metric", metric)
+    assert proc.returncode == 2 and not out.exists()
+    assert proc.stderr.strip() == (
+        f"pydrill atlas plot: error: --metric {metric}: this atlas did not record stability "
+        "([record] stability = false)"
+    )
+    with Atlas(unstable_free_atlas) as atlas:
+        with pytest.raises(ValueError, match="this atlas did not record stability"):
+            atlas.plot(metric=metric)
+        atlas.plot(metric="severity")  # what the runs hold is still mapped
+    assert run("atlas", "plot", unstable_free_atlas, "--out", out).returncode == 0
