@@ -147,7 +147,7 @@ def run_dask(
     address, a scheduler file (``*.json``), or a ``distributed.Client`` of the caller's, which
     stays open. ``dashboard``: where the LocalCluster serves Dask's dashboard (None: nowhere).
     ``on_cluster`` gets a ``ClusterInfo`` once the batches are submitted."""
-    from distributed import Client, LocalCluster, as_completed
+    from distributed import Client, KilledWorker, LocalCluster, as_completed
 
     from . import batching
     from .sweep import ClusterInfo, SchedulerError, evaluate_batch
@@ -218,11 +218,13 @@ def run_dask(
             if cluster is None and n:  # workers this process did not fork: can they run it?
                 check_workers(client)
             deal = batching.Batcher(todo)
+            batch_of: dict[Any, list[int]] = {}  # each future's points
 
-            def submit(workers: int) -> list[Any]:
+            def submit(workers: int, parts: list[list[int]] | None = None) -> list[Any]:
                 # One message to the scheduler for many batches, not one each (measured: a
                 # quarter less of the client's CPU, which the workers would have had).
-                parts = deal.rest(max(workers, 1))
+                alone = parts is not None  # points of a batch that killed its workers
+                parts = deal.rest(max(workers, 1)) if parts is None else parts
                 futures = client.map(
                     evaluate_batch,
                     [spec.text] * len(parts),
@@ -230,9 +232,11 @@ def run_dask(
                     [spec.tally_text] * len(parts),
                     [batching.BATCH_SECONDS] * len(parts),
                     pure=False,
-                    retries=3,
+                    # A point alone is not retried: each retry would kill a worker again.
+                    retries=0 if alone else 3,
                 )
                 pending.update(futures)
+                batch_of.update((f, part) for f, part in zip(futures, parts, strict=True))
                 return futures
 
             running = as_completed(submit(n))
@@ -244,7 +248,21 @@ def run_dask(
                 if cluster is None:  # a cluster of others: its workers come and go
                     watch = WorkerWatch(client, info, on_cluster)
             for fut in running:
-                done = fut.result()
+                points = batch_of.pop(fut)
+                try:
+                    done = fut.result()
+                except KilledWorker as exc:
+                    # Workers died running it, again and again (the scheduler gives up after
+                    # distributed.scheduler.allowed-failures): a point that crashes the
+                    # process or takes all its memory, or workers killed from outside. Each
+                    # point goes again alone; one that still kills its worker is stored as
+                    # failed, and the sweep goes on.
+                    pending.discard(fut)
+                    if len(points) > 1:
+                        running.update(submit(0, [[i] for i in points]))
+                    else:
+                        absorb(killed_point(spec, points[0], exc))
+                    continue
                 # Let go of it, or its result would stay in the workers' memory to the end
                 # of the sweep: a gigabyte for a million points.
                 pending.discard(fut)
@@ -266,6 +284,22 @@ def run_dask(
                 fut = running = None
             if cluster is not None:
                 cluster.close()
+
+
+def killed_point(spec: SweepSpec, index: int, exc: BaseException) -> Any:
+    """The batch of one point stored as failed: it killed every worker that ran it."""
+    from .sweep_points import Batch, encode_batch
+
+    rec = {
+        "i": int(index),
+        "status": "failed",
+        "runs": {},
+        "message": (
+            "it killed every Dask worker that ran it (a crash, or out of memory); the "
+            f"scheduler gave up: {exc}"
+        ),
+    }
+    return Batch(*encode_batch(spec, [rec]), 0.0, [])
 
 
 #: how often (s) a sweep on an existing cluster looks at how many workers it has

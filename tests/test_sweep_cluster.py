@@ -20,12 +20,14 @@ from sweeping import (
     MEDIUM,
     ROOT,
     SMALL,
+    TINY,
     dask_process,
     free_port,
     same_atlas,
     stop_processes,
 )
 
+from pydrill.atlas import Atlas
 from pydrill.spec import parse_spec
 from pydrill.sweep import SweepInterrupted, run_sweep
 
@@ -377,3 +379,39 @@ def test_workers_are_counted_beyond_the_five_some_dask_versions_list(tmp_path):
             parse_spec(SMALL), tmp_path / "seven.h5", scheduler=client, on_cluster=seen.append
         )
     assert seen[0].workers == 7
+
+
+def test_a_point_that_kills_its_workers_is_stored_failed_and_the_sweep_goes_on(
+    tmp_path, monkeypatch
+):
+    """A point that takes its worker process down (a crash in native code, the memory
+    killer) every time: the scheduler gives up on its batch (KilledWorker), which once ended
+    the sweep with a traceback. Now the batch's points go again one by one; the one that
+    still kills is stored as failed with the reason, every other point is computed. The
+    workers are forked from this process, so they run the patched point."""
+    from pydrill import sweep_points
+
+    spec = parse_spec(TINY)
+    reference = tmp_path / "ref.h5"
+    run_sweep(spec, reference, serial=True)
+    real = sweep_points.evaluate_point
+
+    def crashing(spec, index):
+        if index == 4:
+            os._exit(9)  # as a segfault or SIGKILL would: no exception, no cleanup
+        return real(spec, index)
+
+    monkeypatch.setattr(sweep_points, "evaluate_point", crashing)
+    out = tmp_path / "crash.h5"
+    report = run_sweep(spec, out, workers=2)
+    assert (report.computed, report.failed) == (6, 1)
+    with Atlas(out) as atlas, Atlas(reference) as ref:
+        for i in range(6):
+            coords = spec.coords(i)
+            got, want = atlas.value(**coords), ref.value(**coords)
+            if i == 4:
+                assert got["status"] == "failed"
+                assert "killed every Dask worker that ran it" in got["message"]
+            else:  # all but the time each run took
+                got["metrics"].pop("wall_time"), want["metrics"].pop("wall_time")
+                assert got == want
