@@ -7,6 +7,7 @@ import shlex
 import signal
 import sys
 import time
+from pathlib import Path
 
 from .cli_options import figure_path, json_document, print_json, writable_place
 
@@ -275,7 +276,23 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         _say(bar, line)
 
     address = args.scheduler or configured
-    if bar is not None and address and not str(address).endswith(".json"):
+    if bar is not None and address and str(address).endswith(".json"):
+        from .sweep_dask import connect_timeout, scheduler_file_address
+
+        file = Path(address)
+        if not file.exists():
+            _say(
+                bar,
+                f"sweep: no scheduler file {file} yet; waiting up to {connect_timeout():g} s for "
+                "a scheduler to write it (distributed.comm.timeouts.connect)",
+            )
+            address = None
+        else:  # probed below; a file without an address is refused by the sweep itself
+            try:
+                address = scheduler_file_address(file, 0.0)
+            except Exception:
+                address = None
+    if bar is not None and address:
         from .sweep_dask import unanswered
 
         patience = unanswered(address)

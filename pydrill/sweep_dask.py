@@ -61,6 +61,48 @@ def configured_scheduler() -> ConfiguredAddress | None:
     return found
 
 
+def connect_timeout() -> float:
+    """How long (s) a Dask client keeps trying to reach its scheduler:
+    ``distributed.comm.timeouts.connect`` (30 s unless configured)."""
+    import distributed  # noqa: F401 - its config defaults, which name the timeout
+    from dask.utils import parse_timedelta
+
+    return float(parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s"))
+
+
+def scheduler_file_address(file: Path, wait: float) -> str:
+    """The scheduler's address in ``file`` (``dask scheduler --scheduler-file FILE.json``),
+    waiting up to ``wait`` s for the file to appear: a job script may start the scheduler and
+    the sweep together. Dask's own client would wait for ever, and take a file without an
+    address for one not written yet. Raises ``SchedulerError`` naming the file."""
+    import json
+    import time
+
+    from .sweep import SchedulerError
+
+    how = "it is written by 'dask scheduler --scheduler-file FILE.json'"
+    deadline = time.monotonic() + wait
+    while not file.is_file():
+        if file.exists() or time.monotonic() > deadline:
+            raise SchedulerError(
+                f"--scheduler {file}: no such scheduler file"
+                + ("" if file.exists() else f" after waiting {wait:g} s")
+                + f" ({how}; distributed.comm.timeouts.connect sets the wait)"
+            )
+        time.sleep(0.1)
+    for _ in range(20):  # it may be there but not written whole yet
+        try:
+            address = json.loads(file.read_text())["address"]
+            if isinstance(address, str) and address:
+                return address
+        except (OSError, ValueError, KeyError, TypeError):
+            pass
+        time.sleep(0.05)
+    raise SchedulerError(
+        f'--scheduler {file}: not a Dask scheduler file (no scheduler "address" in it; {how})'
+    )
+
+
 def unanswered(address: str, within: float = 0.5) -> float | None:
     """When nothing answers at the scheduler address ``address`` right now (refused,
     unreachable, or silent ``within`` seconds): how long Dask's client will keep trying
@@ -68,7 +110,6 @@ def unanswered(address: str, within: float = 0.5) -> float | None:
     one answers, or for an address this cannot probe (not TCP, a scheduler file)."""
     import socket
 
-    from dask.utils import parse_timedelta
     from distributed.comm.addressing import parse_address, parse_host_port
 
     try:
@@ -82,7 +123,7 @@ def unanswered(address: str, within: float = 0.5) -> float | None:
         with socket.create_connection((host, port), timeout=within):
             return None
     except OSError:
-        return parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s")
+        return connect_timeout()
 
 
 def worker_count(client: Any) -> int:
@@ -161,13 +202,9 @@ def run_dask(
             # A scheduler file (dask scheduler --scheduler-file, dask-mpi, batch systems)
             # names the address and how to connect: HPC clusters share it, not an address.
             file = Path(scheduler) if str(scheduler).endswith(".json") else None
-            if file is not None and not file.is_file():
-                raise SchedulerError(
-                    f"--scheduler {scheduler}: no such scheduler file (it is written by "
-                    "'dask scheduler --scheduler-file FILE.json')"
-                )
+            address = scheduler_file_address(file, connect_timeout()) if file else scheduler
             try:  # waits distributed.comm.timeouts.connect (30 s unless configured)
-                client = Client(scheduler_file=str(file)) if file else Client(scheduler)
+                client = Client(address)
             except (OSError, ValueError) as exc:
                 if isinstance(scheduler, ConfiguredAddress):
                     raise SchedulerError(
@@ -175,8 +212,9 @@ def run_dask(
                         f"there ({exc}). Start it, unset it, or give --workers N (workers=N) to "
                         "run on a local cluster"
                     ) from None
+                where = f"{scheduler} (address {address})" if file else scheduler
                 raise SchedulerError(
-                    f"--scheduler {scheduler}: no Dask scheduler answered there ({exc}). "
+                    f"--scheduler {where}: no Dask scheduler answered there ({exc}). "
                     "Start one ('dask scheduler', then 'dask worker ADDRESS' on each machine), "
                     "or leave --scheduler out to run on a local cluster"
                 ) from None

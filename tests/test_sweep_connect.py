@@ -8,6 +8,8 @@ import subprocess
 import time
 from pathlib import Path
 
+import dask
+import distributed  # noqa: F401 - its config defaults, before any dask.config.set
 import pytest
 from sweeping import CMD, ROOT, SMALL, dask_process, free_port, stop_processes
 
@@ -54,9 +56,62 @@ def test_a_missing_scheduler_file_is_named_and_nothing_is_written(tmp_path):
     from pydrill.sweep import SchedulerError
 
     out = tmp_path / "never.h5"
-    with pytest.raises(SchedulerError, match=r"no such scheduler file.*--scheduler-file"):
+    with (
+        dask.config.set({"distributed.comm.timeouts.connect": "1s"}),
+        pytest.raises(
+            SchedulerError, match=r"no such scheduler file after waiting 1 s.*--scheduler-file"
+        ),
+    ):
         run_sweep(parse_spec(SMALL), out, scheduler=str(tmp_path / "gone.json"))
     assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+@pytest.mark.parametrize("text", ["{}", "garbage", '{"address": 5}', "[1, 2]"])
+def test_a_file_that_is_no_scheduler_file_is_named_not_a_traceback(tmp_path, text):
+    """Dask's client failed on these with an AssertionError deep inside it."""
+    from pydrill.sweep import SchedulerError
+
+    bad = tmp_path / "bad.json"
+    bad.write_text(text)
+    out = tmp_path / "never.h5"
+    with pytest.raises(SchedulerError, match=r"bad.json: not a Dask scheduler file \(no sch"):
+        run_sweep(parse_spec(SMALL), out, scheduler=str(bad))
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+def test_a_scheduler_file_written_while_the_sweep_waits_runs_it(tmp_path):
+    """A batch job starts the scheduler and the sweep together: the file is not there yet.
+    It was refused at once; now it is waited for (as the guide says), and the user told."""
+    file = tmp_path / "sched.json"
+    small = tmp_path / "small.toml"
+    small.write_text(SMALL)
+    out = tmp_path / "late.h5"
+    sweep = subprocess.Popen(
+        [*CMD, "sweep", str(small), "--out", str(out), "--scheduler", str(file), "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "90s"},
+    )
+    procs = []
+    try:
+        line = sweep.stderr.readline()
+        assert line == (
+            f"sweep: no scheduler file {file} yet; waiting up to 90 s for a scheduler to write "
+            "it (distributed.comm.timeouts.connect)\n"
+        )
+        where = ("--scheduler-file", str(file))
+        procs.append(dask_process("scheduler", "--host", "127.0.0.1", "--port", "0", *where,
+                                  "--dashboard-address", ":0"))  # fmt: skip
+        procs.append(dask_process("worker", *where, "--nthreads", "1", "--no-nanny"))
+        stdout, stderr = sweep.communicate(timeout=120)
+        assert sweep.returncode == 0, line + stderr
+        assert json.loads(stdout)["computed"] == parse_spec(SMALL).size
+    finally:
+        if sweep.poll() is None:
+            sweep.kill()
+            sweep.wait()
+        stop_processes(procs)
 
 
 def test_a_scheduler_that_starts_while_the_sweep_waits_runs_it(tmp_path):
