@@ -363,6 +363,9 @@ class Atlas:
             # Atlases written before ``message`` had its dimension scales: xarray guessed its
             # dimensions from their lengths.
             ds = ds.assign(message=(tuple(self.axes), ds["message"].values, ds["message"].attrs))
+        for name in self.axes:
+            if ds[name].attrs.get("units") == "SI":  # atlases written before axis_units
+                ds[name].attrs["units"] = fmt.axis_units(name)
         if "regime" in ds:
             codes = sorted(fmt.REGIMES.items(), key=lambda kv: kv[1])
             ds["regime"].attrs["flag_values"] = np.array([c for _, c in codes], dtype="i1")

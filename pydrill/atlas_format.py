@@ -96,6 +96,30 @@ EQ_FIELDS = {
 }
 
 
+#: the units of the axes that are not model parameters (UDUNITS, as CF asks; "1": a count)
+AXIS_UNITS = {"wob": "N", "torque": "N m", "dof": "1", "pipes": "1", "depth": "m"}
+
+
+def axis_units(name: str) -> str:
+    """The ``units`` attribute of a sweep axis, in ASCII that UDUNITS (and so CF and netCDF
+    readers) parse: ``"N m s rad-1"`` for a damping, ``"kg m2"``, ``"rad s-1"``, ``"1"`` for a
+    dimensionless one (a friction coefficient); a model parameter's from ``model._UNITS``."""
+    from .model import _UNITS
+
+    if name in AXIS_UNITS:
+        return AXIS_UNITS[name]
+    pretty = _UNITS.get(name, "1")
+    if pretty in ("1", "friction coefficient"):
+        return "1"
+    powers = str.maketrans("²³", "23")
+    above, _, below = pretty.translate(powers).partition("/")
+    terms = [t for t in above.split("·") if t != "1"]
+    for t in filter(None, below.split("·")):
+        base = t.rstrip("0123456789")
+        terms.append(f"{base}-{t[len(base) :] or 1}")
+    return " ".join(terms)
+
+
 def _chunks(shape: tuple[int, ...]) -> tuple[int, ...] | None:
     if not shape or math.prod(shape) < 64:
         return None
@@ -213,12 +237,11 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
         f.attrs["params"] = params_json
         f.attrs["axes"] = json.dumps(list(spec.axes))
         f.attrs["fixed"] = json.dumps(spec.fixed)
-        units = {"wob": "N", "torque": "N m", "dof": "1", "pipes": "1", "depth": "m"}
         scales = []
         for name, values in spec.axes.items():
             d = f.create_dataset(name, data=values)
             d.make_scale(name)
-            d.attrs["units"] = units.get(name, "SI")
+            d.attrs["units"] = axis_units(name)
             scales.append(d)
         init = f.create_dataset("initial", data=np.array(spec.initials, dtype=h5py.string_dtype()))
         init.make_scale("initial")

@@ -141,7 +141,7 @@ def atlas_figure(
         (xname, x, ax.set_xlabel, ax.set_xticks, ax.xaxis),
         (yname, y, ax.set_ylabel, ax.set_yticks, ax.yaxis),
     ):
-        unit = units.get(name, "SI")
+        unit = units[name] if name in units else shown_unit(name)
         set_label(label.get(name, name) + (f" ({unit})" if unit else ""))
         if len(values) <= 12 and np.all(values == np.round(values)):
             set_ticks(values)  # a few whole numbers (dof, pipes): a tick on each
@@ -187,8 +187,11 @@ def atlas_figure(
     # An interrupted sweep's atlas: say so, or the white cells read as a regime of their own.
     count = f"{total - missing} of {total} points done" if missing else f"{total} points"
     # Everything a map holds constant: the held axes, and what the spec fixes (e.g. torque).
+    # (a model parameter held with its unit: "bit_damping = 0.05 N·m·s/rad")
     where = "".join(
-        f", {n} = " + (quantity(v, si[n], scales[n][0]) if n in scales else f"{v:.4g}")
+        f", {n} = "
+        + (quantity(v, si[n], scales[n][0]) if n in scales else f"{v:.4g}")
+        + ("" if n in si or not shown_unit(n) else f" {shown_unit(n)}")
         for n, v in {**s.fixed, **held}.items()
     )
     size = f", dof {s.dof}" if s.dof and "dof" not in atlas.axes else ""
@@ -205,6 +208,15 @@ def atlas_figure(
         fontsize=10,
     )
     return fig
+
+
+def shown_unit(name: str) -> str:
+    """A model parameter's unit as a figure shows it (``N·m·s/rad``); "" for a dimensionless
+    one (a friction coefficient, the Stribeck decay)."""
+    from .model import _UNITS
+
+    unit = _UNITS.get(name, "1")
+    return "" if unit in ("1", "friction coefficient") else unit
 
 
 def nearest_index(atlas, name: str, value: float) -> int:

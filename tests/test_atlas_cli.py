@@ -381,3 +381,65 @@ def test_query_nearest_says_it_moved_to_the_grid_point(small_atlas):
     data = json.loads(query("--wob", "97", "--torque", "8.2", "--nearest", "--json"))
     assert data["coords"] == {"wob": 100.0, "torque": 8.3}
     assert data["asked"] == {"wob": 97.0, "torque": 8.2}
+
+
+PARAMETERS = """
+[model]
+preset = "reduced-scale"
+dof = 4
+wob = 100.0
+torque = 8.3
+[axes]
+bit_damping = [0.01, 0.05]
+mu_static = [0.7, 0.8]
+[simulation]
+t_end = 100.0
+initial = ["rest"]
+"""
+
+
+@pytest.fixture(scope="module")
+def parameter_atlas(tmp_path_factory):
+    """An atlas over two model parameters: a damping and a friction coefficient."""
+    out = tmp_path_factory.mktemp("parameters") / "par.h5"
+    run_sweep(parse_spec(PARAMETERS), out, serial=True)
+    return out
+
+
+def test_swept_parameters_carry_their_units_into_the_atlas_netcdf_and_maps(
+    parameter_atlas, tmp_path
+):
+    """Their unit was "SI" in the atlas, the netCDF export and the map's labels: no unit
+    UDUNITS (CF) knows, and no help to a reader."""
+    import xarray as xr
+
+    from pydrill.plot_atlas import atlas_figure
+
+    want = {"bit_damping": "N m s rad-1", "mu_static": "1"}
+    with h5py.File(parameter_atlas, "r") as f:
+        assert {name: f[name].attrs["units"] for name in want} == want
+    nc = tmp_path / "par.nc"
+    proc = subprocess.run(
+        [*CMD, "atlas", "export", str(parameter_atlas), "--out", str(nc)],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    with xr.open_dataset(nc, engine="h5netcdf") as ds:
+        assert {name: ds[name].attrs["units"] for name in want} == want
+    with Atlas(parameter_atlas) as atlas:
+        assert {name: atlas.to_xarray()[name].attrs["units"] for name in want} == want
+        fig = atlas_figure(atlas)
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "bit_damping (N·m·s/rad)"
+    assert ax.get_ylabel() == "mu_static"  # a friction coefficient: no unit
+    # An atlas written before says "SI": it still reads, and xarray gets the unit.
+    old = tmp_path / "old.h5"
+    old.write_bytes(parameter_atlas.read_bytes())
+    with h5py.File(old, "r+") as f:
+        for name in want:
+            f[name].attrs["units"] = "SI"
+    with Atlas(old) as atlas:
+        assert {name: atlas.to_xarray()[name].attrs["units"] for name in want} == want
+        assert atlas.value(bit_damping=0.05, mu_static=0.8)["status"] == "done"
+        atlas_figure(atlas)
