@@ -319,7 +319,19 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     except SweepInterrupted as exc:
         if bar is not None:
             bar.close()
-        again = " ".join(shlex.quote(a) for a in ("pydrill", "sweep", args.spec, "--out", args.out))
+        # Where it ran, too: without --scheduler a cluster's sweep would resume on the login node.
+        where = (
+            ["--scheduler", str(args.scheduler)]
+            if args.scheduler
+            else ["--workers", str(args.workers)]
+            if args.workers is not None
+            else ["--serial"]
+            if args.serial
+            else []
+        )
+        again = " ".join(
+            shlex.quote(a) for a in ("pydrill", "sweep", args.spec, "--out", args.out, *where)
+        )
         if args.json:  # the keys of a finished sweep's, with what says it stopped
             results = _results(exc, cluster, interrupted=True)
             results.update(done=exc.done, resume=f"{again} --resume")

@@ -55,7 +55,7 @@ def test_ctrl_c_stops_a_dask_sweep_quietly_and_keeps_every_finished_point(tmp_pa
     rc, _, err, out = interrupt_mid_sweep(tmp_path, signal.SIGINT, "--workers", "2")
     assert rc == 130, err
     assert "Traceback" not in err  # neither the client's nor the workers'
-    assert "interrupted" in err and "--resume" in err
+    assert "interrupted" in err and f"--out {out} --workers 2 --resume" in err
     journal = Path(str(out) + ".journal")
     journaled = {json.loads(line)["i"] for line in journal.read_text().splitlines()[1:]}
     total = 32 * 16
@@ -87,7 +87,8 @@ def test_sigterm_stops_a_serial_sweep_like_ctrl_c(tmp_path):
     assert f"({s['status']['done']} of 512 points done)" in title  # blank cells explained
     data = json.loads(stdout)  # --json: scripts learn of the stop too
     assert data["interrupted"] is True and data["done"] == s["status"]["done"]
-    assert data["resume"].endswith(f"--out {out} --resume")
+    # the command to resume runs where this one ran (here, in one process)
+    assert data["resume"].endswith(f"--out {out} --serial --resume")
 
 
 def test_a_journal_line_cut_mid_write_is_recomputed_and_cut_off(tmp_path):
