@@ -366,10 +366,8 @@ class Atlas:
         for name in self.axes:
             if ds[name].attrs.get("units") == "SI":  # atlases written before axis_units
                 ds[name].attrs["units"] = fmt.axis_units(name)
-        if "regime" in ds:
-            codes = sorted(fmt.REGIMES.items(), key=lambda kv: kv[1])
-            ds["regime"].attrs["flag_values"] = np.array([c for _, c in codes], dtype="i1")
-            ds["regime"].attrs["flag_meanings"] = " ".join(n.replace("-", "_") for n, _ in codes)
+        if "regime" in ds:  # as the atlas names them (older atlases: without a long_name)
+            ds["regime"].attrs.update(fmt.regime_attrs())
         return ds
 
 

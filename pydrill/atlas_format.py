@@ -120,6 +120,16 @@ def axis_units(name: str) -> str:
     return " ".join(terms)
 
 
+def regime_attrs() -> dict[str, Any]:
+    """The CF attributes of ``regime``: its codes named as pydrill names the regimes
+    (``stick-slip``: CF's flag_meanings are separated by blanks only), in every format."""
+    return {
+        "flag_values": np.array(list(REGIMES.values()), dtype="i1"),
+        "flag_meanings": " ".join(REGIMES),
+        "long_name": "regime of the run from each start (codes named in flag_meanings)",
+    }
+
+
 def _chunks(shape: tuple[int, ...]) -> tuple[int, ...] | None:
     if not shape or math.prod(shape) < 64:
         return None
@@ -286,8 +296,7 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
         for axis, scale in enumerate(scales):
             reg.dims[axis].attach_scale(scale)
         reg.dims[len(scales)].attach_scale(init)
-        reg.attrs["flag_values"] = np.array(list(REGIMES.values()), dtype="i1")
-        reg.attrs["flag_meanings"] = " ".join(REGIMES)
+        reg.attrs.update(regime_attrs())
         make(
             "status",
             table.status,

@@ -292,3 +292,29 @@ def test_a_stability_metric_of_an_atlas_without_stability_is_refused(
             atlas.plot(metric=metric)
         atlas.plot(metric="severity")  # what the runs hold is still mapped
     assert run("atlas", "plot", unstable_free_atlas, "--out", out).returncode == 0
+
+
+def test_regime_flags_are_named_alike_in_every_format(failing_atlas, tmp_path):
+    """The .h5 said ``stick-slip no-steady-state``, to_xarray() and the .nc export
+    ``stick_slip no_steady_state``: the names pydrill reports (simulate, CSV, the CLI) are the
+    hyphenated ones, and CF's flag_meanings only need blanks between them."""
+    from pydrill import atlas_format as fmt
+
+    names = " ".join(fmt.REGIMES)
+    with h5py.File(failing_atlas, "r") as f:
+        h5 = dict(f["regime"].attrs), dict(f["caveat"].attrs)
+    nc = tmp_path / "f.nc"
+    assert run("atlas", "export", failing_atlas, "--out", nc).returncode == 0
+    with Atlas(failing_atlas) as atlas, xr.open_dataset(nc, engine="h5netcdf") as exported:
+        xa = atlas.to_xarray()
+        found = [(h5[0], h5[1]), (xa.regime.attrs, xa.caveat.attrs)]
+        found.append((exported.regime.attrs, exported.caveat.attrs))
+        for regime, caveat in found:
+            assert regime["flag_meanings"] == names
+            assert regime["flag_values"].tolist() == list(fmt.REGIMES.values())
+            assert caveat["flag_meanings"] == " ".join(k or "none" for k in fmt.CAVEATS)
+            assert regime["long_name"] and caveat["long_name"]
+        # The codes read through the meanings are the names pydrill gives.
+        meanings = dict(zip(regime["flag_values"].tolist(), names.split(), strict=True))
+        code = int(exported.regime.sel(wob=40.0, torque=6.0, initial="rest"))
+        assert meanings[code] == atlas.value(wob=40.0, torque=6.0)["regime"]["rest"]
