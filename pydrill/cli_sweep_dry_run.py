@@ -69,6 +69,8 @@ def dry_run(args: argparse.Namespace, spec) -> int:
             "wall_seconds": dict(zip(spread, wall, strict=True)) if wall else None,
             "atlas_bytes": plan.atlas_bytes,
             "journal_bytes": plan.journal_bytes,
+            "memory_bytes": plan.memory_bytes,
+            "memory_available_bytes": _available(),
         }
         units = {
             "point_seconds": "s",
@@ -76,6 +78,8 @@ def dry_run(args: argparse.Namespace, spec) -> int:
             "wall_seconds": "s",
             "atlas_bytes": "bytes",
             "journal_bytes": "bytes",
+            "memory_bytes": "bytes",
+            "memory_available_bytes": "bytes",
         }
         print_json(json_document(inputs, results, units))  # no figure: nothing is drawn
         return 0
@@ -117,6 +121,16 @@ def dry_run(args: argparse.Namespace, spec) -> int:
             f"  journal up to about {_size(plan.journal_bytes)} beside the atlas while the "
             "sweep runs (removed at the end)"
         )
+    free = _available()
+    print(
+        f"  memory  about {_size(plan.memory_bytes)} in this process (it holds the whole "
+        f"atlas); {_size(free)} available now"
+    )
+    if plan.memory_bytes > free:
+        print(
+            "  warning that is more than is available: the sweep would refuse to start. Sweep "
+            "the grid in parts (split an axis's range), or run where there is more memory"
+        )
     if plan.failed:
         print(
             f"  warning {plan.failed} of the {plan.sampled} points timed failed; the sweep "
@@ -124,3 +138,10 @@ def dry_run(args: argparse.Namespace, spec) -> int:
         )
     print("dry run: nothing was written")
     return 0
+
+
+def _available() -> int:
+    """Memory available to a new allocation now (bytes)."""
+    import psutil  # a dependency of distributed's
+
+    return int(psutil.virtual_memory().available)

@@ -185,6 +185,9 @@ def run_sweep(
         from .sweep_dask import check_dashboard
 
         check_dashboard(dashboard)
+    from .sweep_plan import check_memory
+
+    check_memory(spec)
     out = Path(out)
     t0 = time.perf_counter()
     base = spec.params_at(spec.coords(0))

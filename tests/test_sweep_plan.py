@@ -152,3 +152,53 @@ def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
         [*CMD, "sweep", str(spec_file), "--dry-run"], capture_output=True, text=True
     )
     assert "  axis torque            1 value,  8.3\n" in one.stdout
+
+
+BIG = SMALL.replace("wob = [40.0, 100.0, 160.0]", "wob = { start = 1.0, stop = 300.0, num = 500 }")
+BIG = BIG.replace("torque = [6.0, 8.3]", "torque = { start = 0.1, stop = 30.0, num = 400 }")
+
+
+def test_the_memory_estimate_bounds_what_the_client_holds(tmp_path):
+    """The sweep's process holds the whole table and writes it whole: measured with
+    tracemalloc (numpy's buffers) over making the table of a 200000-point atlas, filling its
+    file and writing it again, the peak lies within the estimate and above half of it."""
+    import tracemalloc
+
+    from pydrill import atlas_format as fmt
+    from pydrill.sweep_plan import memory_bytes
+
+    spec = parse_spec(BIG)
+    assert spec.size == 200_000
+    tracemalloc.start()
+    try:
+        fmt.create(tmp_path / "big.h5", spec, "{}", "test")
+        table = fmt.AtlasTable(spec)
+        fmt.write(tmp_path / "big.h5", table)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    estimate = memory_bytes(spec)
+    assert 0.5 * estimate < peak <= estimate, (peak, estimate)
+
+
+def test_a_sweep_too_big_for_the_memory_is_refused_before_anything_is_written(
+    tmp_path, monkeypatch
+):
+    import psutil
+
+    from pydrill.sweep_plan import memory_bytes
+
+    spec = parse_spec(BIG)
+    need = memory_bytes(spec)
+    real = psutil.virtual_memory
+
+    def short(*args):
+        return real()._replace(available=need // 2)
+
+    monkeypatch.setattr(psutil, "virtual_memory", short)
+    out = tmp_path / "sub" / "big.h5"
+    with pytest.raises(ValueError, match=r"200000 points needs about 0\.\d GB of memory"):
+        run_sweep(spec, out, serial=True)
+    assert not (tmp_path / "sub").exists()
+    plan = plan_sweep(spec, None, most=2)  # the dry run says so, and still writes nothing
+    assert plan.memory_bytes == need
