@@ -90,7 +90,8 @@ def register_atlas(sub) -> None:
         action="append",
         default=[],
         metavar="AXIS=VALUE",
-        help="the point's value on any other axis",
+        help="the point's value on any other axis (SI, or with a unit: 'bit_damping=0.05 "
+        "N·m·s/rad')",
     )
     query.add_argument("--nearest", action="store_true", help="nearest grid point, not exact")
     query.add_argument("--json", action="store_true", help="print one JSON object for scripts")
@@ -133,8 +134,9 @@ def register_atlas(sub) -> None:
         action="append",
         default=[],
         metavar="AXIS=VALUE",
-        help="hold another axis at its grid value nearest VALUE (default: its first value); "
-        "a VALUE beyond half a grid step past either end is refused",
+        help="hold another axis at its grid value nearest VALUE (SI, or with a unit: "
+        "depth=3000ft; default: its first value); a VALUE beyond half a grid step past either "
+        "end is refused",
     )
     from .atlas_format import EQ_FIELDS, RUN_FIELDS
 
@@ -238,15 +240,27 @@ def _axis_unit(name: str) -> str:
 
 
 def _axis_values(items: list[str]) -> dict[str, float]:
-    """``--set AXIS=VALUE`` options as a dict."""
+    """``--set AXIS=VALUE`` options as a dict of SI values: a VALUE may carry a unit, as the
+    spec and ``--wob``, ``--depth`` take it (``torque=8 kN·m``, ``depth=3000ft``)."""
+    from .atlas_grid import coordinate
+
     out = {}
     for item in items:
-        name, _, value = item.partition("=")
+        name, equals, value = (part.strip() for part in item.partition("="))
+        if not (name and equals and value):
+            raise ValueError(
+                f"--set {item!r}: expected AXIS=VALUE (a number, or with a unit: depth=3000ft)"
+            )
         try:
-            out[name.strip()] = float(value)
-        except ValueError:
-            raise ValueError(f"--set {item!r}: expected AXIS=NUMBER") from None
+            out[name] = coordinate(name, value)
+        except ValueError as exc:  # "wob = '80 m': unit 'm' is not a force unit; ..."
+            raise ValueError(f"--set {item!r}: {exc}") from None
     return out
+
+
+def _set_texts(items: list[str]) -> dict[str, str]:
+    """What each ``--set AXIS=VALUE`` gave, as typed (``3000ft``): for its messages."""
+    return {name.strip(): value.strip() for name, _, value in (i.partition("=") for i in items)}
 
 
 def _cmd_query(args: argparse.Namespace) -> int:
@@ -334,6 +348,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from .plot_atlas import NO_STABILITY, atlas_figure, nearest_index
 
     at = _axis_values(args.set)
+    given = _set_texts(args.set)
     with Atlas(args.atlas) as atlas:
         if args.metric in EQ_FIELDS and not atlas.spec.record["stability"]:
             raise ValueError(f"--metric {args.metric}: {NO_STABILITY}")
@@ -343,11 +358,11 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             try:
                 k = nearest_index(atlas, name, value)
             except ValueError as exc:
-                raise ValueError(f"--set {name}={value:g}: {exc}") from None
+                raise ValueError(f"--set {name}={given[name]}: {exc}") from None
             grid = float(atlas.axes[name][k])
             if not on_grid(atlas.axes[name], k, value):  # say so: the title shows the grid's
                 print(
-                    f"pydrill atlas plot: note: --set {name}={value:g} is not a grid value; "
+                    f"pydrill atlas plot: note: --set {name}={given[name]} is not a grid value; "
                     f"drawn at the nearest, {name} = {grid:g}",
                     file=sys.stderr,
                 )

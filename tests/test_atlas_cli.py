@@ -443,3 +443,41 @@ def test_swept_parameters_carry_their_units_into_the_atlas_netcdf_and_maps(
         assert {name: atlas.to_xarray()[name].attrs["units"] for name in want} == want
         assert atlas.value(bit_damping=0.05, mu_static=0.8)["status"] == "done"
         atlas_figure(atlas)
+
+
+def test_set_takes_values_with_units_as_the_other_options_do(parameter_atlas, tmp_path):
+    """``--set "bit_damping=0.055 N·m·s/rad"``, ``--set depth=3000ft`` were refused with
+    "expected AXIS=NUMBER" although ``--wob '0.1 kN'`` and the spec take units."""
+
+    def pydrill(*args):
+        return subprocess.run([*CMD, *map(str, args)], capture_output=True, text=True)
+
+    query = ["atlas", "query", parameter_atlas, "--json"]
+    plain = pydrill(*query, "--set", "bit_damping=0.05", "--set", "mu_static=0.8")
+    assert plain.returncode == 0, plain.stderr
+    given = pydrill(*query, "--set", "bit_damping=0.05 N·m·s/rad", "--set", "mu_static=0.8")
+    assert given.returncode == 0, given.stderr
+    assert json.loads(given.stdout) == json.loads(plain.stdout)
+    wrong = pydrill(*query, "--set", "bit_damping=0.05 kN", "--set", "mu_static=0.8")
+    assert wrong.returncode == 2
+    assert wrong.stderr.strip() == (
+        "pydrill atlas query: error: --set 'bit_damping=0.05 kN': "
+        "bit_damping = '0.05 kN': unit 'kN' is not a damping unit; use one of N·m·s/rad"
+    )
+    bare = pydrill(*query, "--set", "bit_damping", "--set", "mu_static=0.8")
+    assert bare.returncode == 2 and "--set 'bit_damping': expected AXIS=VALUE" in bare.stderr
+    # A map held at a wob with its unit (the spec's [model] fixes torque; wob is swept).
+    spec = PARAMETERS.replace("wob = 100.0\n", "").replace(
+        "[axes]\n", "[axes]\nwob = [60.0, 100.0]\n"
+    )
+    three = tmp_path / "three.h5"
+    run_sweep(parse_spec(spec), three, serial=True)
+    out = tmp_path / "held.png"
+    argv = ["atlas", "plot", three, "--out", out, "--x", "mu_static", "--y", "bit_damping"]
+    held = pydrill(*argv, "--set", "wob=0.1 kN")
+    assert held.returncode == 0 and held.stderr == "" and out.exists(), held.stderr
+    off = pydrill(*argv, "--set", "wob=0.09kN")
+    assert off.returncode == 0 and off.stderr.strip() == (
+        "pydrill atlas plot: note: --set wob=0.09kN is not a grid value; "
+        "drawn at the nearest, wob = 100"
+    )
