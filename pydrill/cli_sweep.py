@@ -336,10 +336,15 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             results = _results(exc, cluster, interrupted=True)
             results.update(done=exc.done, resume=f"{again} --resume")
             print_json(json_document(_inputs(args, exc), results, _UNITS))
-        sys.stderr.write(
-            f"pydrill sweep: interrupted; {exc.done} of {exc.points} points are saved in "
-            f"{exc.atlas}\n  to compute the other {exc.points - exc.done}: {again} --resume\n"
-        )
+        if exc.done == 0 and not Path(exc.atlas).exists():
+            sys.stderr.write(
+                "pydrill sweep: interrupted before any point was computed; nothing was written\n"
+            )
+        else:
+            sys.stderr.write(
+                f"pydrill sweep: interrupted; {exc.done} of {exc.points} points are saved in "
+                f"{exc.atlas}\n  to compute the other {exc.points - exc.done}: {again} --resume\n"
+            )
         # The shell's convention for "ended by signal N": 128 + N.
         return 128 + exc.signum
     if bar is not None:

@@ -311,8 +311,18 @@ def _sweep_locked(
             elif len(todo):
                 from .sweep_dask import run_dask
 
-                run_dask(spec, todo, workers, scheduler, absorb, dashboard, on_cluster)
+                run_dask(spec, todo, workers, scheduler, absorb, dashboard, on_cluster, stop.hold)
         except KeyboardInterrupt:
+            if fresh and computed == 0:  # stopped before any point: leave nothing behind
+                out.unlink(missing_ok=True)
+                jp.unlink(missing_ok=True)
+                raise SweepInterrupted(
+                    out,
+                    spec.size,
+                    0,
+                    stop.signum or signal.SIGINT,
+                    wall_time=time.perf_counter() - t0,
+                ) from None
             # What was absorbed is in the journal already; the flush lets the atlas show it
             # before --resume. A second Ctrl-C waits for the flush (the journal would
             # rebuild a damaged atlas, but there is no need).

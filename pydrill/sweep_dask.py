@@ -10,6 +10,7 @@ through the client alone.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.metadata
 import logging
 import os
@@ -182,12 +183,15 @@ def run_dask(
     absorb: Callable[[Any], None],
     dashboard: str | None = None,
     on_cluster: Callable[[Any], None] | None = None,
+    starting: Callable[[], contextlib.AbstractContextManager[None]] = contextlib.nullcontext,
 ) -> None:
     """Compute the flat indices ``todo`` of ``spec``, handing each finished batch to ``absorb``.
     ``scheduler``: None (a LocalCluster of ``workers`` processes, for this sweep alone), an
     address, a scheduler file (``*.json``), or a ``distributed.Client`` of the caller's, which
     stays open. ``dashboard``: where the LocalCluster serves Dask's dashboard (None: nowhere).
-    ``on_cluster`` gets a ``ClusterInfo`` once the batches are submitted."""
+    ``on_cluster`` gets a ``ClusterInfo`` once the batches are submitted. The local cluster
+    starts inside ``starting()``: a Ctrl-C then waits for it to be up (a second), and the
+    cluster is closed whole, not half started (Dask then printed tracebacks at exit)."""
     from distributed import Client, KilledWorker, LocalCluster, as_completed
 
     from . import batching
@@ -220,7 +224,7 @@ def run_dask(
                 ) from None
         else:
             try:
-                with warnings.catch_warnings():
+                with starting(), warnings.catch_warnings():
                     # "Port 8787 is already in use ...": the link names the port taken instead.
                     warnings.filterwarnings("ignore", "Port .* is already in use", UserWarning)
                     cluster = LocalCluster(
@@ -240,6 +244,10 @@ def run_dask(
                         # matter reach the client through the futures.
                         silence_logs=logging.CRITICAL,
                     )
+            except KeyboardInterrupt:  # held until the cluster was up: close it whole
+                if cluster is not None:
+                    cluster.close()
+                raise
             except RuntimeError as exc:  # "Nanny failed to start", its reason in the chain
                 root = exc
                 while root.__cause__ is not None:

@@ -5,6 +5,7 @@ import json
 import os
 import signal
 import subprocess
+import sys
 from pathlib import Path
 
 import h5py
@@ -166,3 +167,48 @@ def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path):
             os.killpg(first.pid, signal.SIGKILL)
     assert report.resumed + report.computed == 32 * 16
     assert not Path(str(out) + ".lock").exists()
+
+
+def test_ctrl_c_while_the_local_cluster_starts_leaves_nothing_and_no_traceback(tmp_path):
+    """A Ctrl-C during the cluster's start (the first second) once left Dask's tracebacks at
+    exit ("close_clusters ... Status.init") and an atlas and journal of 0 points that
+    demanded --resume. The signal is sent from inside LocalCluster's start here, so it
+    always lands there: the start completes, the cluster closes whole, nothing is left."""
+    out = tmp_path / "never.h5"
+    script = f"""
+import os, signal, sys
+import distributed
+from pydrill.spec import parse_spec
+from pydrill.sweep import SweepInterrupted, run_sweep
+
+real = distributed.LocalCluster.__init__
+def starting(self, *args, **kwargs):
+    os.kill(os.getpid(), signal.SIGINT)
+    real(self, *args, **kwargs)
+distributed.LocalCluster.__init__ = starting
+try:
+    run_sweep(parse_spec({SMALL!r}), {str(out)!r}, workers=2)
+except SweepInterrupted as exc:
+    print("interrupted", exc.done, exc.signum)
+"""
+    proc = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["interrupted", "0", str(int(signal.SIGINT))]
+    assert "Traceback" not in proc.stderr and "Exception ignored" not in proc.stderr
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
+    # The command says so, and names no --resume to run.
+    spec_file = tmp_path / "s.toml"
+    spec_file.write_text(SMALL)
+    cli = script.split("try:")[0] + (
+        "from pydrill.cli import main\n"
+        f"sys.exit(main(['sweep', {str(spec_file)!r}, '--out', {str(out)!r}, '--workers', '2']))"
+    )
+    proc = subprocess.run([sys.executable, "-c", cli], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 130, proc.stderr
+    assert proc.stderr.splitlines()[-1] == (
+        "pydrill sweep: interrupted before any point was computed; nothing was written"
+    )
+    assert "--resume" not in proc.stderr and "Traceback" not in proc.stderr
+    assert not out.exists() and not Path(str(out) + ".journal").exists()
