@@ -307,7 +307,9 @@ class Atlas:
     def sel(self, method: str | None = None, **coords: float):
         """A slice of the atlas as an ``xarray.Dataset``: fix some axes (or ``initial``),
         keep the others, e.g. ``atlas.sel(torque=8.3).regime_name`` is the regime against W_ob
-        (``regime`` holds the same as codes, named in its ``flag_meanings`` attribute)."""
+        (``regime`` holds the same as codes, named in its ``flag_meanings`` attribute).
+        Without ``method`` each value must be on the grid, as :meth:`value` has it (a
+        KeyError says the nearest); ``method="nearest"`` takes the nearest grid value."""
         unknown = set(coords) - set(self.axes) - {"initial"}
         if unknown:
             raise KeyError(
@@ -316,11 +318,14 @@ class Atlas:
             )
         for name, v in coords.items():
             if name in self.axes:  # numbers, or strings with a unit ("20 kN"), as index() takes
-                many = isinstance(v, list | tuple | np.ndarray)
+                many = isinstance(v, list | tuple | np.ndarray) and np.ndim(v) > 0
                 coords[name] = [coordinate(name, one) for one in v] if many else coordinate(name, v)
                 if method == "nearest":  # as value() and index(): never an answer off the grid
                     for one in np.atleast_1d(coords[name]):
                         near_enough(name, self.axes[name], float(one))
+                elif method is None:  # exact, as index() has it: the grid's own value, or why not
+                    on = [_on_grid(name, self.axes[name], x) for x in np.atleast_1d(coords[name])]
+                    coords[name] = on if many else on[0]
         ds = with_regime_names(self.to_xarray().load())
         if "initial" in coords:  # a name, chosen exactly: "nearest" has no meaning for it
             ds = ds.sel(initial=coords.pop("initial"))
@@ -383,6 +388,19 @@ _DATASETS = (
     "eigenvalues_imag",
     "coexistence",
 )
+
+
+def _on_grid(name: str, values: np.ndarray, value: Any) -> float:
+    """The grid value of axis ``name`` that ``value`` names exactly (as ``Atlas.index`` takes
+    it: float32's 8.3 is 8.3); a KeyError, worded as index()'s, if it names none."""
+    v = coordinate(name, value)
+    i = int(np.argmin(np.abs(values - v)))
+    if not on_grid(values, i, v):
+        shown, near = distinct(v, values[i])
+        raise KeyError(
+            f"{name} = {shown} is not on the grid (nearest {near}); use method='nearest'"
+        )
+    return values[i].item()
 
 
 def with_regime_names(ds):

@@ -61,7 +61,9 @@ def atlas_figure(
     at = dict(at or {})
     for what, name in [("x", x), ("y", y)] + [("a held axis", n) for n in at]:
         if name is not None and name not in order:
-            raise ValueError(f"{what} = {name!r} is not an axis of this atlas; axes: {order}")
+            raise ValueError(
+                f"{what} = {name!r} is not an axis of this atlas; axes: {', '.join(order)}"
+            )
     if x is not None and x == y:
         raise ValueError(f"x and y are both {x!r}: a map needs two different axes")
     if {x, y} & set(at):
@@ -69,7 +71,7 @@ def atlas_figure(
     swept_first = sorted(order, key=lambda n: len(atlas.axes[n]) <= 1)
     free = [n for n in swept_first if n not in (x, y) and n not in at]
     if len(free) < (x is None) + (y is None):
-        raise ValueError(f"no axis left to draw: {order} are all given as x, y or held")
+        raise ValueError(f"no axis left to draw: {', '.join(order)} are all given as x, y or held")
     xname = x or free.pop(0)
     yname = y or free.pop(0)
     held: dict[str, float] = {}
@@ -185,7 +187,8 @@ def atlas_figure(
     total = int(np.prod(atlas.shape))
     missing = atlas.summary()["status"]["missing"]
     # An interrupted sweep's atlas: say so, or the white cells read as a regime of their own.
-    count = f"{total - missing} of {total} points done" if missing else f"{total} points"
+    points = "point" if total == 1 else "points"
+    count = f"{total - missing} of {total} {points} done" if missing else f"{total} {points}"
     # Everything a map holds constant: the held axes, and what the spec fixes (e.g. torque).
     # (a model parameter held with its unit: "bit_damping = 0.05 N·m·s/rad")
     where = "".join(

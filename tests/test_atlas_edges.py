@@ -3,6 +3,7 @@ damaged attributes and datasets, journals without their atlas, refused sweeps' d
 
 import csv
 import json
+import re
 import subprocess
 
 import dask
@@ -10,7 +11,7 @@ import h5py
 import numpy as np
 import pytest
 import xarray as xr
-from sweeping import CMD, SMALL
+from sweeping import CMD, SMALL, TINY
 
 from pydrill.atlas import Atlas
 from pydrill.journal import journal_path
@@ -318,3 +319,38 @@ def test_regime_flags_are_named_alike_in_every_format(failing_atlas, tmp_path):
         meanings = dict(zip(regime["flag_values"].tolist(), names.split(), strict=True))
         code = int(exported.regime.sel(wob=40.0, torque=6.0, initial="rest"))
         assert meanings[code] == atlas.value(wob=40.0, torque=6.0)["regime"]["rest"]
+
+
+def test_sel_off_the_grid_says_so_as_value_does(tmp_path):
+    """``sel(torque=8.4)`` passed on xarray's bare ``KeyError: 8.4``."""
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    with Atlas(out) as atlas:
+        message = re.escape("torque = 8.4 is not on the grid (nearest 8.3); use method='nearest'")
+        with pytest.raises(KeyError, match=message):
+            atlas.value(wob=100.0, torque=8.4)
+        with pytest.raises(KeyError, match=message):
+            atlas.sel(torque=8.4)
+        with pytest.raises(KeyError, match=message):
+            atlas.sel(torque=[6.0, 8.4])
+        # On the grid as value() takes it (float32's 8.3 is 8.30000019): that grid point.
+        row = atlas.sel(torque=np.float32(8.3), initial="rest")
+        assert float(row.torque) == 8.3 and row.regime.shape == (3,)
+        assert float(atlas.sel(wob="0.1 kN", torque=8.3, initial="rest").wob) == 100.0
+
+
+def test_plot_errors_list_axes_as_query_does_and_one_point_is_a_point(tmp_path):
+    """The map's errors printed ``['wob', 'torque']`` (query: ``wob, torque``); a one-point
+    atlas's title said "(1 points)"."""
+    out = tmp_path / "one.h5"
+    one = TINY.replace("wob = [40.0, 100.0, 160.0]", "wob = [100.0]")
+    run_sweep(parse_spec(one.replace("torque = [6.0, 8.3]", "torque = [8.3]")), out, serial=True)
+    with Atlas(out) as atlas:
+        with pytest.raises(ValueError) as e:
+            atlas.plot(x="depth")
+        assert str(e.value) == "x = 'depth' is not an axis of this atlas; axes: wob, torque"
+        with pytest.raises(ValueError) as e:
+            atlas.plot(at={"wob": 100.0, "torque": 8.3})
+        assert str(e.value) == "no axis left to draw: wob, torque are all given as x, y or held"
+        title = atlas.plot().axes[0].get_title()
+    assert title.endswith("(1 point)"), title
