@@ -281,14 +281,14 @@ def _sweep_locked(
         nonlocal computed, failed, write_time, last_flush, flush_every
         indices, block, lines = batch.indices, batch.block, batch.lines
         tw = time.perf_counter()
-        with stop.hold():  # the journal and the table take a batch together, or neither
+        with stop.hold():  # the journal, the table and the counts take a batch, or none
             with jp.open("a") as fh:
                 fh.write(lines)
                 fh.flush()
                 os.fsync(fh.fileno())
             table.put(indices, block)
-        computed += len(indices)
-        failed += int(np.count_nonzero(block["status"] == fmt.STATUS["failed"]))
+            computed += len(indices)
+            failed += int(np.count_nonzero(block["status"] == fmt.STATUS["failed"]))
         if time.perf_counter() - last_flush > flush_every:
             tf = time.perf_counter()
             fmt.write(out, table)
@@ -313,7 +313,9 @@ def _sweep_locked(
 
                 run_dask(spec, todo, workers, scheduler, absorb, dashboard, on_cluster, stop.hold)
         except KeyboardInterrupt:
-            if fresh and computed == 0:  # stopped before any point: leave nothing behind
+            # Stopped before any point was saved (journal and table agree: see absorb):
+            # leave nothing behind.
+            if fresh and computed == 0 and np.all(table.status == fmt.STATUS["missing"]):
                 out.unlink(missing_ok=True)
                 jp.unlink(missing_ok=True)
                 raise SweepInterrupted(
