@@ -94,7 +94,7 @@ def test_atlas_holds_what_was_computed(tmp_path):
         assert row.regime_name.values.tolist() == ["steady", "stick-slip", "stuck"]
         meanings = ds.regime.attrs["flag_meanings"].split()
         codes = ds.regime.attrs["flag_values"].tolist()
-        assert meanings[codes.index(1)] == "stick_slip"
+        assert meanings[codes.index(1)] == "stick-slip"
         # Paper: at W_ob = 100 N, u = 8.3 N·m the steady state coexists with stick-slip.
         assert atlas.value(wob=100.0, torque=8.3)["coexistence"] is True
         ds.close()
