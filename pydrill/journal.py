@@ -116,10 +116,11 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
                 if f.attrs.get("format") != fmt.FORMAT:
                     raise AtlasError(f"{out} exists and is not a pydrill atlas; not touching it")
                 digest = f.attrs.get("spec_digest")
+                theirs = (f.attrs.get("spec"), f.attrs.get("tally") or None)
             if digest != spec.digest:
                 raise AtlasError(
-                    f"{out} holds a different sweep (spec digest {digest}, this spec "
-                    f"{spec.digest}); choose another --out or remove it"
+                    f"{out} holds a different sweep ({_what_differs(spec, *theirs)}); choose "
+                    "another --out or remove it"
                 )
             table = fmt.read_table(out, spec)
         except AtlasError:
@@ -160,6 +161,21 @@ def _journal_digest(jp: Path) -> str | None:
             return json.loads(fh.readline()).get("spec_digest")
     except (OSError, ValueError, AttributeError):
         return None
+
+
+def _what_differs(spec: SweepSpec, text: Any, tally: Any) -> str:
+    """How the atlas's sweep (its spec ``text``) differs from ``spec``, key by key; its digest
+    when its spec cannot be read."""
+    from .spec import parse_spec
+
+    try:
+        stored = parse_spec(str(text), tally_text=None if tally is None else str(tally))
+    except Exception:
+        return f"its spec cannot be read here; this spec's digest is {spec.digest}"
+    changes = [c.replace(" here,", " in this spec,").replace(" there", " in the atlas")
+               for c in spec.differences(stored)]  # fmt: skip
+    shown = "; ".join(changes[:4]) + (f"; and {len(changes) - 4} more" if len(changes) > 4 else "")
+    return shown or f"spec digest {stored.digest}, this spec {spec.digest}"
 
 
 def prepare(

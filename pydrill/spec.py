@@ -58,6 +58,8 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     in_si,
 )
 
+_NONE = object()  # a key one spec has and the other does not
+
 
 @dataclass(frozen=True)
 class SweepSpec:
@@ -81,6 +83,37 @@ class SweepSpec:
         # after parsing would no longer be its ``text``, which the workers and the atlas read.
         for name in ("overrides", "axes", "simulation", "record", "fixed"):
             object.__setattr__(self, name, ReadOnlyDict(getattr(self, name)))
+
+    def differences(self, other: SweepSpec) -> list[str]:
+        """What makes ``other`` another sweep than this one, key by key, e.g.
+        ``"simulation.t_end: 300 here, 100 there"`` (the parsed content, as the digest)."""
+
+        def flat(spec: SweepSpec) -> dict[str, Any]:
+            out: dict[str, Any] = {"model.preset": spec.preset, "model.dof": spec.dof}
+            out |= {f"model.{k}": v for k, v in spec.overrides.items()}
+            out |= {f"model.{k}": v for k, v in spec.fixed.items()}
+            out |= {f"axes.{k}": v.astype(float).tolist() for k, v in spec.axes.items()}
+            out |= {f"simulation.{k}": v for k, v in spec.simulation.items()}
+            out |= {f"record.{k}": v for k, v in spec.record.items()}
+            out["model.tally"] = spec.tally_text is not None and hash(spec.tally_text)
+            out["model.lump"] = spec.lump
+            return out
+
+        def show(v: Any) -> str:
+            if v is _NONE:
+                return "not set"
+            if isinstance(v, list) and len(v) > 4:
+                return f"{len(v)} values {v[0]:g} ... {v[-1]:g}"
+            return str(v)
+
+        a, b = flat(self), flat(other)
+        changed = []
+        for key in [*a, *(k for k in b if k not in a)]:
+            x, y = a.get(key, _NONE), b.get(key, _NONE)
+            if x != y:
+                what = "differs" if key == "model.tally" else f"{show(x)} here, {show(y)} there"
+                changed.append(f"{key}: {what}")
+        return changed
 
     @property
     def shape(self) -> tuple[int, ...]:

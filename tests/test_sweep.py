@@ -115,8 +115,20 @@ def test_other_spec_is_never_overwritten(tmp_path):
     out = tmp_path / "a.h5"
     run_sweep(parse_spec(SMALL), out, serial=True)
     before = out.read_bytes()
-    with pytest.raises(AtlasError, match="different sweep"):
+    # It says what differs, key by key, not only that the digests do.
+    with pytest.raises(
+        AtlasError,
+        match=r"holds a different sweep \(simulation.t_end: 100.0 in this spec, 200.0 in the "
+        r"atlas\); choose another --out",
+    ):
         run_sweep(parse_spec(SMALL.replace("t_end = 200.0", "t_end = 100.0")), out, serial=True)
+    other = SMALL.replace("[6.0, 8.3]", "[6.0, 8.3, 9.0]").replace('"equilibrium"]', "]")
+    said = (
+        r"axes.torque: \[6.0, 8.3, 9.0\] in this spec, \[6.0, 8.3\] in the atlas; "
+        r"simulation.initial: \['rest'\] in this spec"
+    )
+    with pytest.raises(AtlasError, match=said):
+        run_sweep(parse_spec(other), out, serial=True)
     with pytest.raises(AtlasError, match="--resume"):
         run_sweep(parse_spec(SMALL), out, serial=True)
     assert out.read_bytes() == before
