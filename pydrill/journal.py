@@ -178,6 +178,26 @@ def _what_differs(spec: SweepSpec, text: Any, tally: Any) -> str:
     return shown or f"spec digest {stored.digest}, this spec {spec.digest}"
 
 
+def write_atlas(out: Path, table: fmt.AtlasTable) -> None:
+    """``fmt.write``, an OS error (a full disk, a read-only file) named with the atlas and
+    what to do: the journal beside it keeps every point, so nothing is lost."""
+    try:
+        fmt.write(out, table)
+    except OSError as exc:
+        raise AtlasError(
+            f"{out}: cannot write the atlas ({_reason(exc)}); every point computed is kept in "
+            f"{journal_path(out).name}: make room or fix the permission, then run again with "
+            "--resume (resume=True)"
+        ) from None
+
+
+def _reason(exc: OSError) -> str:
+    """An OS error's reason without its errno and h5py's wording around it."""
+    if exc.errno is not None:
+        return os.strerror(exc.errno)
+    return str(exc)
+
+
 def prepare(
     spec: SweepSpec, out: Path, *, resume: bool, params_json: str, version: str
 ) -> tuple[fmt.AtlasTable, int]:
@@ -188,9 +208,12 @@ def prepare(
         if table is None:
             fmt.create(out, spec, params_json, version)
             table = fmt.AtlasTable(spec)
+        replayed = 0
         for rec in read_journal(out, spec):
             table.apply(rec)
-        fmt.write(out, table)
+            replayed += 1
+        if replayed or not out.exists():  # a complete atlas, resumed, is left as it is
+            write_atlas(out, table)
         done = int(np.sum(table.status != fmt.STATUS["missing"]))
         return table, done
     fmt.create(out, spec, params_json, version)

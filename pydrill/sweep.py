@@ -26,7 +26,7 @@ from . import atlas_format as fmt
 from . import batching
 from .batching import Batcher, batches, dealing_order  # noqa: F401 (re-exported)
 from .interrupt import stop_between_batches
-from .journal import AtlasError, journal_path, prepare
+from .journal import AtlasError, _reason, journal_path, prepare, write_atlas
 from .spec import SweepSpec, _require_spec
 from .sweep_points import (  # noqa: F401 (re-exported: pydrill.sweep.evaluate_point and kin)
     Batch,
@@ -282,16 +282,23 @@ def _sweep_locked(
         indices, block, lines = batch.indices, batch.block, batch.lines
         tw = time.perf_counter()
         with stop.hold():  # the journal, the table and the counts take a batch, or none
-            with jp.open("a") as fh:
-                fh.write(lines)
-                fh.flush()
-                os.fsync(fh.fileno())
+            try:
+                with jp.open("a") as fh:
+                    fh.write(lines)
+                    fh.flush()
+                    os.fsync(fh.fileno())
+            except OSError as exc:  # a full disk: say where, and that what is saved stays
+                raise AtlasError(
+                    f"{jp}: cannot write the journal ({_reason(exc)}); the {computed} points "
+                    f"computed before are kept in it: make room, then run again with --resume "
+                    "(resume=True)"
+                ) from None
             table.put(indices, block)
             computed += len(indices)
             failed += int(np.count_nonzero(block["status"] == fmt.STATUS["failed"]))
         if time.perf_counter() - last_flush > flush_every:
             tf = time.perf_counter()
-            fmt.write(out, table)
+            write_atlas(out, table)
             last_flush = time.perf_counter()
             flush_every = max(FLUSH_SECONDS, FLUSH_SPACING * (last_flush - tf))
         write_time += time.perf_counter() - tw
@@ -330,7 +337,7 @@ def _sweep_locked(
             # rebuild a damaged atlas, but there is no need).
             tw = time.perf_counter()
             with contextlib.suppress(KeyboardInterrupt), stop.hold():
-                fmt.write(out, table)
+                write_atlas(out, table)
             write_time += time.perf_counter() - tw
             done = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
             raise SweepInterrupted(
@@ -350,7 +357,8 @@ def _sweep_locked(
                 jp.unlink(missing_ok=True)
             raise
     tw = time.perf_counter()
-    fmt.write(out, table)
+    if computed or fresh:  # else the atlas is as prepare left it (a read-only one is fine)
+        write_atlas(out, table)
     left = int(np.count_nonzero(table.status == fmt.STATUS["missing"]))
     if left:
         # Every point handed out comes back (done or failed) or raises; this guards the

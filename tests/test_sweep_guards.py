@@ -3,14 +3,16 @@ apart from the code that wrote it (a direct stability call, the journal's own li
 atlas as it was before a resume), so that a slip in the atlas layer cannot hide behind
 itself."""
 
+import errno
 import json
+import os
 import signal
 import subprocess
 
 import h5py
 import numpy as np
 import pytest
-from sweeping import CMD, SMALL, TINY
+from sweeping import CMD, MEDIUM, SMALL, TINY
 
 import pydrill
 from pydrill import atlas_format as fmt
@@ -327,3 +329,55 @@ def test_bad_arguments_are_refused_before_anything_is_written(tmp_path, kwargs, 
         run_sweep(parse_spec(SMALL), out, serial=True, **kwargs)
     assert not (tmp_path / "sub").exists()
     assert run_sweep(parse_spec(TINY), out, serial=True, stop_on=[signal.SIGTERM]).computed == 6
+
+
+def test_a_complete_atlas_resumed_is_not_written_again(tmp_path, monkeypatch):
+    """Nothing to compute, nothing to write: a finished atlas that is read-only (archived,
+    shared) can be resumed as a check, where opening it for writing failed."""
+    out = tmp_path / "a.h5"
+    run_sweep(parse_spec(TINY), out, serial=True)
+
+    def refuse(*args):
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr(fmt, "write", refuse)
+    report = run_sweep(parse_spec(TINY), out, serial=True, resume=True)
+    assert (report.computed, report.resumed) == (0, 6)
+
+
+def test_a_full_disk_is_named_with_the_file_and_what_is_kept(tmp_path, monkeypatch):
+    """The journal's write fails part way (ENOSPC): one message naming the journal and saying
+    that the points before are kept, not a bare "[Errno 28]"; --resume then completes it."""
+    out = tmp_path / "a.h5"
+    real, calls = os.fsync, []
+
+    def fsync(fd):
+        calls.append(fd)
+        if len(calls) == 3:  # the journal's header, the first batch, then the disk is full
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        real(fd)
+
+    monkeypatch.setattr(os, "fsync", fsync)
+    spec = parse_spec(MEDIUM)  # 192 points: a first batch of 96 is saved, the second is not
+    with pytest.raises(AtlasError) as err:
+        run_sweep(spec, out, serial=True)
+    said = str(err.value)
+    assert said.startswith(f"{journal_path(out)}: cannot write the journal (No space left")
+    assert "the 96 points computed before are kept in it" in said and "--resume" in said
+    monkeypatch.setattr(os, "fsync", real)
+    report = run_sweep(spec, out, serial=True, resume=True)
+    # at least those 96 (here the failed batch's lines were written before the fsync failed)
+    assert report.resumed >= 96 and report.resumed + report.computed == 192
+
+
+def test_an_atlas_that_cannot_be_written_is_named_with_what_is_kept(tmp_path, monkeypatch):
+    out = tmp_path / "a.h5"
+
+    def refuse(*args):
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr(fmt, "write", refuse)
+    with pytest.raises(AtlasError) as err:
+        run_sweep(parse_spec(TINY), out, serial=True)
+    assert str(err.value).startswith(f"{out}: cannot write the atlas (Read-only file system)")
+    assert f"kept in {journal_path(out).name}" in str(err.value)
