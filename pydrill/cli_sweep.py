@@ -83,7 +83,8 @@ def register_sweep(sub, positive) -> None:
     sw.add_argument(
         "--no-progress",
         action="store_true",
-        help="no progress (a bar on a terminal, else a line every 30 s on stderr)",
+        help="no progress (a bar on a terminal, else a line every 30 s on stderr); where it "
+        "runs, the dashboard link and workers coming and going are still said",
     )
     sw.add_argument(
         "--plot", metavar="FILE.png", type=figure_path, help="draw the regime map when done"
@@ -256,13 +257,10 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             line = f"sweep: now {info.workers} Dask worker{plural}"
             if info.workers == 0:
                 line += " (the points wait for workers to join; Ctrl-C stops, keeping what is done)"
-            if bar is not None:
-                _say(bar, line)
+            _say(bar, line)  # told with or without a progress bar: a log needs it most
             return
         cluster = {"scheduler": info.scheduler, "workers": info.workers}
         cluster["dashboard"] = info.dashboard
-        if bar is None:
-            return
         line = f"sweep: {info.workers} Dask worker{plural}, scheduler {info.scheduler}"
         if configured is not None:
             line += f" (from {configured.source})"
@@ -276,7 +274,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         _say(bar, line)
 
     address = args.scheduler or configured
-    if bar is not None and address and str(address).endswith(".json"):
+    if address and str(address).endswith(".json"):
         from .sweep_dask import connect_timeout, scheduler_file_address
 
         file = Path(address)
@@ -292,7 +290,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                 address = scheduler_file_address(file, 0.0)
             except Exception:
                 address = None
-    if bar is not None and address:
+    if address:
         from .sweep_dask import unanswered
 
         patience = unanswered(address)

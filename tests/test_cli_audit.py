@@ -4,6 +4,7 @@ written found out only after the work."""
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -373,3 +374,13 @@ def test_the_time_reproduce_takes_is_stated_in_one_place():
     assert "from scratch on 2 cores" in " ".join(section.split())
     scratch = [m for m in re.findall(r"(\d+) s\b", section) if m == shown[0]]
     assert len(scratch) == 1, "the time measured is given once, in the run shown"
+
+
+def test_no_progress_drops_the_progress_not_the_notices(tmp_path):
+    """--no-progress once silenced where the sweep ran too (and, with --dashboard, the link
+    the help promises): a batch log then showed nothing while a sweep waited for workers."""
+    spec, out = ROOT / "sweeps" / "minimal.toml", tmp_path / "m.h5"
+    proc = run("sweep", spec, "--out", out, "--workers", "1", "--no-progress")
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1 and re.fullmatch(r"sweep: 1 Dask worker, scheduler tcp://\S+", lines[0])
