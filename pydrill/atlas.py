@@ -21,7 +21,7 @@ import numpy as np
 from . import atlas_format as fmt
 from .atlas_grid import coordinate, distinct, near_enough, on_grid
 from .atlas_lock import snapshot
-from .journal import JOURNAL_SUFFIX, AtlasError, journaled
+from .journal import JOURNAL_SUFFIX, AtlasError, journal_hint, journaled
 from .spec import SpecError, parse_spec
 
 
@@ -38,7 +38,7 @@ class Atlas:
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
         if not self.path.exists():
-            raise AtlasError(f"{self.path}: no such atlas")
+            raise AtlasError(f"{self.path}: no such atlas" + journal_hint(self.path))
         if self.path.is_dir():
             raise AtlasError(f"{self.path} is a directory, not an atlas file")
         # While a sweep writes the atlas, read a copy of its last complete write: the file
@@ -49,6 +49,7 @@ class Atlas:
         except OSError as exc:
             raise AtlasError(
                 f"{self.path} is not a readable HDF5 atlas (truncated or corrupt?): {exc}"
+                + journal_hint(self.path)
             ) from None
         try:
             if self._f.attrs.get("format") != fmt.FORMAT:

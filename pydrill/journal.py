@@ -222,3 +222,15 @@ def prepare(
         fh.flush()
         os.fsync(fh.fileno())
     return fmt.AtlasTable(spec), 0
+
+
+def journal_hint(path: Path) -> str:
+    """For an atlas missing or unreadable: what its journal holds, if there is one beside it
+    (``--resume`` rebuilds the atlas from it)."""
+    n = len(np.unique(journaled(path)))
+    if not path.with_name(path.name + JOURNAL_SUFFIX).exists():
+        return ""
+    return (
+        f"; but its journal, {path.name}{JOURNAL_SUFFIX}, holds {n} points of a sweep: "
+        f"'pydrill sweep SPEC.toml --out {path} --resume' (its spec) rebuilds the atlas"
+    )

@@ -354,3 +354,25 @@ def test_plot_errors_list_axes_as_query_does_and_one_point_is_a_point(tmp_path):
         assert str(e.value) == "no axis left to draw: wob, torque are all given as x, y or held"
         title = atlas.plot().axes[0].get_title()
     assert title.endswith("(1 point)"), title
+
+
+@pytest.mark.parametrize("damage", ["removed", "truncated"])
+def test_an_atlas_lost_beside_its_journal_says_the_journal_rebuilds_it(tmp_path, damage):
+    """A kill can leave the journal with the points and no (or a cut) atlas: reading it says
+    what the journal holds and how to rebuild, where it said only "no such atlas"."""
+    out = tmp_path / "a.h5"
+    journal = journal_path(out)
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    lines = [json.dumps({"spec_digest": parse_spec(SMALL).digest})]
+    lines += [json.dumps({"i": i, "status": "done", "runs": {}}) for i in (0, 3, 3)]
+    journal.write_text("\n".join(lines) + "\n")
+    if damage == "removed":
+        out.unlink()
+    else:
+        out.write_bytes(out.read_bytes()[:1000])
+    with pytest.raises(AtlasError, match=r"a.h5.journal, holds 2 points of a sweep: 'pydrill"):
+        Atlas(out)
+    journal.unlink()
+    with pytest.raises(AtlasError) as err:
+        Atlas(out)
+    assert "journal" not in str(err.value)
