@@ -25,6 +25,7 @@ def dry_run(args: argparse.Namespace, spec) -> int:
     from .sweep_plan import plan_sweep
 
     plan = plan_sweep(spec, args.out, resume=args.resume)
+    cores = 1 << 30  # no limit but the workers, unless they are local (below)
     if args.serial:
         workers, where = 1, "in this process (--serial)"
     elif args.scheduler is not None:
@@ -40,8 +41,11 @@ def dry_run(args: argparse.Namespace, spec) -> int:
 
             workers = args.workers or dask.system.CPU_COUNT
             where = f"on {workers} local worker{'s' if workers != 1 else ''}"
+            if workers > dask.system.CPU_COUNT:  # they share the cores: no faster than one each
+                where += f" sharing {dask.system.CPU_COUNT} cores"
+                cores = dask.system.CPU_COUNT
     compute = plan.compute_seconds
-    wall = plan.wall_seconds(workers) if workers else None
+    wall = plan.wall_seconds(min(workers, cores)) if workers else None
     if args.json:
         spread = ("low", "estimate", "high")  # the order of SweepPlan's tuples
         inputs = {

@@ -202,3 +202,22 @@ def test_a_sweep_too_big_for_the_memory_is_refused_before_anything_is_written(
     assert not (tmp_path / "sub").exists()
     plan = plan_sweep(spec, None, most=2)  # the dry run says so, and still writes nothing
     assert plan.memory_bytes == need
+
+
+def test_the_dry_run_counts_local_workers_beyond_the_cores_as_sharing_them(tmp_path):
+    """--workers 64 on this machine's cores is no faster than a worker per core: the estimate
+    divides by the cores, and the line says they share them."""
+    import dask.system
+
+    cores = dask.system.CPU_COUNT
+    spec = tmp_path / "s.toml"
+    spec.write_text(SMALL.replace("t_end = 200.0", "t_end = 20.0"))
+    many = cores + 62
+    argv = [*CMD, "sweep", str(spec), "--dry-run", "--workers", str(many)]
+    data = json.loads(subprocess.run([*argv, "--json"], capture_output=True, text=True,
+                                     check=True).stdout)  # fmt: skip
+    assert data["workers"] == many
+    wall, compute = data["wall_seconds"]["estimate"], data["compute_seconds"]["estimate"]
+    assert wall == pytest.approx(compute / cores, rel=1e-12)
+    text = subprocess.run(argv, capture_output=True, text=True, check=True).stdout
+    assert f"  runs    on {many} local workers sharing {cores} cores: about " in text
