@@ -224,6 +224,9 @@ def _initial(value: Any, dof: int) -> str | list[float]:
             f"initial has {len(state)} entries: dof = {dof} needs 2*dof-1 = {2 * dof - 1} "
             "(w_0, theta_0, ..., theta_{N-2}, w_bit)"
         )
+    for k, v in enumerate(state):  # named as given, not as the core's "state[k]"
+        if not math.isfinite(v):
+            raise ValueError(f"initial[{k}] = {v} is not allowed: must be finite")
     return state
 
 

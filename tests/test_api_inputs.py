@@ -304,6 +304,9 @@ def test_initial_must_be_a_name_or_a_flat_state():
     refused(TypeError, "initial", simulate, dof=4, initial=[True] * 7, **QUICK)
     refused(TypeError, "initial", simulate, dof=4, initial=["0"] * 7, **QUICK)
     refused(ValueError, "initial has 2 entries", simulate, dof=4, initial=[0.0, 1.0], **QUICK)
+    # an entry that is not finite, by its name here (the core calls it state[3])
+    bad = [0.0, 0.0, 0.0, np.inf, 0.0, 0.0, 0.0]
+    refused(ValueError, "initial[3] = inf is not allowed", simulate, dof=4, initial=bad, **QUICK)
 
 
 def test_t_out_must_be_a_flat_non_empty_list():
