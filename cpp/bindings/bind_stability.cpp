@@ -1,5 +1,7 @@
+#include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <pybind11/complex.h>
@@ -49,6 +51,34 @@ py::dict point_dict(const StabilityPoint& s) {
   return d;
 }
 
+// Ctrl-C, as in simulate: the O(dof²) calls ask Python's signal handlers every 0.1 s. A
+// handler that raises, as the default KeyboardInterrupt does, stops the computation; its
+// exception is re-raised. Only the main thread asks: elsewhere (Dask's worker threads) the
+// answer is always no, and taking the GIL to hear it could wait on a busy event loop.
+std::function<bool()> python_signals() {
+  const py::module_ threading = py::module_::import("threading");
+  if (!threading.attr("current_thread")().is(threading.attr("main_thread")())) return {};
+  return [] {
+    py::gil_scoped_acquire gil;
+    return PyErr_CheckSignals() != 0;
+  };
+}
+
+// compute(interrupt) on the string p without the GIL (it holds no Python objects: other
+// threads run meanwhile), stopped by Ctrl-C. A string of fewer than 100 inertias is done long
+// before the first question (0.1 s; 500 pipes take 0.06 s): it is spared the look at the thread, a
+// few µs that a loop over many points of a short string would feel.
+template <typename F>
+auto interruptible(const Params& p, F&& compute) {
+  const std::function<bool()> interrupt = p.dof() >= 100 ? python_signals() : nullptr;
+  try {
+    py::gil_scoped_release release;
+    return std::forward<F>(compute)(interrupt);
+  } catch (const StabilityInterrupted&) {
+    throw py::error_already_set();  // what the handler raised, KeyboardInterrupt
+  }
+}
+
 }  // namespace
 
 void bind_stability(py::module_& m) {
@@ -66,17 +96,18 @@ void bind_stability(py::module_& m) {
   m.def(
       "structured_eigenvalues",
       [](const Params& p, double delta) {
-        py::gil_scoped_release release;
-        return structured_eigenvalues(p, delta);
+        return interruptible(
+            p, [&](const auto& interrupt) { return structured_eigenvalues(p, delta, interrupt); });
       },
       py::arg("params"), py::arg("delta"));
   m.def(
       "roots_of_impedance",
-      [](const Params& p, double delta) -> std::optional<std::vector<complex>> {
-        py::gil_scoped_release release;
-        std::vector<complex> z;
-        if (!roots_of_impedance(p, delta, z)) return std::nullopt;
-        return z;
+      [](const Params& p, double delta) {
+        return interruptible(p, [&](const auto& interrupt) -> std::optional<std::vector<complex>> {
+          std::vector<complex> z;
+          if (!roots_of_impedance(p, delta, z, interrupt)) return std::nullopt;
+          return z;
+        });
       },
       py::arg("params"), py::arg("delta"));
   m.def("characteristic_polynomial", &characteristic_polynomial, py::arg("params"), py::arg("delta"));
@@ -87,11 +118,8 @@ void bind_stability(py::module_& m) {
   m.def(
       "critical_deltas",
       [](const Params& p) {
-        std::vector<Crossing> c;
-        {
-          py::gil_scoped_release release;
-          c = critical_deltas(p);
-        }
+        const std::vector<Crossing> c =
+            interruptible(p, [&](const auto& interrupt) { return critical_deltas(p, interrupt); });
         py::list out;
         for (const auto& x : c) out.append(crossing_dict(x));
         return out;
@@ -99,7 +127,10 @@ void bind_stability(py::module_& m) {
       py::arg("params"));
   m.def(
       "stability_at_velocity",
-      [](const Params& p, double wob, double omega) { return point_dict(stability_at_velocity(p, wob, omega)); },
+      [](const Params& p, double wob, double omega) {
+        return point_dict(interruptible(
+            p, [&](const auto& interrupt) { return stability_at_velocity(p, wob, omega, interrupt); }));
+      },
       py::arg("params"), py::arg("wob"), py::arg("omega"));
   m.def(
       "stability_at_torque",
@@ -108,9 +139,12 @@ void bind_stability(py::module_& m) {
         if (crossings) {
           std::vector<Crossing> known;
           for (const auto& item : *crossings) known.push_back(crossing_from(item.cast<py::dict>()));
-          points = stability_at_torque(p, wob, torque, known);
+          points = interruptible(p, [&](const auto& interrupt) {
+            return stability_at_torque(p, wob, torque, known, interrupt);
+          });
         } else {
-          points = stability_at_torque(p, wob, torque);
+          points = interruptible(
+              p, [&](const auto& interrupt) { return stability_at_torque(p, wob, torque, interrupt); });
         }
         py::list out;
         for (const auto& s : points) out.append(point_dict(s));

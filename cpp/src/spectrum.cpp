@@ -25,6 +25,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "interrupt_poll.hpp"
 #include "pydrill/stability.hpp"
 #include "shortest.hpp"
 
@@ -132,7 +133,7 @@ void tridiagonal_eigenvector(const Eigen::VectorXd& diag, const Eigen::VectorXd&
 // rigid rotation (ω_0 = 0, φ_0 constant) gives one root, −(c_r + c_b − δ)/ΣJ. δ is left out
 // of the other modes' damping: a large δ acts at the bit alone, and spread over every mode
 // it would move their starts away from their roots.
-std::vector<complex> starting_points(const Params& p, double delta) {
+std::vector<complex> starting_points(const Params& p, double delta, detail::InterruptPoll& poll) {
   const int N = p.dof();
   Eigen::VectorXd diag(N), sub(N - 1);
   for (int i = 0; i < N; ++i) {
@@ -142,8 +143,7 @@ std::vector<complex> starting_points(const Params& p, double delta) {
     diag(i) = k / p.inertias[i];
     if (i + 1 < N) sub(i) = -p.stiffnesses[i] / std::sqrt(p.inertias[i] * p.inertias[i + 1]);
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
-  es.computeFromTridiagonal(diag, sub, Eigen::EigenvaluesOnly);
+  const Eigen::VectorXd ev = detail::tridiagonal_eigenvalues(diag, sub, poll);
   double inertia = 0.0;
   for (double j : p.inertias) inertia += j;
   std::vector<complex> z;
@@ -152,8 +152,9 @@ std::vector<complex> starting_points(const Params& p, double delta) {
   std::vector<double> y(N), fwd(N), bwd(N), root_j(N);
   for (int i = 0; i < N; ++i) root_j[i] = std::sqrt(p.inertias[i]);
   for (int k = 1; k < N; ++k) {
-    const double w2 = std::max(es.eigenvalues()(k), 0.0);
-    tridiagonal_eigenvector(diag, sub, es.eigenvalues()(k), y, fwd, bwd);
+    const double w2 = std::max(ev(k), 0.0);
+    poll.tick(N);
+    tridiagonal_eigenvector(diag, sub, ev(k), y, fwd, bwd);
     auto phi = [&](int i) { return y[i] / root_j[i]; };
     double c = p.top_damping * phi(0) * phi(0) + p.bit_damping * phi(N - 1) * phi(N - 1);
     for (int i = 0; i + 1 < N; ++i) {
@@ -177,6 +178,7 @@ std::vector<complex> starting_points(const Params& p, double delta) {
   // fold). Each moves by a thousandth of its distance to the nearest other start.
   std::vector<complex> moved = z;
   for (std::size_t i = 0; i < z.size(); ++i) {
+    poll.tick(static_cast<long>(z.size()));
     double gap = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < z.size(); ++j) {
       if (j != i) gap = std::min(gap, std::norm(z[i] - z[j]));
@@ -188,7 +190,8 @@ std::vector<complex> starting_points(const Params& p, double delta) {
   return moved;
 }
 
-bool converged_roots(const Params& p, double delta, std::vector<complex>& z) {
+bool converged_roots(const Params& p, double delta, std::vector<complex>& z,
+                     detail::InterruptPoll& poll) {
   const int n = static_cast<int>(z.size());
   const double eps = std::numeric_limits<double>::epsilon();
   std::vector<char> done(n, 0);
@@ -206,6 +209,7 @@ bool converged_roots(const Params& p, double delta, std::vector<complex>& z) {
     int moving = 0;
     for (int i = 0; i < n; ++i) {
       if (done[i]) continue;
+      poll.tick(p.dof() + n);  // a Newton step along the chain, then n − 1 differences
       const NewtonStep s = newton_step(p, delta, z[i]);
       if (!s.ok) return false;
       // Σ 1/(z_i − z_j) as conj(d)/|d|²: the library's careful complex division (scaled
@@ -237,17 +241,16 @@ bool converged_roots(const Params& p, double delta, std::vector<complex>& z) {
   return false;
 }
 
-}  // namespace
-
-bool roots_of_impedance(const Params& p, double delta, std::vector<complex>& out) {
+// roots_of_impedance, asking `poll` as it goes.
+bool find_roots(const Params& p, double delta, std::vector<complex>& out, detail::InterruptPoll& poll) {
   p.validate();
   if (!std::isfinite(delta)) {
     std::ostringstream o;
     o << "delta = " << detail::shortest(delta) << " is not allowed: the Stribeck slope must be a finite number (N·m·s/rad)";
     throw std::invalid_argument(o.str());
   }
-  std::vector<complex> z = starting_points(p, delta);
-  bool ok = converged_roots(p, delta, z);
+  std::vector<complex> z = starting_points(p, delta, poll);
+  bool ok = converged_roots(p, delta, z, poll);
   if (ok) {
     // Sum of the eigenvalues = trace of the Jacobian: a lost or doubled root shows.
     complex sum = 0.0;
@@ -308,10 +311,21 @@ bool roots_of_impedance(const Params& p, double delta, std::vector<complex>& out
   return true;
 }
 
-std::vector<complex> structured_eigenvalues(const Params& p, double delta) {
+}  // namespace
+
+bool roots_of_impedance(const Params& p, double delta, std::vector<complex>& out,
+                        const std::function<bool()>& interrupt) {
+  detail::InterruptPoll poll(interrupt);
+  return find_roots(p, delta, out, poll);
+}
+
+std::vector<complex> structured_eigenvalues(const Params& p, double delta,
+                                            const std::function<bool()>& interrupt) {
+  detail::InterruptPoll poll(interrupt);
   std::vector<complex> z;
-  if (roots_of_impedance(p, delta, z)) return z;
-  return eigenvalues(p, delta);  // the dense solver, O(n'³)
+  if (find_roots(p, delta, z, poll)) return z;
+  poll.check();  // the dense solver, O(n'³), cannot be stopped once started
+  return eigenvalues(p, delta);
 }
 
 }  // namespace pydrill

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "band_lu.hpp"
+#include "interrupt_poll.hpp"
 #include "pydrill/equilibrium.hpp"
 #include "pydrill/friction.hpp"
 #include "shortest.hpp"
@@ -58,7 +59,7 @@ complex impedance(const Params& p, complex lambda) {
 
 // Natural frequencies of the undamped chain, with the bit clamped (the poles
 // of Z_b, nearly) or free (its zeros, nearly): symmetric tridiagonal, O(dof²).
-std::vector<double> undamped_frequencies(const Params& p, bool clamped) {
+std::vector<double> undamped_frequencies(const Params& p, bool clamped, detail::InterruptPoll& poll) {
   const int n = clamped ? p.dof() - 1 : p.dof();
   Eigen::VectorXd diag(n), sub(std::max(n - 1, 1));
   for (int i = 0; i < n; ++i) {
@@ -68,10 +69,9 @@ std::vector<double> undamped_frequencies(const Params& p, bool clamped) {
     diag(i) = k / p.inertias[i];
     if (i + 1 < n) sub(i) = -p.stiffnesses[i] / std::sqrt(p.inertias[i] * p.inertias[i + 1]);
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
-  es.computeFromTridiagonal(diag, sub.head(std::max(n - 1, 0)), Eigen::EigenvaluesOnly);
+  const Eigen::VectorXd ev = detail::tridiagonal_eigenvalues(diag, sub.head(std::max(n - 1, 0)), poll);
   std::vector<double> w;
-  for (int i = 0; i < n; ++i) w.push_back(std::sqrt(std::max(es.eigenvalues()(i), 0.0)));
+  for (int i = 0; i < n; ++i) w.push_back(std::sqrt(std::max(ev(i), 0.0)));
   return w;
 }
 
@@ -324,10 +324,13 @@ std::vector<double> hopf_deltas_dof2(const Params& p) {
   return hopf;
 }
 
-std::vector<Crossing> critical_deltas(const Params& p) {
+std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool()>& interrupt) {
   p.validate();
   const int N = p.dof();
   std::vector<Crossing> out;
+  // Nearly all the time goes into O(dof) evaluations of the phase, thousands of them on a
+  // long string; the poll hears of them once per grid point (below).
+  detail::InterruptPoll poll(interrupt);
 
   // Fold: λ = 0 is an eigenvalue when δ = Z_b(0) = c_r + c_b.
   const double fold = p.top_damping + p.bit_damping;
@@ -362,8 +365,8 @@ std::vector<Crossing> critical_deltas(const Params& p) {
   for (int i = 0; i < m; ++i) grid.push_back(w_lo * std::pow(w_hi / w_lo, static_cast<double>(i) / m));
   // Seed the resonances and anti-resonances of the undamped chain, and the
   // midpoints between them, so that clustered modes get their own intervals.
-  std::vector<double> seeds = undamped_frequencies(p, true);
-  const std::vector<double> free = undamped_frequencies(p, false);
+  std::vector<double> seeds = undamped_frequencies(p, true, poll);
+  const std::vector<double> free = undamped_frequencies(p, false, poll);
   seeds.insert(seeds.end(), free.begin(), free.end());
   std::sort(seeds.begin(), seeds.end());
   for (std::size_t i = 0; i < seeds.size(); ++i) {
@@ -380,7 +383,12 @@ std::vector<Crossing> critical_deltas(const Params& p) {
     while (d <= -pi) d += 2 * pi;
     return d;
   };
+  // Evaluations of the phase since the poll last heard of them, counted in a plain integer:
+  // a call to the poll beside each one cost 5 % on a short string (the phase was no longer
+  // inlined).
+  long evaluations = 0;
   auto g = [&](double w) {  // Im Z_b / |Z_b| = sin(arg Z_b)
+    ++evaluations;
     return std::sin(phase(p, w));
   };
   auto consider = [&](double wa, double pa, double wb, double pb) {
@@ -400,12 +408,15 @@ std::vector<Crossing> critical_deltas(const Params& p) {
   std::vector<Piece> stack;
   double w_prev = grid.front(), p_prev = phase(p, w_prev);
   for (std::size_t i = 1; i < grid.size(); ++i) {
+    poll.tick(++evaluations * N);
+    evaluations = 0;
     const double w = grid[i], ph = phase(p, w);
     stack.push_back({w_prev, p_prev, w, ph, 0});
     while (!stack.empty()) {
       Piece c = stack.back();
       stack.pop_back();
       if (std::fabs(turn(c.pa, c.pb)) > pi / 4 && c.depth < 40) {
+        ++evaluations;
         const double wm = 0.5 * (c.wa + c.wb), pm = phase(p, wm);
         stack.push_back({wm, pm, c.wb, c.pb, c.depth + 1});  // right half after the left
         stack.push_back({c.wa, c.pa, wm, pm, c.depth + 1});
@@ -502,7 +513,8 @@ namespace {
 constexpr int kStructuredDof = 24;
 
 StabilityPoint point_at(const Params& p, double wob, double omega,
-                        const std::vector<Crossing>& crossings) {
+                        const std::vector<Crossing>& crossings,
+                        const std::function<bool()>& interrupt) {
   if (!std::isfinite(omega) || !(omega > 0)) {
     std::ostringstream o;
     o << "omega = " << detail::shortest(omega) << " is not allowed: steady drilling needs a finite omega > 0 rad/s";
@@ -521,11 +533,13 @@ StabilityPoint point_at(const Params& p, double wob, double omega,
   // Long strings: the roots of Z_b = δ in O(n'²), kept only if as many lie in the right
   // half-plane as the crossings say; else (and on short strings, where it gains nothing)
   // the dense solver.
+  detail::InterruptPoll poll(interrupt);
   std::vector<complex> roots;
-  if (p.dof() >= kStructuredDof && roots_of_impedance(p, s.delta, roots) &&
+  if (p.dof() >= kStructuredDof && roots_of_impedance(p, s.delta, roots, interrupt) &&
       std::count_if(roots.begin(), roots.end(), [](complex z) { return z.real() > 0; }) == s.unstable) {
     s.eigenvalues = std::move(roots);
   } else {
+    poll.check();  // the dense solver cannot be stopped once started
     s.eigenvalues = eigenvalues(p, s.delta);
   }
   s.spectral_abscissa = s.eigenvalues.front().real();
@@ -534,20 +548,24 @@ StabilityPoint point_at(const Params& p, double wob, double omega,
 
 }  // namespace
 
-StabilityPoint stability_at_velocity(const Params& p, double wob, double omega) {
-  return point_at(p, wob, omega, critical_deltas(p));
-}
-
-std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, double torque) {
-  if (equilibrium_velocities(p, wob, std::fabs(torque)).empty()) return {};
-  return stability_at_torque(p, wob, torque, critical_deltas(p));  // once per string
+StabilityPoint stability_at_velocity(const Params& p, double wob, double omega,
+                                     const std::function<bool()>& interrupt) {
+  return point_at(p, wob, omega, critical_deltas(p, interrupt), interrupt);
 }
 
 std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, double torque,
-                                                const std::vector<Crossing>& crossings) {
+                                                const std::function<bool()>& interrupt) {
+  if (equilibrium_velocities(p, wob, std::fabs(torque)).empty()) return {};
+  // Once per string.
+  return stability_at_torque(p, wob, torque, critical_deltas(p, interrupt), interrupt);
+}
+
+std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, double torque,
+                                                const std::vector<Crossing>& crossings,
+                                                const std::function<bool()>& interrupt) {
   std::vector<StabilityPoint> out;
   for (double omega : equilibrium_velocities(p, wob, std::fabs(torque))) {
-    out.push_back(point_at(p, wob, omega, crossings));
+    out.push_back(point_at(p, wob, omega, crossings, interrupt));
   }
   if (torque < 0) {
     // Turning backwards is the mirror image (φ → −φ) of turning forwards at |u|: the same

@@ -1,10 +1,13 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <vector>
 
+#include "interrupt_poll.hpp"
 #include "pydrill/equilibrium.hpp"
 #include "pydrill/stability.hpp"
 
@@ -202,4 +205,103 @@ TEST_CASE("a slope or frequency or coefficient that is not a number is refused b
   CHECK(unstable_count(critical_deltas(p), 0.0) == 0);
   CHECK(stribeck_slope(p, 100.0, 0.0) == Approx(100.0 * 0.1 * 0.9 * 0.3));
   CHECK(boundary_wob(p, stribeck_slope(p, 100.0, 2.0), 2.0) == Approx(100.0));
+}
+
+TEST_CASE("the O(dof²) analyses ask their interrupt and stop when it says so", "[stability]") {
+  // 2000 pipes: critical_deltas and the roots of Z_b = δ take over half a second each here.
+  const Params p = preset("reduced-scale", 2003);
+  using clock = std::chrono::steady_clock;
+  auto seconds_since = [](clock::time_point t0) {
+    return std::chrono::duration<double>(clock::now() - t0).count();
+  };
+  int asked = 0;
+  const std::function<bool()> no = [&asked] {
+    ++asked;
+    return false;
+  };
+  const std::function<bool()> yes = [&asked] {
+    ++asked;
+    return true;
+  };
+  auto t0 = clock::now();
+  const auto crossings = critical_deltas(p, no);
+  double seconds = seconds_since(t0);
+  INFO("critical_deltas took " << seconds << " s, asked " << asked << " times");
+  REQUIRE(seconds > 0.25);
+  CHECK(asked >= 1);
+  CHECK(asked <= static_cast<int>(seconds / 0.1) + 1);  // about every 0.1 s, not every step
+  const auto plain = critical_deltas(p);
+  REQUIRE(crossings.size() == plain.size());
+  for (std::size_t i = 0; i < plain.size(); ++i) CHECK(crossings[i].delta == plain[i].delta);
+  // Saying yes at the first question stops it there, long before it would end.
+  asked = 0;
+  t0 = clock::now();
+  CHECK_THROWS_AS(critical_deltas(p, yes), StabilityInterrupted);
+  CHECK(asked == 1);
+  CHECK(seconds_since(t0) < 0.5 * seconds);
+
+  // The structured eigenvalues alike, and the stability of a steady state through both.
+  const double delta = crossings.front().delta;
+  asked = 0;
+  t0 = clock::now();
+  std::vector<complex> roots;
+  REQUIRE(roots_of_impedance(p, delta, roots, no));
+  seconds = seconds_since(t0);
+  INFO("roots_of_impedance took " << seconds << " s, asked " << asked << " times");
+  REQUIRE(seconds > 0.25);
+  CHECK(asked >= 1);
+  CHECK(asked <= static_cast<int>(seconds / 0.1) + 1);
+  asked = 0;
+  t0 = clock::now();
+  std::vector<complex> untouched;
+  CHECK_THROWS_AS(roots_of_impedance(p, delta, untouched, yes), StabilityInterrupted);
+  CHECK(untouched.empty());
+  CHECK_THROWS_AS(structured_eigenvalues(p, delta, yes), StabilityInterrupted);
+  CHECK(asked == 2);
+  CHECK(seconds_since(t0) < seconds);
+  asked = 0;
+  CHECK_THROWS_AS(stability_at_velocity(p, 100.0, 5.0, yes), StabilityInterrupted);
+  CHECK_THROWS_AS(stability_at_torque(p, 100.0, 8.3, yes), StabilityInterrupted);
+  CHECK_THROWS_AS(stability_at_torque(p, 100.0, 8.3, crossings, yes), StabilityInterrupted);
+  CHECK(asked == 3);
+  // Short computations end before the first question, and an empty callback is never asked.
+  asked = 0;
+  const Params short_string = preset("reduced-scale", 13);
+  CHECK(critical_deltas(short_string, yes).size() == critical_deltas(short_string).size());
+  CHECK(stability_at_torque(short_string, 100.0, 8.3, yes).size() ==
+        stability_at_torque(short_string, 100.0, 8.3).size());
+  CHECK(asked == 0);
+  CHECK(critical_deltas(short_string, std::function<bool()>{}).size() ==
+        critical_deltas(short_string).size());
+}
+
+TEST_CASE("the tridiagonal eigenvalues that can be interrupted are Eigen's, bit for bit", "[stability]") {
+  // Eigen's solver is one uninterrupted O(n²) piece (1.5 s at 6000 inertias); ours runs its
+  // loop and QR step with a poll between steps, and must change no crossing and no root.
+  const std::function<bool()> no = [] { return false; };
+  detail::InterruptPoll poll(no);
+  auto same_as_eigen = [&](const Eigen::VectorXd& diag, const Eigen::VectorXd& sub) {
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
+    es.computeFromTridiagonal(diag, sub, Eigen::EigenvaluesOnly);
+    REQUIRE(es.info() == Eigen::Success);
+    CHECK(detail::tridiagonal_eigenvalues(diag, sub, poll) == es.eigenvalues());
+  };
+  for (int dof : {2, 3, 13, 303, 2003}) {
+    // The free chain's mass-normalised stiffness, and without its last row (a clamped bit).
+    const Params p = preset("reduced-scale", dof);
+    Eigen::VectorXd diag(dof), sub(dof - 1);
+    for (int i = 0; i < dof; ++i) {
+      diag(i) = ((i > 0 ? p.stiffnesses[i - 1] : 0.0) + (i < dof - 1 ? p.stiffnesses[i] : 0.0)) / p.inertias[i];
+      if (i + 1 < dof) sub(i) = -p.stiffnesses[i] / std::sqrt(p.inertias[i] * p.inertias[i + 1]);
+    }
+    INFO("dof " << dof);
+    same_as_eigen(diag, sub);
+    same_as_eigen(diag.head(dof - 1), sub.head(dof - 2));
+  }
+  // Blocks that split apart (zeros below the diagonal), a repeated eigenvalue, one row.
+  Eigen::VectorXd diag(7), sub(6);
+  diag << 4.0, -1.0, 2.5, 2.5, 0.0, 3.0, 1e-3;
+  sub << 1.0, 0.0, 0.5, 1e-300, 2.0, 0.0;
+  same_as_eigen(diag, sub);
+  same_as_eigen(Eigen::VectorXd::Constant(1, 2.0), Eigen::VectorXd(0));
 }

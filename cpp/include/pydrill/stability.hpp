@@ -11,6 +11,8 @@
 #pragma once
 
 #include <complex>
+#include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,19 @@
 namespace pydrill {
 
 using complex = std::complex<double>;
+
+// Stopping a long computation. critical_deltas, structured_eigenvalues, roots_of_impedance,
+// stability_at_velocity and stability_at_torque are O(dof²): under a millisecond at a dozen
+// inertias, 8 s at 6000, half an hour at the largest string (100000). Each takes an optional
+// `interrupt`, as SimulationOptions::interrupt does: asked about every 0.1 s of wall time while
+// the computation goes on (so never by one that ends sooner), true stops it with
+// StabilityInterrupted (a Ctrl-C from Python, a cancel button in a program that embeds
+// pydrill). Empty: never asked. The dense O(n'³) eigensolver is not asked inside, only before
+// it starts (where structured_eigenvalues and the stability points fall back on it).
+class StabilityInterrupted : public std::runtime_error {
+ public:
+  StabilityInterrupted() : std::runtime_error("interrupted") {}
+};
 
 // δ(Ω, W_ob), N·m·s/rad; W_ob > 0, Ω >= 0.
 double stribeck_slope(const Params& params, double wob, double omega);
@@ -40,11 +55,14 @@ std::vector<complex> eigenvalues(const Params& params, double delta);
 // (Ehrlich–Aberth on the chain's recurrence, started from the free chain's modes
 // with their modal damping): 0.67 s becomes 0.02 s at dof 303, and on overdamped
 // real strings alike. Checked against the trace and conjugate symmetry; where a
-// check fails (e.g. a multiple eigenvalue), the dense solver answers.
-std::vector<complex> structured_eigenvalues(const Params& params, double delta);
+// check fails (e.g. a multiple eigenvalue), the dense solver answers. `interrupt`: see
+// StabilityInterrupted above.
+std::vector<complex> structured_eigenvalues(const Params& params, double delta,
+                                            const std::function<bool()>& interrupt = {});
 // Its O(n'²) part alone: true, with the sorted eigenvalues in `out`, when every
 // check passed; false (and `out` untouched) when the dense solver is needed.
-bool roots_of_impedance(const Params& params, double delta, std::vector<complex>& out);
+bool roots_of_impedance(const Params& params, double delta, std::vector<complex>& out,
+                        const std::function<bool()>& interrupt = {});
 
 // Characteristic polynomial det(λI − J) at slope δ, monic, coefficients in
 // ascending powers a_0 … a_{n'} (a_{n'} = 1), from exact polynomial
@@ -71,8 +89,9 @@ struct Crossing {
 
 // Every crossing with δ > 0, in increasing δ. Found from the zeros of
 // Im Z_b(iω) on a frequency grid fine enough to separate the string's modes,
-// refined to machine precision; O(dof²) in all.
-std::vector<Crossing> critical_deltas(const Params& params);
+// refined to machine precision; O(dof²) in all (`interrupt`: see StabilityInterrupted).
+std::vector<Crossing> critical_deltas(const Params& params,
+                                      const std::function<bool()>& interrupt = {});
 
 // First Lyapunov coefficient of the Hopf point at slope δ with frequency ω
 // (Kuznetsov's formula; the only nonlinearity is the bit friction, whose
@@ -101,15 +120,18 @@ struct StabilityPoint {
 };
 
 // Stability of the steady state at velocity Ω (finite, > 0; the torque it needs follows),
-// W_ob > 0.
-StabilityPoint stability_at_velocity(const Params& params, double wob, double omega);
+// W_ob > 0. These three take an `interrupt` as critical_deltas does (see StabilityInterrupted).
+StabilityPoint stability_at_velocity(const Params& params, double wob, double omega,
+                                     const std::function<bool()>& interrupt = {});
 // Stability of every steady state for (W_ob > 0, finite u): 0, 1 or 2 of them. For u < 0, the mirror
 // image of |u|: the same points with Ω and u reversed.
-std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque);
+std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque,
+                                                const std::function<bool()>& interrupt = {});
 // The same with the string's crossings (critical_deltas(params)) already at hand: they
 // depend on the string alone, and finding them costs more than the rest on a short
 // string (a sweep over W_ob and u computes them once per string, not once per point).
 std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque,
-                                                const std::vector<Crossing>& crossings);
+                                                const std::vector<Crossing>& crossings,
+                                                const std::function<bool()>& interrupt = {});
 
 }  // namespace pydrill
