@@ -100,8 +100,7 @@ std::vector<Crossing> critical_deltas(const Params& params,
 // (the motion jumps away, with hysteresis). frequency finite and > 0 (rad/s).
 // Normalisation: the eigenvector q of iω has unit Euclidean norm in twist coordinates
 // (which mix rad and rad/s) and ⟨p, q⟩ = 1, so the value depends on that choice: use
-// its sign, and compare sizes only between Hopf points of one string. O(dof²) (the Jacobian is built
-// dense; the solves are banded).
+// its sign, and compare sizes only between Hopf points of one string. O(dof): banded solves.
 double first_lyapunov_coefficient(const Params& params, double delta, double frequency);
 
 // Number of eigenvalues with positive real part at slope δ, from the crossings (any
