@@ -1,4 +1,5 @@
 #include "pydrill/simulator.hpp"
+#include "pydrill/stability.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -447,8 +448,12 @@ Result Run::run() {
   w.top1 = q[0];
   w.bit1 = bit_angle(y, q[0]);
   res_.stats.switches = static_cast<long>(res_.switches.size());
-  res_.summary = detail::summarize(chain_, trace_, modes_, w, data_.karnopp,
-                                   detail::steady_swing_for_tolerance(opt_.rtol));
+  try {  // the judgement may need the string's crossings: stoppable too, as the run was
+    res_.summary = detail::summarize(chain_, trace_, modes_, w, data_.karnopp,
+                                     detail::steady_swing_for_tolerance(opt_.rtol), opt_.interrupt);
+  } catch (const StabilityInterrupted&) {
+    throw Interrupted(opt_.t_end);
+  }
   return std::move(res_);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <tuple>
@@ -90,7 +91,8 @@ std::pair<double, double> extremes(const std::vector<double>& t, const std::vect
 
 // Whether the steady state nearest the run's mean bit velocity has an eigenvalue in the
 // right half-plane (from the string's crossings, O(dof²): only asked of an ambiguous swing).
-bool circles_unstable_state(const Chain& chain, const std::vector<double>& omegas, double mean) {
+bool circles_unstable_state(const Chain& chain, const std::vector<double>& omegas, double mean,
+                            const std::function<bool()>& interrupt) {
   if (omegas.empty()) return false;
   double omega = omegas.front();
   for (double o : omegas) {
@@ -99,13 +101,14 @@ bool circles_unstable_state(const Chain& chain, const std::vector<double>& omega
   if (!(std::fabs(omega) > 0.0)) return false;
   const auto& p = chain.params();
   const double delta = stribeck_slope(p, std::fabs(chain.wob()), std::fabs(omega));
-  return unstable_count(critical_deltas(p), delta) > 0;
+  return unstable_count(critical_deltas(p, interrupt), delta) > 0;
 }
 
 }  // namespace
 
 Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeChange>& modes,
-                  const WindowAngles& w, bool karnopp, double steady_swing) {
+                  const WindowAngles& w, bool karnopp, double steady_swing,
+                  const std::function<bool()>& interrupt) {
   Summary s;
   s.window_start = w.t0;
   s.window_end = w.t1;
@@ -220,7 +223,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       // with rtol (20 % of the mean at 1e-4), and a 7 % limit cycle about a Hopf-unstable
       // steady state passed for steady drilling there. Near the steady state the linear
       // analysis decides: it is kept only if no eigenvalue lies in the right half-plane.
-      steady = !circles_unstable_state(chain, s.omega_equilibrium, s.bit_mean);
+      steady = !circles_unstable_state(chain, s.omega_equilibrium, s.bit_mean, interrupt);
       unresolved = !steady;
       if (unresolved) {
         std::ostringstream o;

@@ -1,6 +1,7 @@
 // Judging the regime of a finished run (DESIGN.md §2, "Regimes").
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "pydrill/model.hpp"
@@ -30,8 +31,11 @@ struct WindowAngles {
 // cannot tell from its own ringing (see steady_swing_for_tolerance). A sustained swing
 // below it is steady unless the steady state it circles is linearly unstable; below
 // kSwingFloor it is steady.
+// interrupt: passed to the crossings an ambiguous swing needs (O(dof²): seconds at thousands
+// of inertias); StabilityInterrupted when it says stop.
 Summary summarize(const Chain& chain, const Trace& trace, const std::vector<ModeChange>& modes,
-                  const WindowAngles& angles, bool karnopp, double steady_swing = 2e-6);
+                  const WindowAngles& angles, bool karnopp, double steady_swing = 2e-6,
+                  const std::function<bool()>& interrupt = {});
 
 // The relative swing below which a bit velocity is steady whatever the tolerance.
 inline constexpr double kSwingFloor = 2e-6;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "pydrill/model.hpp"
+#include "pydrill/stability.hpp"
 #include "summary.hpp"
 
 using namespace pydrill;
@@ -150,6 +151,24 @@ TEST_CASE("a swing within a coarse tolerance's floor is judged by the state it c
   const auto still = sine(1.5987, 5e-7 * 1.5987, 0.0, 7.5, 500.0, 1000.0);
   CHECK(detail::summarize(chain, still.trace, modes, still.angles, false, floor).regime ==
         "steady");
+}
+
+TEST_CASE("the judgement of a long string's ambiguous swing asks the interrupt", "[summary]") {
+  // The crossings of 2003 inertias take seconds: the run's interrupt is asked meanwhile
+  // (simulate turns StabilityInterrupted into Interrupted), and an empty one changes nothing.
+  const Chain chain(preset("reduced-scale", 2003), 140.0, 8.3);
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  const double floor = detail::steady_swing_for_tolerance(1e-4);
+  const auto near_unstable = sine(1.5987, 0.035 * 1.5987, 0.0, 7.5, 500.0, 1000.0);
+  int asked = 0;
+  const auto stop = [&asked] {
+    ++asked;
+    return true;
+  };
+  CHECK_THROWS_AS(detail::summarize(chain, near_unstable.trace, modes, near_unstable.angles,
+                                    false, floor, stop),
+                  StabilityInterrupted);
+  CHECK(asked == 1);
 }
 
 TEST_CASE("stick phases in the window make stick-slip, a stick covering it makes stuck",

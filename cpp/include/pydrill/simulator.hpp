@@ -55,7 +55,8 @@ struct SimulationOptions {
   long max_steps = 50'000'000;       // internal steps over the whole run (>= 1), then SolverError
   double window_fraction = 0.5;      // last fraction of the run judged for the regime, in (0, 1]
   double max_switch_rate = 1e4;      // switches per simulated second (> 0) before it is chattering
-  // Asked about every 0.1 s of wall time while the run goes on; true stops it with
+  // Asked about every 0.1 s of wall time while the run goes on (and while its regime is
+  // judged: a long string's crossings take seconds); true stops it with
   // Interrupted (a Ctrl-C from Python, a cancel button in a program that embeds pydrill).
   // Empty: never asked.
   std::function<bool()> interrupt;
