@@ -293,8 +293,21 @@ def run_dask(
                 on_cluster(info)
                 if cluster is None:  # a cluster of others: its workers come and go
                     watch = WorkerWatch(client, info, on_cluster)
+            # Points of batches whose workers kept dying, to run alone, one at a time: a task
+            # waiting on a worker that dies counts as suspect too, so two suspects at once
+            # could condemn an innocent point beside the guilty one.
+            suspects: list[int] = []
+            suspect: list[Any] = []  # the one in flight
+
+            def next_suspect() -> None:
+                if suspects and not suspect:
+                    suspect.extend(submit(0, [[suspects.pop(0)]]))
+                    running.update(suspect)
+
             for fut in running:
                 points = batch_of.pop(fut)
+                if fut in suspect:
+                    suspect.clear()
                 try:
                     done = fut.result()
                 except KilledWorker as exc:
@@ -305,9 +318,10 @@ def run_dask(
                     # failed, and the sweep goes on.
                     pending.discard(fut)
                     if len(points) > 1:
-                        running.update(submit(0, [[i] for i in points]))
+                        suspects.extend(points)
                     else:
                         absorb(killed_point(spec, points[0], exc))
+                    next_suspect()
                     continue
                 # Let go of it, or its result would stay in the workers' memory to the end
                 # of the sweep: a gigabyte for a million points.
@@ -317,6 +331,7 @@ def run_dask(
                     deal.give_back(done.left)
                     running.update(submit(worker_count(client)))
                 absorb(done)
+                next_suspect()
         finally:
             if watch is not None:
                 watch.stop()
