@@ -79,20 +79,26 @@ def test_a_file_that_is_no_scheduler_file_is_named_not_a_traceback(tmp_path, tex
     assert not out.exists() and not Path(str(out) + ".journal").exists()
 
 
-def test_a_scheduler_file_written_while_the_sweep_waits_runs_it(tmp_path):
-    """A batch job starts the scheduler and the sweep together: the file is not there yet.
-    It was refused at once; now it is waited for (as the guide says), and the user told."""
-    file = tmp_path / "sched.json"
+def waiting_sweep(tmp_path, scheduler: str) -> subprocess.Popen:
+    """``pydrill sweep SMALL --scheduler SCHEDULER --json`` started before its scheduler, with
+    90 s to wait for it (what it says it waits for is on its stderr's first line)."""
     small = tmp_path / "small.toml"
     small.write_text(SMALL)
     out = tmp_path / "late.h5"
-    sweep = subprocess.Popen(
-        [*CMD, "sweep", str(small), "--out", str(out), "--scheduler", str(file), "--json"],
+    return subprocess.Popen(
+        [*CMD, "sweep", str(small), "--out", str(out), "--scheduler", scheduler, "--json"],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
         env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "90s"},
     )
+
+
+def test_a_scheduler_file_written_while_the_sweep_waits_runs_it(tmp_path):
+    """A batch job starts the scheduler and the sweep together: the file is not there yet.
+    It was refused at once; now it is waited for (as the guide says), and the user told."""
+    file = tmp_path / "sched.json"
+    sweep = waiting_sweep(tmp_path, str(file))
     procs = []
     try:
         line = sweep.stderr.readline()
@@ -120,16 +126,7 @@ def test_a_scheduler_that_starts_while_the_sweep_waits_runs_it(tmp_path):
     port = free_port()
     address = f"tcp://127.0.0.1:{port}"
     assert unanswered(address) == 30.0  # nothing there: Dask's default wait, in s
-    small = tmp_path / "small.toml"
-    small.write_text(SMALL)
-    out = tmp_path / "late.h5"
-    sweep = subprocess.Popen(
-        [*CMD, "sweep", str(small), "--out", str(out), "--scheduler", address, "--json"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "90s"},
-    )
+    sweep = waiting_sweep(tmp_path, address)
     procs = []
     try:
         line = sweep.stderr.readline()
