@@ -374,8 +374,22 @@ class Atlas:
                 ds[name].attrs["units"] = fmt.axis_units(name)
         if "regime" in ds:  # as the atlas names them (older atlases: without a long_name)
             ds["regime"].attrs.update(fmt.regime_attrs())
+        for name in COUNT_FIELDS:
+            # A count's fill (-1: failed, missing, no such steady state) is not a count: read
+            # as NaN, as xarray reads any CF _FillValue, so that means and exports skip it.
+            if name in ds and "_FillValue" not in ds[name].encoding:
+                count = ds[name]
+                ds[name] = count.where(count != -1)
+                ds[name].encoding.update(dtype=count.dtype, _FillValue=count.dtype.type(-1))
         return ds
 
+
+#: integer fields whose fill, -1, marks "not measured" (not a regime code: those have names)
+COUNT_FIELDS = tuple(
+    name
+    for name, (dtype, fill, *_) in {**fmt.RUN_FIELDS, **fmt.EQ_FIELDS}.items()
+    if dtype.startswith("i") and fill == -1
+)
 
 # What the queries read: a file without one of these is damaged, whatever else it holds.
 _DATASETS = (

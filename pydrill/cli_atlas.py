@@ -11,10 +11,30 @@ from .cli_options import figure_path, json_document, print_json, writable_place
 
 
 def axis_line(name: str, size: int, low: float, high: float) -> str:
-    """An axis as ``atlas info`` and ``sweep --dry-run`` list it."""
+    """An axis as ``atlas info`` and ``sweep --dry-run`` list it, with its unit."""
     if size == 1:
-        return f"  axis {name:12s} {size:6d} value,  {low:g}"
-    return f"  axis {name:12s} {size:6d} values, {low:g} ... {high:g}"
+        return f"  axis {name:12s} {size:6d} value,  {with_unit(name, low)}"
+    unit = _shown_unit(name, low, high)
+    return (
+        f"  axis {name:12s} {size:6d} values, {with_unit(name, low, unit)} ... "
+        f"{with_unit(name, high, unit)}"
+    )
+
+
+def _shown_unit(name: str, *values: float) -> tuple[str, float]:
+    """The unit a sweep axis's values are printed in, and its size in SI: a real string's
+    weights on bit (1e5 N) read as kN, the reduced-scale rig's (100 N) as N."""
+    unit = _axis_unit(name)
+    if unit in ("N", "N·m") and max(abs(v) for v in values) >= 1e4:
+        return "k" + unit, 1e3
+    return unit, 1.0
+
+
+def with_unit(name: str, value: float, unit: tuple[str, float] | None = None) -> str:
+    """A sweep axis's SI value as text with its unit ("80 N", "120 kN", "4" for a count)."""
+    text, factor = unit or _shown_unit(name, value)
+    number = f"{value / factor:g}"
+    return number if text == "1" else f"{number} {text}"
 
 
 def register_atlas(sub) -> None:
@@ -239,6 +259,16 @@ def _axis_unit(name: str) -> str:
     return "1" if unit == "friction coefficient" else unit
 
 
+def _json_unit(unit: str) -> str:
+    """A unit of the atlas table as the other ``--json`` documents write it ("N·m·s/rad")."""
+    return unit.replace(" ", "·")
+
+
+def _typed(name: str, value: float) -> float | int:
+    """A value asked for on a count axis (dof, pipes) as the integer ``coords`` gives."""
+    return int(value) if name in ("dof", "pipes") and float(value).is_integer() else value
+
+
 def _axis_values(items: list[str]) -> dict[str, float]:
     """``--set AXIS=VALUE`` options as a dict of SI values: a VALUE may carry a unit, as the
     spec and ``--wob``, ``--depth`` take it (``torque=8 kN·m``, ``depth=3000ft``)."""
@@ -289,7 +319,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
     if args.json:
         first = initials[0]
         # asked: the values given; coords: the grid point's (the same unless --nearest)
-        inputs = {"atlas": args.atlas, "asked": coords}
+        inputs = {"atlas": args.atlas, "asked": {k: _typed(k, x) for k, x in coords.items()}}
         flat = {"regime": v["regime"][first], "coords": v["coords"], "status": v["status"]}
         if "message" in v:
             flat["message"] = v["message"]
@@ -298,22 +328,22 @@ def _cmd_query(args: argparse.Namespace) -> int:
         flat["by_initial"] = {"regime": v["regime"], "metrics": v["metrics"], "caveat": v["caveat"]}
         flat["stability"] = v["stability"]
         flat["coexistence"] = v["coexistence"]
+        # Every field's unit from the table the atlas's own "units" attributes come from
+        # (dimensionless ones too, so a script need not guess), and the axes'.
         units = {
-            "bit_min": "rad/s",
-            "bit_max": "rad/s",
-            "bit_mean": "rad/s",
-            "top_mean": "rad/s",
-            "period": "s",
-            "omega_eq": "rad/s",
-            "wall_time": "s",
-            "spectral_abscissa": "1/s",
+            name: _json_unit(unit)
+            for name, (_, _, unit, _) in {**fmt.RUN_FIELDS, **fmt.EQ_FIELDS}.items()
         }
+        units["eigenvalues"] = "1/s"
+        units["coords"] = {name: _axis_unit(name) for name in v["coords"]}
         print_json(json_document(inputs, flat, units))
         return 0
-    print(", ".join(f"{k} = {x:g}" for k, x in v["coords"].items()) + f": {v['status']}")
+    print(
+        ", ".join(f"{k} = {with_unit(k, x)}" for k, x in v["coords"].items()) + f": {v['status']}"
+    )
     moved = {k: x for k, x in coords.items() if f"{x:g}" != f"{v['coords'][k]:g}"}
     if args.nearest and moved:  # say it: the point shown is not the one asked for
-        asked = ", ".join(f"{k} = {x:g}" for k, x in moved.items())
+        asked = ", ".join(f"{k} = {with_unit(k, x)}" for k, x in moved.items())
         print(f"  (the grid point nearest {asked})")
     if "message" in v:
         print(f"  {v['message']}")
@@ -375,7 +405,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from .atlas import Atlas
+    from .atlas import COUNT_FIELDS, Atlas
 
     out = Path(args.out)
     if out.resolve() == Path(args.atlas).resolve():
@@ -394,6 +424,9 @@ def _cmd_export(args: argparse.Namespace) -> int:
                 and (ds[v].dtype.kind != "O" or v == "message")
             ]
             table = ds[keep].to_dataframe()
+            for name in COUNT_FIELDS:  # counts as integers, an empty cell where not measured
+                if name in table:
+                    table[name] = table[name].astype("Int64")
             _name_codes(table)
             table.to_csv(out)
         ds.close()

@@ -136,8 +136,14 @@ def test_size_axes_are_whole_numbers_in_the_file_xarray_and_queries(sizes_atlas)
         text=True,
     )
     assert proc.returncode == 0, proc.stderr
-    dof = json.loads(proc.stdout)["coords"]["dof"]
+    data = json.loads(proc.stdout)
+    dof = data["coords"]["dof"]
     assert dof == 8 and type(dof) is int  # written as 8, not 8.0
+    assert data["asked"] == data["coords"] and type(data["asked"]["dof"]) is int  # was 8.0
+    assert data["units"]["coords"] == {"dof": "1", "wob": "N", "torque": "N·m"}
+    # Every number the document holds has its unit, dimensionless ones too.
+    flat = [k for k, x in data.items() if isinstance(x, (int, float)) and not isinstance(x, bool)]
+    assert set(flat) | set(data["stability"]) <= set(data["units"]), data["units"]
     info = subprocess.run(
         [*CMD, "atlas", "info", str(sizes_atlas), "--json"], capture_output=True, text=True
     )
@@ -354,6 +360,60 @@ def test_export_csv_names_every_coded_column_beside_its_codes(small_atlas, tmp_p
         assert {r["caveat_name"] for r in rows} == {fmt.CAVEAT_NAMES[c] or "none" for c in caveats}
 
 
+def test_counts_not_measured_are_empty_not_minus_one(tmp_path):
+    """A failed point's stick_events read -1 in the CSV and in xarray (a mean over the atlas
+    counted it); a count is now NaN / an empty cell there, and stays an integer elsewhere."""
+    import xarray as xr
+    from sweeping import TINY
+
+    atlas = tmp_path / "fail.h5"
+    failing = TINY.replace("[simulation]", "[simulation]\nmax_steps = 20")
+    run_sweep(parse_spec(failing), atlas, serial=True)
+    with h5py.File(atlas, "r") as f:
+        assert (
+            set(f["status"][...].ravel().tolist()) == {2} and (f["stick_events"][...] == -1).all()
+        )
+    table, nc = tmp_path / "fail.csv", tmp_path / "fail.nc"
+    for out in (table, nc):
+        subprocess.run([*CMD, "atlas", "export", str(atlas), "--out", str(out)], check=True)
+    with table.open(newline="") as fh:
+        assert {row["stick_events"] for row in csv.DictReader(fh)} == {""}
+    with Atlas(atlas) as a:
+        assert np.isnan(a.to_xarray()["stick_events"].values).all()
+    with h5py.File(nc, "r") as f:  # the netCDF keeps the integer and names its fill
+        assert f["stick_events"].dtype.kind == "i" and (f["stick_events"][...] == -1).all()
+    with xr.open_dataset(nc) as ds:
+        assert np.isnan(ds["stick_events"].values).all()
+
+
+def test_exported_counts_are_integers_where_measured(small_atlas, tmp_path):
+    table = tmp_path / "small.csv"
+    subprocess.run([*CMD, "atlas", "export", str(small_atlas), "--out", str(table)], check=True)
+    with h5py.File(small_atlas, "r") as f:
+        raw = f["stick_events"][...]
+    with table.open(newline="") as fh:
+        cells = [row["stick_events"] for row in csv.DictReader(fh)]
+    assert sorted(cells) == sorted("" if n == -1 else str(n) for n in raw.ravel().tolist())
+    assert any(c not in ("", "0") for c in cells)  # stick-slip points count their sticks
+
+
+def test_info_and_query_text_give_the_axes_units(small_atlas):
+    info = subprocess.run(
+        [*CMD, "atlas", "info", str(small_atlas)], capture_output=True, text=True, check=True
+    ).stdout
+    assert "axis wob               3 values, 40 N ... 160 N" in info
+    assert "axis torque            2 values, 6 N·m ... 8.3 N·m" in info
+
+
+def test_a_real_string_axis_reads_in_kilonewtons():
+    from pydrill.cli_atlas import axis_line, with_unit
+
+    assert with_unit("wob", 120e3) == "120 kN" and with_unit("wob", 80.0) == "80 N"
+    assert with_unit("torque", 15e3) == "15 kN·m" and with_unit("pipes", 40) == "40"
+    # one unit along an axis, even where its first value alone would read in N
+    assert axis_line("wob", 3, 5e3, 2e5).endswith("5 kN ... 200 kN")
+
+
 def test_info_of_a_one_start_atlas_counts_no_disagreement(tmp_path):
     """'rest/equilibrium disagree at 0' was printed for atlases with one start."""
     from sweeping import TINY
@@ -374,8 +434,8 @@ def test_query_nearest_says_it_moved_to_the_grid_point(small_atlas):
         return subprocess.run(argv, capture_output=True, text=True, check=True).stdout
 
     moved = query("--wob", "97", "--torque", "8.3", "--nearest").splitlines()
-    assert moved[0] == "wob = 100, torque = 8.3: done"
-    assert moved[1] == "  (the grid point nearest wob = 97)"
+    assert moved[0] == "wob = 100 N, torque = 8.3 N·m: done"
+    assert moved[1] == "  (the grid point nearest wob = 97 N)"
     exact = query("--wob", "100", "--torque", "8.3", "--nearest")
     assert "nearest" not in exact
     data = json.loads(query("--wob", "97", "--torque", "8.2", "--nearest", "--json"))

@@ -123,7 +123,7 @@ def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert "6 points (3 wob x 2 torque), from rest" in proc.stdout
-    assert "  axis wob               3 values, 40 ... 160\n" in proc.stdout
+    assert "  axis wob               3 values, 40 N ... 160 N\n" in proc.stdout
     assert f"{out}: a new atlas" in proc.stdout and "on 3 local workers" in proc.stdout
     assert "points timed failed" in proc.stdout and "max_steps" in proc.stdout
     assert proc.stdout.endswith("dry run: nothing was written\n")
@@ -151,7 +151,7 @@ def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
     one = subprocess.run(
         [*CMD, "sweep", str(spec_file), "--dry-run"], capture_output=True, text=True
     )
-    assert "  axis torque            1 value,  8.3\n" in one.stdout
+    assert "  axis torque            1 value,  8.3 N·m\n" in one.stdout
 
 
 BIG = SMALL.replace("wob = [40.0, 100.0, 160.0]", "wob = { start = 1.0, stop = 300.0, num = 500 }")
