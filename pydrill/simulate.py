@@ -111,6 +111,10 @@ def simulate(
         params = _model.preset(
             "reduced-scale" if preset is None else preset, dof=dof, pipes=pipes, **overrides
         )
+        if preset is None and set(_LISTS + _SCALARS) <= set(overrides):
+            # Every field given (as inputs() writes a string that is no preset's): nothing of
+            # the reduced-scale rig is left, so it is not labelled as one.
+            params = params.replace(name="custom")
     elif not isinstance(params, Params):
         hint = (
             f" (for a preset by name, write preset={params!r})" if isinstance(params, str) else ""

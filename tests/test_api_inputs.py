@@ -291,6 +291,12 @@ def test_inputs_repeat_a_run_of_a_custom_string():
     again = simulate(**inputs)
     assert again.params == p
     np.testing.assert_array_equal(again.states, r.states)
+    # not relabelled as the reduced-scale rig it was not (its label is not an input: custom)
+    assert again.params.name == "custom" and again.inputs() == r.inputs()
+    # a preset's string with a few fields changed keeps its preset's name
+    assert simulate(wob=60.0, torque=8.0, t_end=1.0, bit_radius=0.1).params.name == (
+        "reduced-scale"
+    )
 
 
 # 9. Shapes of initial and t_out.
