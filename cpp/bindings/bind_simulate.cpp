@@ -23,7 +23,7 @@ py::array view(const std::vector<T>& v, std::vector<py::ssize_t> shape, py::hand
 
 py::dict summary_dict(const Summary& s) {
   py::dict d;
-  d["regime"] = s.regime;
+  d["regime"] = regime_name(s.regime);  // Python keeps the names
   d["window_start"] = s.window_start;
   d["window_end"] = s.window_end;
   d["bit_min"] = s.bit_min;
@@ -46,7 +46,7 @@ py::dict summary_dict(const Summary& s) {
 
 py::dict stats_dict(const SolverStats& s) {
   py::dict d;
-  d["method"] = s.method;
+  d["method"] = method_name(s.method);
   d["method_reason"] = s.method_reason;
   d["stiffness_ratio"] = s.stiffness_ratio;
   d["steps"] = s.steps;

@@ -18,9 +18,9 @@ namespace {
 
 py::dict crossing_dict(const Crossing& c) {
   py::dict d;
-  d["type"] = c.type;
+  d["type"] = crossing_type_name(c.type);  // Python keeps the names
   d["delta"] = c.delta;
-  d["frequency"] = c.type == "hopf" ? py::object(py::float_(c.frequency)) : py::object(py::none());
+  d["frequency"] = c.type == CrossingType::Hopf ? py::object(py::float_(c.frequency)) : py::object(py::none());
   d["direction"] = c.direction;
   d["multiplicity"] = c.multiplicity;
   return d;
@@ -29,7 +29,10 @@ py::dict crossing_dict(const Crossing& c) {
 // The inverse of crossing_dict: crossings found earlier, handed back.
 Crossing crossing_from(const py::dict& d) {
   Crossing c;
-  c.type = d["type"].cast<std::string>();
+  // The core reads only delta, direction and multiplicity of crossings handed back, and
+  // Python's Crossing has always been passed through with any type string: anything but
+  // "fold" stays accepted (as a Hopf crossing) rather than becoming a new ValueError.
+  c.type = d["type"].cast<std::string>() == "fold" ? CrossingType::Fold : CrossingType::Hopf;
   c.delta = d["delta"].cast<double>();
   c.frequency = d["frequency"].is_none() ? 0.0 : d["frequency"].cast<double>();
   c.direction = d["direction"].cast<int>();

@@ -16,12 +16,12 @@ int main() {
 
   const pydrill::Result r = pydrill::simulate(params, wob, torque, options);
   const pydrill::Summary& s = r.summary;
-  std::printf("regime: %s (judged on t = %g ... %g s)\n", s.regime.c_str(), s.window_start, s.window_end);
+  std::printf("regime: %s (judged on t = %g ... %g s)\n", pydrill::regime_name(s.regime), s.window_start, s.window_end);
   std::printf("in that window: bit velocity min %.4f  max %.4f  mean %.4f rad/s\n", s.bit_min, s.bit_max,
               s.bit_mean);
   std::printf("in that window: period %.4f s, %ld stick events, stuck %.1f %% of the time\n", s.period,
               s.stick_events, 100.0 * s.stuck_fraction);
-  std::printf("whole run: solver %s, %ld steps, %ld switches, %.3f ms\n", r.stats.method.c_str(),
+  std::printf("whole run: solver %s, %ld steps, %ld switches, %.3f ms\n", pydrill::method_name(r.stats.method),
               r.stats.steps, r.stats.switches, 1e3 * r.stats.wall_time);
-  return s.regime == "stick-slip" ? 0 : 1;
+  return s.regime == pydrill::Regime::StickSlip ? 0 : 1;
 }

@@ -144,7 +144,7 @@ class Cvodes final : public Integrator {
 
   void collect(SolverStats& s) override {
     const Counters c = counters();
-    s.method = method_name(method_);
+    s.method = method_;
     s.steps += c.steps - base_.steps;
     s.rhs_evals += c.rhs - base_.rhs;
     s.err_test_fails += c.etf - base_.etf;

@@ -165,7 +165,7 @@ class Dop853 final : public Integrator {
   }
 
   void collect(SolverStats& s) override {
-    s.method = "dop853";
+    s.method = Method::DOP853;
     s.steps += steps_ - reported_.steps;
     s.rhs_evals += rhs_evals_ - reported_.rhs;
     s.err_test_fails += err_fails_ - reported_.fails;

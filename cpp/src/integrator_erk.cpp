@@ -151,7 +151,7 @@ class Erk final : public Integrator {
 
   void collect(SolverStats& s) override {
     const Counters c = counters();
-    s.method = "erk";
+    s.method = Method::ERK;
     s.steps += c.steps - base_.steps;
     s.rhs_evals += c.rhs - base_.rhs;
     s.err_test_fails += c.etf - base_.etf;

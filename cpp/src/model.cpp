@@ -5,7 +5,7 @@
 
 namespace pydrill {
 
-const char* mode_name(Mode m) {
+const char* mode_name(Mode m) noexcept {
   switch (m) {
     case Mode::SlipPositive: return "slip+";
     case Mode::SlipNegative: return "slip-";

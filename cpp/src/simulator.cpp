@@ -19,7 +19,7 @@
 
 namespace pydrill {
 
-const char* method_name(Method m) {
+const char* method_name(Method m) noexcept {
   switch (m) {
     case Method::Auto: return "auto";
     case Method::BDF: return "bdf";
@@ -30,7 +30,26 @@ const char* method_name(Method m) {
   return "?";
 }
 
-const char* switch_kind_name(SwitchKind k) {
+const char* regime_name(Regime r) noexcept {
+  switch (r) {
+    case Regime::Steady: return "steady";
+    case Regime::StickSlip: return "stick-slip";
+    case Regime::Stuck: return "stuck";
+    case Regime::Oscillation: return "oscillation";
+  }
+  return "?";
+}
+
+Regime parse_regime(const std::string& s) {
+  if (s == "steady") return Regime::Steady;
+  if (s == "stick-slip") return Regime::StickSlip;
+  if (s == "stuck") return Regime::Stuck;
+  if (s == "oscillation") return Regime::Oscillation;
+  throw std::invalid_argument("regime = '" + s +
+                              "' is not allowed: choose 'steady', 'stick-slip', 'stuck' or 'oscillation'");
+}
+
+const char* switch_kind_name(SwitchKind k) noexcept {
   switch (k) {
     case SwitchKind::Stick: return "stick";
     case SwitchKind::Slip: return "slip";
@@ -198,7 +217,7 @@ class Run {
     } else {
       integrator_ = detail::make_cvodes(method, data_, y0, opt);
     }
-    res_.stats.method = method_name(method);
+    res_.stats.method = method;
   }
 
   Result run();
@@ -501,7 +520,7 @@ Result simulate(const Params& params, double wob, double torque, const Simulatio
   const auto wall0 = std::chrono::steady_clock::now();
   Run run(chain, options, initial_state(params, wob, torque, options), method);
   Result r = run.run();
-  r.stats.method = method_name(method);
+  r.stats.method = method;
   r.stats.method_reason = reason;
   r.stats.stiffness_ratio = stiffness_ratio(params);
   r.stats.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

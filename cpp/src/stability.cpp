@@ -16,6 +16,21 @@
 #include "shortest.hpp"
 
 namespace pydrill {
+
+const char* crossing_type_name(CrossingType t) noexcept {
+  switch (t) {
+    case CrossingType::Hopf: return "hopf";
+    case CrossingType::Fold: return "fold";
+  }
+  return "?";
+}
+
+CrossingType parse_crossing_type(const std::string& s) {
+  if (s == "hopf") return CrossingType::Hopf;
+  if (s == "fold") return CrossingType::Fold;
+  throw std::invalid_argument("crossing type = '" + s + "' is not allowed: choose 'hopf' or 'fold'");
+}
+
 namespace {
 
 double stribeck_factor(const Params& p) {
@@ -348,7 +363,7 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
   if (fold > 0) {
     const double h = 1e-7 * std::max(fold, 1e-12);
     const double dz = (std::real(impedance(p, complex(h, 0))) - std::real(impedance(p, complex(-h, 0)))) / (2 * h);
-    out.push_back({"fold", fold, 0.0, dz > 0 ? 1 : -1, 1});
+    out.push_back({CrossingType::Fold, fold, 0.0, dz > 0 ? 1 : -1, 1});
   }
 
   // Hopf: zeros of Im Z_b(iω) with Re Z_b > 0. No zero lies above the
@@ -409,7 +424,7 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
     const double w = brent(g, wa, wb, ga, gb);
     const complex z = impedance(p, complex(0.0, w));
     if (std::real(z) > 0 && std::fabs(std::imag(z)) <= 1e-6 * std::abs(z)) {
-      out.push_back({"hopf", std::real(z), w, crossing_direction(p, w), 2});
+      out.push_back({CrossingType::Hopf, std::real(z), w, crossing_direction(p, w), 2});
     }
   };
   struct Piece {

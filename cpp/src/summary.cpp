@@ -165,7 +165,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     // if it never did, the run ended inside the first wind-up.
     const bool must_slip = std::fabs(chain.torque()) > chain.static_torque();
     const bool ever_slipped = modes.size() > 1 || !is_held(modes.front().mode);
-    s.regime = must_slip && ever_slipped ? "stick-slip" : "stuck";
+    s.regime = must_slip && ever_slipped ? Regime::StickSlip : Regime::Stuck;
     if (must_slip && !ever_slipped) {
       s.caveat = "first-wind-up";
       s.note = "the bit has not broken free yet although |u| > T_s: the run ended during the "
@@ -179,7 +179,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     if (!karnopp) s.bit_mean = 0.0;  // exact stick: the bit does not move at all
     if (s.bit_max == 0.0) s.bit_top_ratio = 0.0;
   } else if (held > 0.0) {
-    s.regime = "stick-slip";
+    s.regime = Regime::StickSlip;
     // The mode the window opened in: the last change at or before its start.
     std::size_t first = 0;
     while (first + 1 < modes.size() && modes[first + 1].t <= w.t0) ++first;
@@ -190,7 +190,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       // Slipping, then one stick to the window's end with |u| <= T_s: the bit stuck once and
       // has not left, which is what stuck means, not a repeated stick and slip. A run a few
       // seconds longer had judged it stuck from a window held throughout.
-      s.regime = "stuck";
+      s.regime = Regime::Stuck;
       s.caveat = "late-stick";
       std::ostringstream o;
       o.precision(3);
@@ -236,9 +236,9 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       }
     }
     if (steady) {
-      s.regime = "steady";
+      s.regime = Regime::Steady;
     } else {
-      s.regime = "oscillation";
+      s.regime = Regime::Oscillation;
       s.period = crossing_period(tr, s.bit_mean);
       growing = trend > change;
       if (growing) {
@@ -256,7 +256,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   // mode: a shorter one sees part of a stick-slip cycle as an oscillation, or a slip phase
   // as steady (a 3 s window of a 17.5 s cycle did both). Not for a bit held for good.
   // Over a window that short a swing's trend says nothing either: this note replaces it.
-  const bool settled_stuck = s.regime == "stuck" && s.note.empty();
+  const bool settled_stuck = s.regime == Regime::Stuck && s.note.empty();
   const double slowest = 2.0 * 3.14159265358979323846 / estimate_stiffness(chain.params()).fundamental;
   if (!settled_stuck && T < slowest && (s.note.empty() || growing || unresolved)) {
     std::ostringstream o;

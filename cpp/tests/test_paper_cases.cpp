@@ -12,7 +12,7 @@
 using namespace pydrill;
 
 namespace {
-std::string regime(const Params& p, double wob, double torque, double t_end) {
+Regime regime(const Params& p, double wob, double torque, double t_end) {
   SimulationOptions o;
   o.t_end = t_end;
   return simulate(p, wob, torque, o).summary.regime;
@@ -25,13 +25,13 @@ TEST_CASE("dof 2, u = 8.1 N m: stick-slip gives way to a stuck bit past W* = u/(
   // Stuck for good needs u <= T_s, i.e. W_ob >= W* = 8.1 / (0.8 · 0.1) = 101.25 N (Eq. 38),
   // and the string's momentum carries the torque past T_s a little beyond it (ε⁺ > 0).
   const Params p = preset("reduced-scale", 2);
-  std::vector<std::string> seen;
+  std::vector<Regime> seen;
   for (double wob = 90.0; wob <= 150.0; wob += 10.0) seen.push_back(regime(p, wob, 8.1, 300.0));
-  REQUIRE(seen.front() == "stick-slip");
-  REQUIRE(seen.back() == "stuck");
+  REQUIRE(seen.front() == Regime::StickSlip);
+  REQUIRE(seen.back() == Regime::Stuck);
   std::size_t first = 0;
-  while (seen[first] != "stuck") ++first;
-  for (std::size_t i = 0; i < seen.size(); ++i) CHECK(seen[i] == (i < first ? "stick-slip" : "stuck"));
+  while (seen[first] != Regime::Stuck) ++first;
+  for (std::size_t i = 0; i < seen.size(); ++i) CHECK(seen[i] == (i < first ? Regime::StickSlip : Regime::Stuck));
   const double below = 90.0 + 10.0 * static_cast<double>(first - 1);
   const double above = below + 10.0;
   CHECK(above > 8.1 / (0.8 * 0.1));
@@ -39,7 +39,7 @@ TEST_CASE("dof 2, u = 8.1 N m: stick-slip gives way to a stuck bit past W* = u/(
   double lo = below, hi = above;
   while (hi - lo > 1.0) {
     const double mid = 0.5 * (lo + hi);
-    (regime(p, mid, 8.1, 300.0) == "stick-slip" ? lo : hi) = mid;
+    (regime(p, mid, 8.1, 300.0) == Regime::StickSlip ? lo : hi) = mid;
   }
   CHECK(lo > 8.1 / (0.8 * 0.1));
 }
@@ -61,8 +61,8 @@ TEST_CASE("a string of 500 pipes sticks and slips, on BDF, with its energy balan
   o.t_end = 80.0;
   const Result r = simulate(p, 100.0, 8.3, o);
   CHECK(r.dof == 503);
-  CHECK(r.stats.method == "bdf");
-  CHECK(r.summary.regime == "stick-slip");
+  CHECK(r.stats.method == Method::BDF);
+  CHECK(r.summary.regime == Regime::StickSlip);
   CHECK(r.summary.stick_events >= 2);
   // W_in = viscous + friction losses + the energy stored since the start.
   const double in = r.work_input.back();

@@ -64,7 +64,7 @@ TEST_CASE("the n' = 3 closed form equals the general method", "[stability]") {
   REQUIRE(closed.size() == 1);
   bool found = false;
   for (const auto& c : critical_deltas(p)) {
-    if (c.type == "hopf" && std::fabs(c.delta - closed[0]) <= 1e-9 * closed[0]) found = true;
+    if (c.type == CrossingType::Hopf && std::fabs(c.delta - closed[0]) <= 1e-9 * closed[0]) found = true;
   }
   CHECK(found);
   // Δ_2 of the characteristic polynomial vanishes there.

@@ -44,7 +44,7 @@ TEST_CASE("a sustained swing without sticking is an oscillation with its period"
   const auto s = sine(30.0, 3.0, 0.0, 7.5, 500.0, 1000.0);
   const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
   const Summary r = detail::summarize(chain, s.trace, modes, s.angles, false);
-  CHECK(r.regime == "oscillation");
+  CHECK(r.regime == Regime::Oscillation);
   CHECK(r.period == Approx(7.5).epsilon(1e-3));
   CHECK(r.bit_mean == Approx(30.0).epsilon(1e-3));
   CHECK(r.severity == Approx(0.1).epsilon(1e-3));
@@ -55,7 +55,7 @@ TEST_CASE("a decaying swing is steady", "[summary]") {
   const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
   const auto s = sine(30.0, 3.0, 0.01, 7.5, 500.0, 1000.0);
   const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
-  CHECK(detail::summarize(chain, s.trace, modes, s.angles, false).regime == "steady");
+  CHECK(detail::summarize(chain, s.trace, modes, s.angles, false).regime == Regime::Steady);
 }
 
 TEST_CASE("a swing dying out slowly is steady, one growing slowly an oscillation that says so",
@@ -68,19 +68,19 @@ TEST_CASE("a swing dying out slowly is steady, one growing slowly an oscillation
   const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
   const auto decay = sine(10.0, 0.05, 0.00343, 3.1, 150.0, 300.0);
   const Summary d = detail::summarize(chain, decay.trace, modes, decay.angles, false);
-  CHECK(d.regime == "steady");
+  CHECK(d.regime == Regime::Steady);
   CHECK(d.note.empty());
   CHECK(d.caveat.empty());
   const auto growth = sine(10.0, 0.05, -0.00343, 3.1, 150.0, 300.0);
   const Summary g = detail::summarize(chain, growth.trace, modes, growth.angles, false);
-  CHECK(g.regime == "oscillation");
+  CHECK(g.regime == Regime::Oscillation);
   CHECK(g.note.find("still growing") != std::string::npos);
   CHECK(g.caveat == "growing");
   CHECK(g.period == Approx(3.1).epsilon(1e-3));
   // Within the ±5 % band (a swing 3 % smaller at the end) it is sustained: no note.
   const auto flat = sine(10.0, 0.05, 0.0002, 3.1, 150.0, 300.0);
   const Summary f = detail::summarize(chain, flat.trace, modes, flat.angles, false);
-  CHECK(f.regime == "oscillation");
+  CHECK(f.regime == Regime::Oscillation);
   CHECK(f.note.empty());
 }
 
@@ -118,11 +118,11 @@ TEST_CASE("a sustained swing below the tolerance's floor is steady, above it osc
   // Relative swing (max - min) / mean = 2 * 1.5e-4 / 30 = 1e-5, not decaying.
   const auto s = sine(30.0, 1.5e-4, 0.0, 7.5, 500.0, 1000.0);
   const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
-  CHECK(detail::summarize(chain, s.trace, modes, s.angles, false).regime == "oscillation");
+  CHECK(detail::summarize(chain, s.trace, modes, s.angles, false).regime == Regime::Oscillation);
   CHECK(detail::summarize(chain, s.trace, modes, s.angles, false,
-                          detail::steady_swing_for_tolerance(1e-8)).regime == "steady");
+                          detail::steady_swing_for_tolerance(1e-8)).regime == Regime::Steady);
   CHECK(detail::summarize(chain, s.trace, modes, s.angles, false,
-                          detail::steady_swing_for_tolerance(1e-10)).regime == "oscillation");
+                          detail::steady_swing_for_tolerance(1e-10)).regime == Regime::Oscillation);
 }
 
 TEST_CASE("a swing within a coarse tolerance's floor is judged by the state it circles",
@@ -139,18 +139,18 @@ TEST_CASE("a swing within a coarse tolerance's floor is judged by the state it c
   const auto near_unstable = sine(1.5987, 0.035 * 1.5987, 0.0, 7.5, 500.0, 1000.0);
   const Summary u = detail::summarize(chain, near_unstable.trace, modes, near_unstable.angles,
                                       false, floor);
-  CHECK(u.regime == "oscillation");
+  CHECK(u.regime == Regime::Oscillation);
   CHECK(u.note.find("linearly unstable") != std::string::npos);
   CHECK(u.period == Approx(7.5).epsilon(1e-3));
   const auto near_stable = sine(6.7932, 0.035 * 6.7932, 0.0, 7.5, 500.0, 1000.0);
   const Summary st = detail::summarize(chain, near_stable.trace, modes, near_stable.angles,
                                        false, floor);
-  CHECK(st.regime == "steady");
+  CHECK(st.regime == Regime::Steady);
   CHECK(st.note.empty());
   // Below 2e-6 of the mean a swing is steady whatever the state (a run started on it).
   const auto still = sine(1.5987, 5e-7 * 1.5987, 0.0, 7.5, 500.0, 1000.0);
   CHECK(detail::summarize(chain, still.trace, modes, still.angles, false, floor).regime ==
-        "steady");
+        Regime::Steady);
 }
 
 TEST_CASE("the judgement of a long string's ambiguous swing asks the interrupt", "[summary]") {
@@ -179,7 +179,7 @@ TEST_CASE("stick phases in the window make stick-slip, a stick covering it makes
                                               {190.0, Mode::Stick}, {200.0, Mode::SlipPositive}};
   const Chain chain(preset("reduced-scale", 4), 100.0, 8.3);
   const Summary r = detail::summarize(chain, s.trace, cycle, s.angles, false);
-  CHECK(r.regime == "stick-slip");
+  CHECK(r.regime == Regime::StickSlip);
   CHECK(r.stick_events == 2);  // onsets at 170 and 190 lie in [150, 300]
   CHECK(r.period == Approx(20.0));
   CHECK(r.stuck_fraction == Approx((10.0 + 10.0 + 10.0) / 150.0));
@@ -188,18 +188,18 @@ TEST_CASE("stick phases in the window make stick-slip, a stick covering it makes
   const Chain heavy(preset("reduced-scale", 4), 160.0, 8.3);
   const std::vector<detail::ModeChange> held{{0.0, Mode::Stick}};
   const Summary stuck = detail::summarize(heavy, s.trace, held, s.angles, false);
-  CHECK(stuck.regime == "stuck");
+  CHECK(stuck.regime == Regime::Stuck);
   CHECK(stuck.note.empty());
   // Same, but u > T_s: the bit must break free later; never having slipped, the run
   // ended in the first wind-up and says so.
   const Summary windup = detail::summarize(chain, s.trace, held, s.angles, false);
-  CHECK(windup.regime == "stuck");
+  CHECK(windup.regime == Regime::Stuck);
   CHECK_FALSE(windup.note.empty());
   CHECK(windup.caveat == "first-wind-up");
   // Slipped before the window, held all through it, and u > T_s: one long stick phase.
   const std::vector<detail::ModeChange> long_stick{{0.0, Mode::SlipPositive}, {100.0, Mode::Stick}};
   const Summary phase = detail::summarize(chain, s.trace, long_stick, s.angles, false);
-  CHECK(phase.regime == "stick-slip");
+  CHECK(phase.regime == Regime::StickSlip);
   CHECK(phase.caveat == "one-stick-phase");
   CHECK_THAT(phase.note, Catch::Contains("single stick phase"));
 }
@@ -227,7 +227,7 @@ TEST_CASE("a window too short to judge says so", "[summary]") {
   const std::vector<detail::ModeChange> held{{0.0, Mode::Stick}};
   const auto still = sine(0.0, 0.0, 0.0, 17.5, 297.0, 300.0);
   const Summary stuck = detail::summarize(heavy, still.trace, held, still.angles, false);
-  CHECK(stuck.regime == "stuck");
+  CHECK(stuck.regime == Regime::Stuck);
   CHECK(stuck.note.empty());
 }
 
@@ -238,7 +238,7 @@ TEST_CASE("one break-away in the window and no stick after it is flagged", "[sum
   // no stick event to show a cycle.
   const std::vector<detail::ModeChange> once{{0.0, Mode::Stick}, {160.0, Mode::SlipPositive}};
   const Summary r = detail::summarize(chain, s.trace, once, s.angles, false);
-  CHECK(r.regime == "stick-slip");
+  CHECK(r.regime == Regime::StickSlip);
   CHECK(r.stick_events == 0);
   CHECK_THAT(r.note, Catch::Contains("broke free once"));
   CHECK(r.caveat == "one-break-away");
@@ -256,18 +256,18 @@ TEST_CASE("slipping, then one stick to the window's end, is stuck when the rock 
   // u = 8.3 <= T_s = 12.8 at W_ob = 160 N: stuck once and not left, with a caveat.
   const Chain heavy(preset("reduced-scale", 4), 160.0, 8.3);
   const Summary r = detail::summarize(heavy, s.trace, late, s.angles, false);
-  CHECK(r.regime == "stuck");
+  CHECK(r.regime == Regime::Stuck);
   CHECK(r.caveat == "late-stick");
   CHECK_THAT(r.note, Catch::Contains("t = 240 s"));
   CHECK(r.stick_events == 1);
   CHECK(r.stuck_fraction == Approx(60.0 / 150.0));
   // u = 8.3 > T_s = 8.0 at W_ob = 100 N: the bit must break free again, stick-slip.
   const Chain light(preset("reduced-scale", 4), 100.0, 8.3);
-  CHECK(detail::summarize(light, s.trace, late, s.angles, false).regime == "stick-slip");
+  CHECK(detail::summarize(light, s.trace, late, s.angles, false).regime == Regime::StickSlip);
   // Held when the window opened, free, then held again: two stick phases, stick-slip.
   const std::vector<detail::ModeChange> twice{
       {0.0, Mode::Stick}, {160.0, Mode::SlipPositive}, {240.0, Mode::Stick}};
   const Summary t = detail::summarize(heavy, s.trace, twice, s.angles, false);
-  CHECK(t.regime == "stick-slip");
+  CHECK(t.regime == Regime::StickSlip);
   CHECK(t.caveat.empty());
 }

@@ -24,7 +24,7 @@ enum class Mode {
   Band,          // Karnopp band |ω_b| < D_v with |T_e| > T_s: friction = ±T_s, the bit creeps
 };
 
-const char* mode_name(Mode m);  // "slip+", "slip-", "stick", "band"
+const char* mode_name(Mode m) noexcept;  // "slip+", "slip-", "stick", "band"; "?" outside the enum
 
 class Chain {
  public:

@@ -23,11 +23,23 @@ enum class Method { Auto, BDF, Adams, ERK, DOP853 };
 enum class FrictionLaw { Exact, Karnopp };
 enum class Initial { Rest, Equilibrium, State };
 
-// Names and their parsers; a parser throws std::invalid_argument for any other name.
-const char* method_name(Method m);                    // "auto", "bdf", "adams", "erk", "dop853"
+// What a run is judged to be (DESIGN.md §2, "Regimes"), on the last window_fraction of it.
+enum class Regime {
+  Steady,       // the bit velocity settles at a steady Ω (paper Fig. 9)
+  StickSlip,    // the bit sticks and slips again and again (Fig. 4)
+  Stuck,        // the bit sticks and stays stuck (Fig. 7)
+  Oscillation,  // a sustained torsional oscillation that never sticks (a Hopf limit cycle)
+};
+
+// Names and their parsers: the names Python, the command line and an atlas use. A name
+// function returns "?" for a value outside its enum (a static_cast of any int); a parser
+// throws std::invalid_argument for any other name.
+const char* method_name(Method m) noexcept;           // "auto", "bdf", "adams", "erk", "dop853"
+const char* regime_name(Regime r) noexcept;           // "steady", "stick-slip", "stuck", "oscillation"
 Method parse_method(const std::string& s);            // "auto", "bdf", "adams", "erk", "dop853"
 FrictionLaw parse_friction(const std::string& s);     // "exact", "karnopp"
 Initial parse_initial(const std::string& s);          // "rest", "equilibrium", "state"
+Regime parse_regime(const std::string& s);            // "steady", "stick-slip", "stuck", "oscillation"
 
 // Tolerance floors: a double resolves ~2.2e-16 relative, and CVODES and ARKODE give up near
 // rtol 1e-16; 1e-14 keeps a margin (the paper's dof-4 case runs with every method down to
@@ -64,7 +76,8 @@ struct SimulationOptions {
 };
 
 enum class SwitchKind { Stick, Slip, Reversal, BandEnter, BandLeave };
-const char* switch_kind_name(SwitchKind k);
+// "stick", "slip", "reversal", "band-enter", "band-leave"; "?" outside the enum.
+const char* switch_kind_name(SwitchKind k) noexcept;
 
 struct Switch {
   double t;              // s
@@ -75,8 +88,8 @@ struct Switch {
 };
 
 struct SolverStats {
-  std::string method;          // what actually ran: "dop853", "bdf", "adams" or "erk"
-  std::string method_reason;   // why "auto" chose it
+  Method method = Method::Auto;  // what actually ran: DOP853, BDF, Adams or ERK (never Auto)
+  std::string method_reason;     // why Method::Auto chose it
   double stiffness_ratio = 0;  // estimate used by "auto"
   long steps = 0, rhs_evals = 0, jac_evals = 0, lin_setups = 0, lin_solves = 0;
   long nonlin_iters = 0, nonlin_conv_fails = 0, err_test_fails = 0, root_evals = 0;
@@ -88,7 +101,7 @@ struct SolverStats {
 // The regime judged on the window [window_start, window_end] (the last window_fraction of
 // the run): velocities, severity, fractions, period and stick_events describe that window.
 struct Summary {
-  std::string regime;          // "steady", "stick-slip", "stuck", "oscillation"
+  Regime regime = Regime::Steady;  // regime_name(regime) for its name; see `note` for doubts
   double window_start = 0, window_end = 0;        // s
   double bit_min = 0, bit_max = 0, bit_mean = 0;  // bit velocity ω_b, rad/s
   double top_min = 0, top_max = 0, top_mean = 0;  // top-drive velocity ω_0, rad/s

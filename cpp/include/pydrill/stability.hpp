@@ -78,9 +78,19 @@ std::vector<double> hurwitz_determinants(const std::vector<double>& ascending);
 // std::invalid_argument unless dof = 2.
 std::vector<double> hopf_deltas_dof2(const Params& params);
 
+// How eigenvalues reach the imaginary axis.
+enum class CrossingType {
+  Hopf,  // a pair ±iω: an oscillation is born
+  Fold,  // λ = 0: steady states meet (at δ = c_r + c_b)
+};
+// "hopf", "fold"; "?" for a value outside the enum.
+const char* crossing_type_name(CrossingType t) noexcept;
+// The inverse; std::invalid_argument for any other name.
+CrossingType parse_crossing_type(const std::string& s);
+
 // A value of δ at which eigenvalues reach the imaginary axis.
 struct Crossing {
-  std::string type;     // "hopf" (pair ±iω) or "fold" (λ = 0, at δ = c_r + c_b)
+  CrossingType type = CrossingType::Hopf;
   double delta = 0;     // N·m·s/rad
   double frequency = 0; // rad/s; 0 for a fold
   int direction = 0;    // +1: the eigenvalues move into the right half-plane as δ grows
