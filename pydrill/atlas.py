@@ -346,7 +346,9 @@ class Atlas:
         ``pydrill.plot_atlas.METRICS``) with a colour bar, on the axes ``x`` and ``y``
         (default: the first two swept), any other held at its grid value nearest ``at[name]``
         (default: its first), from the start ``initial`` (default: the first). On (W_ob, u)
-        the stuck boundary and the first Hopf curve are drawn on top."""
+        the stuck boundary and the first Hopf curve are drawn on top. An atlas of one axis
+        is drawn as a profile along it: bit velocities from each start, the fastest steady
+        state (dashed where unstable) and the regimes in a strip below."""
         from .plot_atlas import atlas_figure
 
         f = self._file()  # closed: refused like every other read

@@ -118,14 +118,18 @@ def register_atlas(sub) -> None:
     query.set_defaults(handler=_cmd_query)
     plot = asub.add_parser(
         "plot",
-        help="regime map on two axes with the analytic boundaries",
+        help="regime map on two axes with the analytic boundaries (one axis: a profile)",
         description=_para(
             "The regime map of one initial condition on two axes of the atlas, with the Hopf "
             "boundary (where steady drilling loses stability) and the stuck boundary overlaid, "
             "as in the paper's Figs. 6b and 12. Other axes are held at one grid value each "
             "(--set). With --metric the map is coloured by a value instead: a simulation's "
             "(e.g. severity, stuck_fraction, period) from one start, or a steady state's "
-            "(spectral_abscissa, hopf_margin: red where unstable) of the fastest one."
+            "(spectral_abscissa, hopf_margin: red where unstable) of the fastest one. An "
+            "atlas of one axis is drawn as a profile along it instead: the bit velocity from "
+            "each start (mean, and a band from least to largest), the fastest steady state "
+            "(dashed where unstable), and a strip per start coloured by regime; --metric "
+            "plots that value along the axis."
         ),
         epilog="examples:\n  pydrill atlas plot paper.h5 --out map.png\n"
         "  pydrill atlas plot paper.h5 --out severity.png --metric severity\n"

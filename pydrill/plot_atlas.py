@@ -18,6 +18,25 @@ METRICS = {
 NO_STABILITY = "this atlas did not record stability ([record] stability = false)"
 # Signed: zero is the stability boundary, so the colours diverge there.
 SIGNED = ("spectral_abscissa", "hopf_margin")
+#: a regime's colour on maps and profiles (light: hatching and curves on top stay visible)
+MAP_COLORS = {
+    "steady": "#58d68d",
+    "stick-slip": "#f5b041",
+    "stuck": "#85929e",
+    "oscillation": "#af7ac5",
+    "failed": "#e74c3c",
+    "missing": "#ffffff",
+    "no-steady-state": "#d6eaf8",
+}
+#: what the axes are called on a figure (others by their own name)
+AXIS_LABELS = {
+    "wob": "weight on bit $W_{ob}$",
+    "torque": "surface torque $u$",
+    "dof": "degrees of freedom",
+    "pipes": "drill pipes",
+}
+#: the SI unit of each axis that is not a model parameter, as a figure shows it
+AXIS_SI = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -36,6 +55,9 @@ def atlas_figure(
     a ValueError more than half a grid step past either end, as ``Atlas.value`` refuses).
     On (W_ob, u) the stuck boundary u = μ_sb W_ob R_b and the first Hopf curve of the string
     at those values are drawn on top (the paper's Figs. 6b and 12).
+    An atlas of one axis has no map: its figure is a profile along it (the bit velocity from
+    each start with the fastest steady state and its stability, or ``metric``; a regime strip
+    per start below).
 
     With ``metric`` (a name of ``METRICS``: ``severity``, ``stuck_fraction``, ``period``,
     ``spectral_abscissa``, ...) the map is coloured by that value instead, with a colour bar
@@ -56,8 +78,16 @@ def atlas_figure(
     if metric in fmt.EQ_FIELDS and not atlas.spec.record["stability"]:
         raise ValueError(f"metric = {metric!r}: {NO_STABILITY}")
     order = list(atlas.axes)
-    if len(order) < 2:
-        raise ValueError("the atlas has one axis: a map needs two")
+    if len(order) < 2:  # nothing to map: the regimes and bit velocities along the axis
+        from .plot_atlas_line import profile_figure
+
+        if y is not None or (x is not None and x != order[0]):
+            given = y if y is not None else x
+            raise ValueError(
+                f"{'y' if y is not None else 'x'} = {given!r}: this atlas has one axis, "
+                f"{order[0]}, drawn along x"
+            )
+        return profile_figure(atlas, init, metric)
     at = dict(at or {})
     for what, name in [("x", x), ("y", y)] + [("a held axis", n) for n in at]:
         if name is not None and name not in order:
@@ -95,16 +125,7 @@ def atlas_figure(
     x, y = atlas.axes[xname], atlas.axes[yname]
     handles = []
     if metric is None:
-        shown = [
-            "steady",
-            "stick-slip",
-            "stuck",
-            "oscillation",
-            "failed",
-            "missing",
-            "no-steady-state",
-        ]
-        colors = ["#58d68d", "#f5b041", "#85929e", "#af7ac5", "#e74c3c", "#ffffff", "#d6eaf8"]
+        shown, colors = list(MAP_COLORS), list(MAP_COLORS.values())
         lut = {fmt.REGIMES[n]: k for k, n in enumerate(shown)}
         mesh = ax.pcolormesh(
             *_cells(x, y),
@@ -125,7 +146,7 @@ def atlas_figure(
         # A stuck bit has no velocity spread (severity 0, as steady drilling): hatch it.
         stuck = regime == fmt.REGIMES["stuck"] if metric in fmt.RUN_FIELDS else None
         handles, what = _metric_mesh(fig, ax, x, y, grid, metric, init, stuck)
-    si = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
+    si = AXIS_SI
     # A real string's forces in kN, torques in kN·m (the data stay in N and N·m).
     scales = {
         n: unit_scale(atlas.axes[n] if n in order else atlas.spec.fixed[n], si[n])
@@ -133,12 +154,7 @@ def atlas_figure(
         if n in order or n in atlas.spec.fixed
     }
     units = {**si, **{n: unit for n, (_, unit) in scales.items()}}  # as shown: kN, kN·m
-    label = {
-        "wob": "weight on bit $W_{ob}$",
-        "torque": "surface torque $u$",
-        "dof": "degrees of freedom",
-        "pipes": "drill pipes",
-    }
+    label = AXIS_LABELS
     for name, values, set_label, set_ticks, axis in (
         (xname, x, ax.set_xlabel, ax.set_xticks, ax.xaxis),
         (yname, y, ax.set_ylabel, ax.set_yticks, ax.yaxis),
@@ -183,18 +199,34 @@ def atlas_figure(
             ncol=len(handles) if sum(len(h.get_label()) for h in handles) < 90 else 2,
             fontsize=9,
         )
+    string, count = context(atlas, held, scales)
+    ax.set_title(
+        f"{string}: {what}"
+        + ("" if metric in fmt.EQ_FIELDS else f" after {atlas.spec.simulation['t_end']:g} s")
+        + f" ({count})",
+        fontsize=10,
+    )
+    return fig
+
+
+def context(atlas, held: dict[str, float], scales: dict[str, tuple[float, str]]):
+    """What a figure's title says of the string and how much of the atlas is done: ("reduced-
+    scale, dof 4, torque = 8.3 N·m", "42 points" or "30 of 42 points done"). ``held``: the
+    axes held at a value; ``scales``: the kN scales of wob and torque, as the figure uses."""
+    import numpy as np
+
     s = atlas.spec
     total = int(np.prod(atlas.shape))
     missing = atlas.summary()["status"]["missing"]
     # An interrupted sweep's atlas: say so, or the white cells read as a regime of their own.
     points = "point" if total == 1 else "points"
     count = f"{total - missing} of {total} {points} done" if missing else f"{total} {points}"
-    # Everything a map holds constant: the held axes, and what the spec fixes (e.g. torque).
+    # Everything a figure holds constant: the held axes, and what the spec fixes (e.g. torque).
     # (a model parameter held with its unit: "bit_damping = 0.05 N·m·s/rad")
     where = "".join(
         f", {n} = "
-        + (quantity(v, si[n], scales[n][0]) if n in scales else f"{v:.4g}")
-        + ("" if n in si or not shown_unit(n) else f" {shown_unit(n)}")
+        + (quantity(v, AXIS_SI[n], scales[n][0]) if n in scales else f"{v:.4g}")
+        + ("" if n in AXIS_SI or not shown_unit(n) else f" {shown_unit(n)}")
         for n, v in {**s.fixed, **held}.items()
     )
     size = f", dof {s.dof}" if s.dof and "dof" not in atlas.axes else ""
@@ -204,13 +236,7 @@ def atlas_figure(
         string = f"string {parse_tally(s.tally_text).name}"
     else:
         string = s.preset
-    ax.set_title(
-        f"{string}{size}{where}: {what}"
-        + ("" if metric in fmt.EQ_FIELDS else f" after {s.simulation['t_end']:g} s")
-        + f" ({count})",
-        fontsize=10,
-    )
-    return fig
+    return f"{string}{size}{where}", count
 
 
 def shown_unit(name: str) -> str:

@@ -1,0 +1,112 @@
+"""The figure of a one-axis atlas: what it draws is what the atlas holds."""
+
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+from sweeping import CMD
+
+from pydrill import atlas_format as fmt
+from pydrill.atlas import Atlas
+from pydrill.plot_atlas import MAP_COLORS
+from pydrill.spec import parse_spec
+from pydrill.sweep import run_sweep
+
+LINE = """
+[model]
+preset = "reduced-scale"
+dof = 4
+torque = 8.3
+[axes]
+wob = { start = 40.0, stop = 160.0, num = 13 }
+[simulation]
+t_end = 200.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+@pytest.fixture(scope="module")
+def line_atlas(tmp_path_factory):
+    out = tmp_path_factory.mktemp("line") / "line.h5"
+    run_sweep(parse_spec(LINE), out, serial=True)
+    return out
+
+
+def _raw(atlas, name):
+    with h5py.File(atlas, "r") as f:
+        return f[name][...]
+
+
+def test_the_profile_draws_each_starts_bit_velocities_and_the_steady_state(line_atlas):
+    with Atlas(line_atlas) as atlas:
+        fig = atlas.plot()
+    ax, strip = fig.axes
+    wob = _raw(line_atlas, "wob")
+    lines = {line.get_label(): line for line in ax.get_lines()}
+    for j, start in enumerate(["rest", "equilibrium"]):
+        line = lines[f"from {start}: mean (band: least to largest)"]
+        np.testing.assert_array_equal(line.get_xdata(), wob)
+        np.testing.assert_array_equal(line.get_ydata(), _raw(line_atlas, "bit_mean")[:, j])
+    # The band of each start spans its least to its largest bit velocity.
+    bands = ax.collections
+    assert len(bands) == 2
+    for j, band in enumerate(bands):
+        top = band.get_paths()[0].vertices[:, 1]
+        assert np.isclose(top.max(), np.nanmax(_raw(line_atlas, "bit_max")[:, j]))
+        assert np.isclose(top.min(), np.nanmin(_raw(line_atlas, "bit_min")[:, j]))
+    # The fastest steady state, split by the sign of its spectral abscissa.
+    omega, abscissa = (
+        _raw(line_atlas, "omega_eq")[:, 0],
+        _raw(line_atlas, "spectral_abscissa")[:, 0],
+    )
+    stable = lines["fastest steady state, stable"].get_ydata()
+    np.testing.assert_array_equal(np.isfinite(stable), abscissa < 0)
+    np.testing.assert_array_equal(stable[abscissa < 0], omega[abscissa < 0])
+    assert (abscissa >= 0).any() == ("fastest steady state, unstable" in lines)
+    # The strip: a row per start, coloured by the regime the atlas holds there.
+    regimes = _raw(line_atlas, "regime")
+    colors = list(MAP_COLORS)
+    drawn = strip.collections[0].get_array().reshape(2, -1)
+    for j in range(2):
+        names = [colors[int(k)] for k in drawn[j]]
+        assert names == [fmt.REGIME_NAMES[int(c)] for c in regimes[:, j]]
+    assert {"steady", "stick-slip", "stuck"} <= set(
+        fmt.REGIME_NAMES[int(c)] for c in regimes.ravel()
+    )  # the grid crosses the regimes, so the test sees each colour
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert legend == [n for n in MAP_COLORS if fmt.REGIMES[n] in np.unique(regimes)]
+    assert strip.get_xlabel() == "weight on bit $W_{ob}$ (N)"
+    assert "torque = 8.3 N·m" in ax.get_title() and "(13 points)" in ax.get_title()
+
+
+def test_a_profile_of_a_metric_from_each_start(line_atlas):
+    with Atlas(line_atlas) as atlas:
+        fig = atlas.plot(metric="stick_events")
+        steady = atlas.plot(metric="spectral_abscissa")
+    ax = fig.axes[0]
+    counts = _raw(line_atlas, "stick_events").astype(float)
+    counts[counts < 0] = np.nan  # a count not measured (no steady state to start from)
+    for j, line in enumerate(ax.get_lines()):
+        np.testing.assert_array_equal(line.get_ydata(), counts[:, j])
+    assert ax.get_ylabel() == "stick_events"
+    (line,) = [x for x in steady.axes[0].get_lines() if x.get_label() == "fastest steady state"]
+    np.testing.assert_array_equal(line.get_ydata(), _raw(line_atlas, "spectral_abscissa")[:, 0])
+    assert steady.axes[0].get_ylabel() == "spectral_abscissa (1/s)"
+
+
+def test_a_profile_refuses_a_second_axis_by_name(line_atlas):
+    with Atlas(line_atlas) as atlas:
+        with pytest.raises(ValueError, match=r"y = 'torque': this atlas has one axis, wob"):
+            atlas.plot(y="torque")
+        with pytest.raises(ValueError, match=r"x = 'dof': this atlas has one axis, wob"):
+            atlas.plot(x="dof")
+
+
+def test_atlas_plot_command_draws_a_one_axis_atlas(line_atlas, tmp_path):
+    out = tmp_path / "line.png"
+    proc = subprocess.run(
+        [*CMD, "atlas", "plot", str(line_atlas), "--out", str(out)], capture_output=True, text=True
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert out.stat().st_size > 20_000
