@@ -106,8 +106,8 @@ void bind_stability(py::module_& m) {
   m.def(
       "roots_of_impedance",
       [](const Params& p, double delta) {
-        return interruptible(p, [&](const auto& interrupt) -> std::optional<std::vector<complex>> {
-          std::vector<complex> z;
+        return interruptible(p, [&](const auto& interrupt) -> std::optional<std::vector<std::complex<double>>> {
+          std::vector<std::complex<double>> z;
           if (!roots_of_impedance(p, delta, z, interrupt)) return std::nullopt;
           return z;
         });
@@ -143,7 +143,7 @@ void bind_stability(py::module_& m) {
           std::vector<Crossing> known;
           for (const auto& item : *crossings) known.push_back(crossing_from(item.cast<py::dict>()));
           points = interruptible(p, [&](const auto& interrupt) {
-            return stability_at_torque(p, wob, torque, known, interrupt);
+            return stability_at_torque(p, known, wob, torque, interrupt);
           });
         } else {
           points = interruptible(

@@ -31,6 +31,9 @@
 
 namespace pydrill {
 
+// Shorthand for this file only: the public headers spell std::complex<double>.
+using complex = std::complex<double>;
+
 namespace {
 
 // P_δ and its derivative at λ, rescaled together by a power of two (their

@@ -17,6 +17,9 @@
 
 namespace pydrill {
 
+// Shorthand for this file only: the public headers spell std::complex<double>.
+using complex = std::complex<double>;
+
 const char* crossing_type_name(CrossingType t) noexcept {
   switch (t) {
     case CrossingType::Hopf: return "hopf";
@@ -544,6 +547,30 @@ namespace {
 // a millisecond, far less than the simulation beside them, and the dense solver is kept.
 constexpr int kStructuredDof = 24;
 
+// Crossings handed in must be the string's: the unstable counts come from them, and an empty
+// or foreign list answered "stable" for every point. Every damped string has its fold at
+// δ = c_r + c_b, an undamped one none; nothing else in a crossing names its string (the same
+// test as Python's, which runs it first, with math.isclose's rel_tol = 1e-9).
+void check_crossings(const Params& p, const std::vector<Crossing>& crossings) {
+  const double fold = p.top_damping + p.bit_damping;
+  std::vector<double> folds;
+  for (const Crossing& c : crossings) {
+    if (c.type == CrossingType::Fold) folds.push_back(c.delta);
+  }
+  const bool ok = fold > 0 ? folds.size() == 1 && std::fabs(folds[0] - fold) <=
+                                                      1e-9 * std::max(std::fabs(folds[0]), fold)
+                           : folds.empty();
+  if (!ok) {
+    std::ostringstream o;
+    o << "crossings are not this string's ("
+      << (folds.empty() ? std::string("no fold") : "a fold at delta = " + detail::shortest(folds[0]))
+      << "; its own have "
+      << (fold > 0 ? "one at c_r + c_b = " + detail::shortest(fold) : std::string("none"))
+      << "): give critical_deltas(params) of the same params";
+    throw std::invalid_argument(o.str());
+  }
+}
+
 StabilityPoint point_at(const Params& p, double wob, double omega,
                         const std::vector<Crossing>& crossings,
                         const std::function<bool()>& interrupt) {
@@ -589,12 +616,14 @@ std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, dou
                                                 const std::function<bool()>& interrupt) {
   if (equilibrium_velocities(p, wob, std::fabs(torque)).empty()) return {};
   // Once per string.
-  return stability_at_torque(p, wob, torque, critical_deltas(p, interrupt), interrupt);
+  return stability_at_torque(p, critical_deltas(p, interrupt), wob, torque, interrupt);
 }
 
-std::vector<StabilityPoint> stability_at_torque(const Params& p, double wob, double torque,
-                                                const std::vector<Crossing>& crossings,
+std::vector<StabilityPoint> stability_at_torque(const Params& p, const std::vector<Crossing>& crossings,
+                                                double wob, double torque,
                                                 const std::function<bool()>& interrupt) {
+  p.validate();
+  check_crossings(p, crossings);
   std::vector<StabilityPoint> out;
   for (double omega : equilibrium_velocities(p, wob, std::fabs(torque))) {
     out.push_back(point_at(p, wob, omega, crossings, interrupt));

@@ -12,6 +12,7 @@
 #include "pydrill/stability.hpp"
 
 using namespace pydrill;
+using complex = std::complex<double>;
 
 TEST_CASE("critical deltas put an eigenvalue pair on the imaginary axis", "[stability]") {
   for (int dof : {2, 4, 9, 30}) {
@@ -89,7 +90,7 @@ TEST_CASE("crossings found once serve every operating point of the string", "[st
     for (double factor : {0.7, 0.95, 1.2}) {
       const double torque = factor * p.bit_radius * p.mu_static * wob;
       const auto alone = stability_at_torque(p, wob, torque);
-      const auto shared = stability_at_torque(p, wob, torque, crossings);
+      const auto shared = stability_at_torque(p, crossings, wob, torque);
       REQUIRE(alone.size() == shared.size());
       for (std::size_t k = 0; k < alone.size(); ++k) {
         ++points;
@@ -101,6 +102,23 @@ TEST_CASE("crossings found once serve every operating point of the string", "[st
     }
   }
   CHECK(points >= 6);  // steady states exist at most of these points
+}
+
+TEST_CASE("crossings that cannot be the string's are refused", "[stability]") {
+  // An empty list (what stability_at_torque(p, wob, u, {}) could once mean) counted no
+  // unstable eigenvalue anywhere and called every steady state stable.
+  const Params p = preset("reduced-scale", 4);
+  CHECK_THROWS_WITH(stability_at_torque(p, std::vector<Crossing>{}, 100.0, 8.3),
+                    Catch::StartsWith("crossings are not this string's (no fold; its own have one at "
+                                      "c_r + c_b = 0.19)"));
+  Params other = p;
+  other.top_damping = 0.3;
+  CHECK_THROWS_WITH(stability_at_torque(p, critical_deltas(other), 100.0, 8.3),
+                    Catch::Contains("a fold at delta = 0.31"));
+  Params undamped = p;
+  undamped.top_damping = undamped.bit_damping = 0.0;
+  CHECK_NOTHROW(stability_at_torque(undamped, critical_deltas(undamped), 40.0, 3.0));
+  CHECK_THROWS_AS(stability_at_torque(undamped, critical_deltas(p), 40.0, 3.0), std::invalid_argument);
 }
 
 namespace {
@@ -262,7 +280,7 @@ TEST_CASE("the O(dof²) analyses ask their interrupt and stop when it says so", 
   asked = 0;
   CHECK_THROWS_AS(stability_at_velocity(p, 100.0, 5.0, yes), StabilityInterrupted);
   CHECK_THROWS_AS(stability_at_torque(p, 100.0, 8.3, yes), StabilityInterrupted);
-  CHECK_THROWS_AS(stability_at_torque(p, 100.0, 8.3, crossings, yes), StabilityInterrupted);
+  CHECK_THROWS_AS(stability_at_torque(p, crossings, 100.0, 8.3, yes), StabilityInterrupted);
   CHECK(asked == 3);
   // Short computations end before the first question, and an empty callback is never asked.
   asked = 0;

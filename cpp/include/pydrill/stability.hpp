@@ -23,7 +23,8 @@
 // Units: δ in N·m·s/rad, Ω and frequencies in rad/s, W_ob in N, torques in N·m, λ in 1/s.
 namespace pydrill {
 
-using complex = std::complex<double>;
+// Complex numbers are std::complex<double> throughout. (No pydrill::complex alias: after
+// `using namespace std; using namespace pydrill;` it made every complex<double> ambiguous.)
 
 // Stopping a long computation. critical_deltas, structured_eigenvalues, roots_of_impedance,
 // stability_at_velocity and stability_at_torque are O(dof²): under a millisecond at a dozen
@@ -44,24 +45,24 @@ double stribeck_slope(const Params& params, double wob, double omega);
 double boundary_wob(const Params& params, double delta, double omega);
 
 // Z_b(λ) = J_b λ + c_b + Z_string(λ) in N·m·s/rad, λ in 1/s (finite), evaluated in O(dof).
-complex bit_impedance(const Params& params, complex lambda);
+std::complex<double> bit_impedance(const Params& params, std::complex<double> lambda);
 
 // Dense reduced Jacobian at slope δ, row-major n' × n' (twist coordinates).
 std::vector<double> jacobian(const Params& params, double delta);
 // Its eigenvalues (brute force, O(n'³)); sorted by decreasing real part. Throws
 // std::runtime_error if the dense eigenvalue solver does not converge.
-std::vector<complex> eigenvalues(const Params& params, double delta);
+std::vector<std::complex<double>> eigenvalues(const Params& params, double delta);
 // The same eigenvalues in O(n'²), as the roots of Z_b(λ) = δ found all at once
 // (Ehrlich–Aberth on the chain's recurrence, started from the free chain's modes
 // with their modal damping): 0.67 s becomes 0.02 s at dof 303, and on overdamped
 // real strings alike. Checked against the trace and conjugate symmetry; where a
 // check fails (e.g. a multiple eigenvalue), the dense solver answers. `interrupt`: see
 // StabilityInterrupted above.
-std::vector<complex> structured_eigenvalues(const Params& params, double delta,
+std::vector<std::complex<double>> structured_eigenvalues(const Params& params, double delta,
                                             const std::function<bool()>& interrupt = {});
 // Its O(n'²) part alone: true, with the sorted eigenvalues in `out`, when every
 // check passed; false (and `out` untouched) when the dense solver is needed.
-bool roots_of_impedance(const Params& params, double delta, std::vector<complex>& out,
+bool roots_of_impedance(const Params& params, double delta, std::vector<std::complex<double>>& out,
                         const std::function<bool()>& interrupt = {});
 
 // Characteristic polynomial det(λI − J) at slope δ, monic, coefficients in
@@ -125,7 +126,7 @@ struct StabilityPoint {
   double delta_margin = 0;           // δ distance to the nearest crossing (> 0 inside the
                                      // stable region: how much δ may grow before it is lost)
   double spectral_abscissa = 0;      // max Re λ, 1/s
-  std::vector<complex> eigenvalues;  // λ in 1/s, sorted by decreasing real part
+  std::vector<std::complex<double>> eigenvalues;  // λ in 1/s, sorted by decreasing real part
 };
 
 // Stability of the steady state at velocity Ω (finite, > 0; the torque it needs follows),
@@ -139,8 +140,13 @@ std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob
 // The same with the string's crossings (critical_deltas(params)) already at hand: they
 // depend on the string alone, and finding them costs more than the rest on a short
 // string (a sweep over W_ob and u computes them once per string, not once per point).
-std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque,
-                                                const std::vector<Crossing>& crossings,
+// They come right after the string they belong to, so that stability_at_torque(p, wob, u, {})
+// means one thing (no interrupt) and a call can never take `{}` for "no crossings": they
+// must be this string's, in increasing δ, with its fold at δ = c_r + c_b when c_r + c_b > 0
+// (std::invalid_argument otherwise; crossings of another string with the same damping pass).
+std::vector<StabilityPoint> stability_at_torque(const Params& params,
+                                                const std::vector<Crossing>& crossings, double wob,
+                                                double torque,
                                                 const std::function<bool()>& interrupt = {});
 
 }  // namespace pydrill
