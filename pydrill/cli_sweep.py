@@ -21,9 +21,17 @@ examples:
   pydrill sweep big.toml --out big.h5 --resume        # after Ctrl-C, kill -9, a lost worker
 
 Results stream into the atlas as they finish (through ATLAS.h5.journal), so an interrupted
-sweep loses nothing: --resume computes only the missing points. Ctrl-C or SIGTERM stops the
-sweep between batches with the atlas flushed (exit status 130 or 143). An atlas of a
-different spec is never overwritten.
+sweep loses nothing: --resume computes only the missing points. An atlas of a different spec
+is never overwritten.
+
+exit status:
+  0    the sweep is complete (points that failed, if any, are stored with their messages
+       and counted on stderr)
+  2    bad input: the spec, an option, an atlas that may not be written (another sweep's, one
+       another process is writing), no Dask scheduler
+  3    every point of the atlas failed (as a solver failure of 'pydrill simulate'): the first
+       failure's message is printed; the atlas keeps every point's
+  130  Ctrl-C, 143 SIGTERM: stopped between batches with the atlas flushed; --resume goes on
 """
 
 
@@ -172,7 +180,7 @@ def _inputs(args: argparse.Namespace, run) -> dict:
 
 def _results(run, cluster, interrupted: bool) -> dict:
     """A sweep's results for --json, from its SweepReport or its SweepInterrupted."""
-    return {
+    results = {
         "interrupted": interrupted,
         "points": run.points,
         "computed": run.computed,
@@ -182,6 +190,10 @@ def _results(run, cluster, interrupted: bool) -> dict:
         "write_time": run.write_time,
         "cluster": cluster,
     }
+    # The atlas whole (so far, if interrupted): what failed in it, with the first message.
+    results["failed_in_atlas"] = run.failed_in_atlas
+    results["first_failure"] = run.first_failure or None
+    return results
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
@@ -347,6 +359,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         return 128 + exc.signum
     if bar is not None:
         bar.close()
+    if args.plot and report.all_failed:  # a map of failures only says nothing the error does
+        args.plot = None
     if args.plot:
         from .atlas import Atlas
         from .plot import save
@@ -365,4 +379,33 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         )
         if args.plot:
             print(f"figure: {args.plot}")
+    return _failures(report)
+
+
+def _failures(report) -> int:
+    """Say on stderr what failed, with the first failure's message ("(120 failed)" alone does
+    not say why), and the exit status: 3 when every point of the atlas failed — a study
+    whose every point failed is an error, not a result (scripts and batch jobs see it)."""
+    from .cli import EXIT_SOLVER
+
+    n = report.failed_in_atlas
+    if not n:
+        return 0
+    shown = (
+        report.first_failure
+        if len(report.first_failure) <= 300
+        else (report.first_failure[:297] + "...")
+    )
+    query = f"'pydrill atlas query {report.atlas} ...' shows each point's message"
+    if report.all_failed:
+        sys.stderr.write(
+            f"pydrill sweep: error: every point failed ({n} of {report.points}); nothing in "
+            f"{report.atlas} is a result. The first failure: {shown}\n  {query}; fix the spec, "
+            "then sweep again (into another --out, or after deleting this atlas)\n"
+        )
+        return EXIT_SOLVER
+    sys.stderr.write(
+        f"pydrill sweep: {n} of {report.points} points failed (stored as failed, with their "
+        f"messages). The first: {shown}\n  {query}\n"
+    )
     return 0

@@ -135,7 +135,12 @@ def dry_run(args: argparse.Namespace, spec) -> int:
             "  warning that is more than is available: the sweep would refuse to start. Sweep "
             "the grid in parts (split an axis's range), or run where there is more memory"
         )
-    if plan.failed:
+    if plan.failed and plan.failed == plan.sampled:  # likely the spec, not a corner of it
+        print(
+            f"  warning every one of the {plan.sampled} points timed failed: the sweep would "
+            f"most likely fail whole (exit status 3). The first: {plan.message}"
+        )
+    elif plan.failed:
         print(
             f"  warning {plan.failed} of the {plan.sampled} points timed failed; the sweep "
             f"would store them as failed. The first: {plan.message}"

@@ -80,11 +80,14 @@ class SweepInterrupted(KeyboardInterrupt):
         resumed: int = 0,
         wall_time: float = 0.0,
         write_time: float = 0.0,
+        failed_in_atlas: int = 0,
+        first_failure: str = "",
     ):
         self.atlas, self.points, self.done, self.signum = atlas, points, done, signum
         # as in SweepReport: what this run computed (failed of them), found done, and took
         self.computed, self.failed, self.resumed = computed, failed, resumed
         self.wall_time, self.write_time = wall_time, write_time
+        self.failed_in_atlas, self.first_failure = failed_in_atlas, first_failure
         super().__init__(
             f"sweep interrupted: {done} of {points} points are saved in {atlas}; resuming "
             f"(resume=True, --resume) computes the other {points - done}"
@@ -104,6 +107,16 @@ class SweepReport:
     resumed: int  #: found already done (``resume``)
     wall_time: float  #: s, the whole run
     write_time: float  #: s, of it spent writing the journal and the atlas
+    #: points of the atlas stored as failed, this run's and those found done before
+    failed_in_atlas: int = 0
+    #: the message of the first failed point of the atlas (in grid order), or ""
+    first_failure: str = ""
+
+    @property
+    def all_failed(self) -> bool:
+        """True when the atlas holds failures only: every point failed (``pydrill sweep``
+        exits with status 3 then, as for a solver failure)."""
+        return self.points > 0 and self.failed_in_atlas == self.points
 
 
 def run_sweep(
@@ -340,6 +353,7 @@ def _sweep_locked(
                 write_atlas(out, table)
             write_time += time.perf_counter() - tw
             done = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
+            n_failed, first = _failures(table)
             raise SweepInterrupted(
                 out,
                 spec.size,
@@ -350,6 +364,8 @@ def _sweep_locked(
                 resumed=resumed,
                 wall_time=time.perf_counter() - t0,
                 write_time=write_time,
+                failed_in_atlas=n_failed,
+                first_failure=first,
             ) from None
         except Exception:
             if fresh and computed == 0:  # e.g. no scheduler at that address: leave no trace
@@ -368,6 +384,23 @@ def _sweep_locked(
         )
     jp.unlink(missing_ok=True)  # everything is in the atlas now
     write_time += time.perf_counter() - tw
+    n_failed, first = _failures(table)
     return SweepReport(
-        out, spec.size, computed, failed, resumed, time.perf_counter() - t0, write_time
+        out,
+        spec.size,
+        computed,
+        failed,
+        resumed,
+        time.perf_counter() - t0,
+        write_time,
+        failed_in_atlas=n_failed,
+        first_failure=first,
     )
+
+
+def _failures(table: fmt.AtlasTable) -> tuple[int, str]:
+    """Points of the atlas stored as failed, and the first one's message (grid order): over the
+    whole atlas, as a resumed sweep's failures may all be from before, and a sweep whose every
+    point failed must not look like a finished study."""
+    failed_at = np.flatnonzero(table.status.ravel() == fmt.STATUS["failed"])
+    return len(failed_at), str(table.message.ravel()[failed_at[0]]) if len(failed_at) else ""

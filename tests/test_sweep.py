@@ -326,3 +326,45 @@ def test_a_reader_holding_the_atlas_open_does_not_stop_the_writer(tmp_path):
         reader.stdout.close()
     with h5py.File(out, "r") as f:
         assert np.all(f["status"][...] == fmt.STATUS["failed"])
+
+
+def test_a_sweep_whose_every_point_failed_is_an_error_not_a_result(tmp_path):
+    # It used to end "6 computed now (6 failed)" with exit status 0: a batch job, a script or a
+    # make rule took an atlas of failures for a finished study.
+    spec_file = tmp_path / "fails.toml"
+    spec_file.write_text(SMALL.replace("t_end = 200.0", "t_end = 200.0\nmax_steps = 10"))
+    out = tmp_path / "fails.h5"
+    proc = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), "--serial", "--plot", "m.png"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert proc.returncode == 3, proc.stderr  # as a solver failure (pydrill simulate)
+    assert "every point failed (6 of 6)" in proc.stderr
+    assert "max_steps = 10 internal steps reached" in proc.stderr  # the first one's why
+    assert not (tmp_path / "m.png").exists()  # a map of failures only is not drawn
+    with Atlas(out) as atlas:  # the atlas keeps each point's message all the same
+        assert atlas.summary()["status"]["failed"] == 6
+    report = run_sweep(parse_spec(spec_file.read_text()), tmp_path / "api.h5", serial=True)
+    assert report.all_failed and report.failed_in_atlas == 6
+    assert report.first_failure.startswith("SolverError: max_steps = 10")
+
+
+def test_a_sweep_with_some_failed_points_says_why_and_succeeds(tmp_path):
+    spec_file = tmp_path / "some.toml"
+    spec_file.write_text(
+        SMALL.replace('initial = ["rest", "equilibrium"]', 'initial = ["rest"]\nmax_steps = 900')
+    )
+    proc = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--out", str(tmp_path / "s.h5"), "--serial", "--json"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "points failed (stored as failed, with their messages). The first: " in proc.stderr
+    import json
+
+    results = json.loads(proc.stdout)
+    assert 0 < results["failed_in_atlas"] < results["points"]
+    assert "max_steps" in results["first_failure"]

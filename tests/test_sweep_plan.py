@@ -126,6 +126,7 @@ def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
     assert "  axis wob               3 values, 40 N ... 160 N\n" in proc.stdout
     assert f"{out}: a new atlas" in proc.stdout and "on 3 local workers" in proc.stdout
     assert "points timed failed" in proc.stdout and "max_steps" in proc.stdout
+    assert "would most likely fail whole" not in proc.stdout  # some points failed, not all
     assert proc.stdout.endswith("dry run: nothing was written\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
     data = json.loads(
@@ -221,3 +222,16 @@ def test_the_dry_run_counts_local_workers_beyond_the_cores_as_sharing_them(tmp_p
     assert wall == pytest.approx(compute / cores, rel=1e-12)
     text = subprocess.run(argv, capture_output=True, text=True, check=True).stdout
     assert f"  runs    on {many} local workers sharing {cores} cores: about " in text
+
+
+def test_the_dry_run_says_when_every_point_timed_failed(tmp_path):
+    # A sweep whose every point fails exits with status 3; its dry run says that is coming,
+    # not just "some points failed".
+    spec_file = tmp_path / "s.toml"
+    spec_file.write_text(SMALL.replace("t_end = 200.0", "t_end = 200.0\nmax_steps = 10"))
+    proc = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--dry-run", "--serial"], capture_output=True, text=True
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "every one of the 6 points timed failed" in proc.stdout
+    assert "fail whole (exit status 3)" in proc.stdout
