@@ -122,7 +122,9 @@ def register_atlas(sub) -> None:
         description=_para(
             "The regime map of one initial condition on two axes of the atlas, with the Hopf "
             "boundary (where steady drilling loses stability) and the stuck boundary overlaid, "
-            "as in the paper's Figs. 6b and 12. Other axes are held at one grid value each "
+            "as in the paper's Figs. 6b and 12 (on other axes than W_ob and u: the stuck "
+            "boundary, and where the atlas's eigenvalues say the fastest steady state turns "
+            "unstable). Other axes are held at one grid value each "
             "(--set). With --metric the map is coloured by a value instead: a simulation's "
             "(e.g. severity, stuck_fraction, period) from one start, or a steady state's "
             "(spectral_abscissa, hopf_margin: red where unstable) of the fastest one. An "

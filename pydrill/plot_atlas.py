@@ -54,7 +54,9 @@ def atlas_figure(
     every other axis held at the grid value nearest ``at[name]`` (default: its first value;
     a ValueError more than half a grid step past either end, as ``Atlas.value`` refuses).
     On (W_ob, u) the stuck boundary u = μ_sb W_ob R_b and the first Hopf curve of the string
-    at those values are drawn on top (the paper's Figs. 6b and 12).
+    at those values are drawn on top (the paper's Figs. 6b and 12); on other axes, the stuck
+    boundary found at the grid points and where the fastest steady state's recorded spectral
+    abscissa changes sign (see ``plot_atlas_bounds``).
     An atlas of one axis has no map: its figure is a profile along it (the bit velocity from
     each start with the fastest steady state and its stability, or ``metric``; a regime strip
     per start below).
@@ -165,29 +167,9 @@ def atlas_figure(
             set_ticks(values)  # a few whole numbers (dof, pipes): a tick on each
         if name in scales:
             scale_ticks(axis, scales[name][0])
-    if {xname, yname} == {"wob", "torque"}:
-        from .stability import critical_deltas
+    from .plot_atlas_bounds import boundaries
 
-        params = atlas.spec.params_at(held)  # the string at the held values (dof, depth, ...)
-        wob = np.linspace(
-            x.min() if xname == "wob" else y.min(), x.max() if xname == "wob" else y.max(), 200
-        )
-        ts = params.static_torque(wob)
-        crossings = critical_deltas(params)
-        first = next((c for c in crossings if c.type == "hopf" and c.direction > 0), None)
-        curves = [(wob, ts, "black", "-", "stuck boundary $u = \\mu_{sb} W_{ob} R_b$")]
-        if first is not None:
-            from .operating import hopf_curve_wu
-
-            w, u = hopf_curve_wu(params, first.delta, np.linspace(1e-3, 80, 3000))
-            side = _stable_side(params, crossings, w, u, xname, _extent(x), _extent(y))
-            curves.append((w, u, "#922b21", "--", f"first Hopf curve (steady state stable {side})"))
-        for cw, cu, color, style, lab in curves:
-            px, py = (cw, cu) if xname == "wob" else (cu, cw)
-            ax.plot(px, py, style, color=color, lw=2, label=lab)
-        ax.set_xlim(*_extent(x))
-        ax.set_ylim(*_extent(y))
-        handles += ax.get_legend_handles_labels()[0]
+    handles += boundaries(atlas, ax, xname, yname, held, index)
     if metric is None:
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9)
     elif handles:  # the colour bar is on the right: the legend goes below
@@ -258,29 +240,6 @@ def nearest_index(atlas, name: str, value: float) -> int:
         return atlas.index("nearest", **probe)[list(atlas.axes).index(name)]
     except KeyError as exc:
         raise ValueError(exc.args[0]) from None
-
-
-def _stable_side(params, crossings, w, u, xname: str, xlim, ylim) -> str:
-    """On which side of the Hopf curve ``(w, u)`` the map shows the steady state stable, in
-    the legend's words ("above", "to the right", ...): found by the stability of the fastest
-    steady state just past the curve's middle point in view, towards higher torque, and said
-    for the axes drawn (torque vertical or horizontal)."""
-    import numpy as np
-
-    from .stability import stability
-
-    wlim, ulim = (xlim, ylim) if xname == "wob" else (ylim, xlim)
-    seen = np.flatnonzero(
-        (w >= wlim[0]) & (w <= wlim[1]) & (u >= ulim[0]) & (u <= ulim[1]) & np.isfinite(w)
-    )
-    k = seen[len(seen) // 2] if len(seen) else int(np.nanargmin(np.abs(w - np.mean(wlim))))
-    step = 0.01 * (ulim[1] - ulim[0]) or 0.01 * abs(u[k])
-    past = stability(params, float(w[k]), torque=float(u[k] + step), crossings=crossings)
-    # Stable on the side of the higher torque? (0, 1 or 2 steady states there: the fastest)
-    higher = bool(past) and max(past, key=lambda pt: pt.omega).stable
-    if xname == "wob":  # torque vertical
-        return "above" if higher else "below"
-    return "to the right" if higher else "to the left"
 
 
 def _edges(v):

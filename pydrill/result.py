@@ -287,9 +287,9 @@ class SimulationResult:
         :func:`simulate`: ``simulate(**r.inputs())`` repeats the run. The string is ``preset``
         and ``dof`` with the fields that differ from the preset (overrides); for a string that
         is no preset's (its label, ``params.name``, is not in ``PRESETS``) ``preset`` is None
-        and every field is given (the repeat's label is then ``"custom"``). ``initial`` is ``"rest"``, ``"equilibrium"`` or the state
-        (a list), ``t_out`` None or the list of output times, ``max_switch_rate`` None for no
-        limit."""
+        and every field is given (the repeat's label is then ``"custom"``). ``initial`` is
+        ``"rest"``, ``"equilibrium"`` or the state (a list), ``t_out`` None or the list of
+        output times, ``max_switch_rate`` None for no limit."""
         p = self.params
         try:
             base = _model.preset(p.name, dof=p.dof) if p.name in PRESETS else None

@@ -1,0 +1,137 @@
+"""The boundaries drawn on an atlas's regime maps.
+
+On (W_ob, u) they are the analytic ones of the string at the held values: the stuck boundary
+u = μ_sb W_ob R_b and the first Hopf curve (the paper's Figs. 6b and 12). On any other pair
+of axes (a model parameter, the string's size or depth against W_ob or u, two parameters)
+there is no such closed form to draw; there the stuck boundary is the zero of u − μ_sb W_ob
+R_b evaluated at every grid point (exact where it is linear along the axes, as it is in each
+of W_ob, u, μ_sb and R_b), and the stability boundary of the fastest steady state is the zero
+of the spectral abscissa the atlas recorded, interpolated between grid points.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .plot_atlas import _extent
+
+#: the curves' looks: the stuck boundary in black, the stability boundary in dark red
+STUCK = {"color": "black", "linestyles": "-", "linewidths": 2}
+UNSTABLE = {"colors": "#922b21", "linestyles": "--", "linewidths": 2}
+
+
+def boundaries(atlas, ax, xname: str, yname: str, held: dict[str, float], index: list) -> list:
+    """Draw the boundaries of the map of ``atlas`` on (``xname``, ``yname``), its other axes
+    at ``held`` (grid positions ``index``, as the map read them); return the legend handles."""
+    if {xname, yname} == {"wob", "torque"}:
+        return _analytic(atlas, ax, xname, yname, held)
+    return _from_grid(atlas, ax, xname, yname, held, index)
+
+
+def _analytic(atlas, ax, xname: str, yname: str, held: dict[str, float]) -> list:
+    import numpy as np
+
+    from .stability import critical_deltas
+
+    x, y = atlas.axes[xname], atlas.axes[yname]
+    params = atlas.spec.params_at(held)  # the string at the held values (dof, depth, ...)
+    wob = np.linspace(
+        x.min() if xname == "wob" else y.min(), x.max() if xname == "wob" else y.max(), 200
+    )
+    ts = params.static_torque(wob)
+    crossings = critical_deltas(params)
+    first = next((c for c in crossings if c.type == "hopf" and c.direction > 0), None)
+    curves = [(wob, ts, "black", "-", "stuck boundary $u = \\mu_{sb} W_{ob} R_b$")]
+    if first is not None:
+        from .operating import hopf_curve_wu
+
+        w, u = hopf_curve_wu(params, first.delta, np.linspace(1e-3, 80, 3000))
+        side = _stable_side(params, crossings, w, u, xname, _extent(x), _extent(y))
+        curves.append((w, u, "#922b21", "--", f"first Hopf curve (steady state stable {side})"))
+    handles = []
+    for cw, cu, color, style, lab in curves:
+        px, py = (cw, cu) if xname == "wob" else (cu, cw)
+        handles += ax.plot(px, py, style, color=color, lw=2, label=lab)
+    ax.set_xlim(*_extent(x))
+    ax.set_ylim(*_extent(y))
+    return handles
+
+
+def _from_grid(atlas, ax, xname: str, yname: str, held: dict[str, float], index: list) -> list:
+    import numpy as np
+    from matplotlib.lines import Line2D
+
+    x = np.asarray(atlas.axes[xname], dtype=float)
+    y = np.asarray(atlas.axes[yname], dtype=float)
+    if len(x) < 2 or len(y) < 2:  # a line of cells: no curve to find across it
+        return []
+    handles = []
+    margin = _stuck_margin(atlas, xname, yname, x, y, held)
+    if _crosses(margin):
+        ax.contour(x, y, margin.T, levels=[0.0], colors=STUCK["color"], linewidths=2)
+        handles.append(
+            Line2D([], [], color="black", lw=2, label="stuck boundary $u = \\mu_{sb} W_{ob} R_b$")
+        )
+    if atlas.spec.record["stability"]:
+        order = list(atlas.axes)
+        abscissa = np.asarray(atlas._f["spectral_abscissa"][..., 0][tuple(index)], dtype=float)
+        if order.index(xname) > order.index(yname):
+            abscissa = abscissa.T
+        if _crosses(abscissa):
+            ax.contour(x, y, np.ma.masked_invalid(abscissa).T, levels=[0.0], **UNSTABLE)
+            label = "stability boundary of the fastest steady state (atlas eigenvalues)"
+            handles.append(Line2D([], [], color=UNSTABLE["colors"], ls="--", lw=2, label=label))
+    return handles
+
+
+def _stuck_margin(atlas, xname, yname, x, y, held) -> Any:
+    """u − μ_sb W_ob R_b at every grid point (x, y): negative where the rock can hold the bit.
+    Each of the four is swept on x or y, held, fixed by the spec, or the string's own."""
+    import numpy as np
+
+    spec = atlas.spec
+    params = spec.params_at(held)
+    own = {"mu_static": params.mu_static, "bit_radius": params.bit_radius}
+
+    def value(name: str):
+        if name == xname:
+            return x[:, None]
+        if name == yname:
+            return y[None, :]
+        if name in held:
+            return held[name]
+        return spec.fixed[name] if name in spec.fixed else own[name]
+
+    margin = value("torque") - value("mu_static") * value("wob") * value("bit_radius")
+    return np.broadcast_to(margin, (len(x), len(y)))
+
+
+def _crosses(values) -> bool:
+    """Whether a grid of values has a zero to draw: both signs among its finite values."""
+    import numpy as np
+
+    finite = np.asarray(values)[np.isfinite(values)]
+    return bool(finite.size) and finite.min() < 0 < finite.max()
+
+
+def _stable_side(params, crossings, w, u, xname: str, xlim, ylim) -> str:
+    """On which side of the Hopf curve ``(w, u)`` the map shows the steady state stable, in
+    the legend's words ("above", "to the right", ...): found by the stability of the fastest
+    steady state just past the curve's middle point in view, towards higher torque, and said
+    for the axes drawn (torque vertical or horizontal)."""
+    import numpy as np
+
+    from .stability import stability
+
+    wlim, ulim = (xlim, ylim) if xname == "wob" else (ylim, xlim)
+    seen = np.flatnonzero(
+        (w >= wlim[0]) & (w <= wlim[1]) & (u >= ulim[0]) & (u <= ulim[1]) & np.isfinite(w)
+    )
+    k = seen[len(seen) // 2] if len(seen) else int(np.nanargmin(np.abs(w - np.mean(wlim))))
+    step = 0.01 * (ulim[1] - ulim[0]) or 0.01 * abs(u[k])
+    past = stability(params, float(w[k]), torque=float(u[k] + step), crossings=crossings)
+    # Stable on the side of the higher torque? (0, 1 or 2 steady states there: the fastest)
+    higher = bool(past) and max(past, key=lambda pt: pt.omega).stable
+    if xname == "wob":  # torque vertical
+        return "above" if higher else "below"
+    return "to the right" if higher else "to the left"
