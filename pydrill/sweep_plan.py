@@ -81,11 +81,11 @@ def _todo(spec: SweepSpec, out: Path | None, resume: bool) -> tuple[np.ndarray, 
     jp = journal_path(out)
     if not (out.exists() or jp.exists()):
         return everything, "new"
-    from .atlas_lock import AtlasBusy, writer_of
+    from .atlas_lock import AtlasBusy, writer
 
-    writer = writer_of(out)
-    if writer is not None:
-        raise AtlasBusy.of(out, writer)
+    holder = writer(out)
+    if holder is not None:
+        raise AtlasBusy.of(out, holder)
     done = np.zeros(spec.size, dtype=bool)
     table = read_existing(spec, out, resume=resume)
     if table is not None:

@@ -3,7 +3,9 @@
 import contextlib
 import json
 import os
+import re
 import signal
+import socket
 import subprocess
 import sys
 from pathlib import Path
@@ -153,7 +155,9 @@ def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path):
         wait_for_journal(journal, 1, first)
         before = journal.read_bytes()
         with pytest.raises(
-            AtlasError, match=rf"being written by another sweep \(process {first.pid}\)"
+            AtlasError,
+            match=rf"being written by another sweep \(process {first.pid} on host "
+            rf"{re.escape(socket.gethostname())} \(this machine\), since ",
         ):
             run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
         assert journal.read_bytes()[: len(before)] == before  # untouched by the refused one

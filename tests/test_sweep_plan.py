@@ -1,6 +1,7 @@
 """pydrill sweep --dry-run: what a sweep would compute and about how long, writing nothing."""
 
 import json
+import socket
 import subprocess
 import sys
 import time
@@ -91,23 +92,64 @@ def test_a_dry_run_of_an_interrupted_sweep_counts_what_resume_computes(tmp_path)
     assert (report.resumed, report.computed) == (2, plan.todo)
 
 
-def test_an_atlas_being_written_is_named_by_its_writer(tmp_path):
+# A process holding an atlas's lock as a sweep does, naming itself as given (argv[2]).
+HOLDER = """
+import fcntl, os, sys, time
+fd = os.open(sys.argv[1], os.O_RDWR | os.O_CREAT)
+fcntl.flock(fd, fcntl.LOCK_EX)
+os.ftruncate(fd, 0)
+os.write(fd, sys.argv[2].format(pid=os.getpid()).encode())
+print("held", flush=True)
+time.sleep(60)
+"""
+
+
+def hold_lock(lock: Path, text: str) -> subprocess.Popen:
+    holder = subprocess.Popen(
+        [sys.executable, "-c", HOLDER, str(lock), text], stdout=subprocess.PIPE, text=True
+    )
+    assert holder.stdout.readline() == "held\n"
+    return holder
+
+
+def test_an_atlas_being_written_is_named_by_its_writer_and_host(tmp_path):
     spec = parse_spec(SMALL)
     out = tmp_path / "busy.h5"
     run_sweep(spec, out, serial=True)
     lock = Path(str(out) + ".lock")
+    # A sweep on another machine of a shared filesystem: its process number alone would say
+    # nothing here (it was all the message gave), nor could this host see whether it lives.
+    holder = hold_lock(lock, "{pid} node17.cluster 2026-11-30T22:41:05Z\n")
+    try:
+        said = rf"being written by another sweep \(process {holder.pid} on host node17.cluster, "
+        with pytest.raises(AtlasBusy, match=said + r"since 2026-11-30 22:41:05 UTC\)"):
+            plan_sweep(spec, out, resume=True)
+        with pytest.raises(AtlasBusy, match=said):
+            run_sweep(spec, out, resume=True, serial=True)
+    finally:
+        holder.kill()
+        holder.wait()
+        holder.stdout.close()
+    # What kill -9 leaves: a lock file naming a process that is gone, and no lock.
+    assert plan_sweep(spec, out, resume=True).atlas == "complete"
+
+
+def test_a_lock_file_naming_a_live_process_that_holds_no_lock_is_free(tmp_path):
+    # A sweep killed with kill -9 leaves its lock file; its process number may be taken by
+    # another process since (or name one on another host). The dry run asked the number, and
+    # called the atlas busy; the lock itself says it is free.
+    spec = parse_spec(SMALL)
+    out = tmp_path / "left.h5"
+    run_sweep(spec, out, serial=True)
     sleeper = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
     try:
-        lock.write_text(f"{sleeper.pid}\n")
-        with pytest.raises(
-            AtlasBusy, match=rf"being written by another sweep \(process {sleeper.pid}"
-        ):
-            plan_sweep(spec, out, resume=True)
+        for left in (f"{sleeper.pid}\n", f"{sleeper.pid} {socket.gethostname()}\n"):
+            Path(str(out) + ".lock").write_text(left)  # as an older pydrill's, and as now
+            assert plan_sweep(spec, out, resume=True).atlas == "complete"
+        assert run_sweep(spec, out, resume=True, serial=True).resumed == spec.size
     finally:
         sleeper.kill()
         sleeper.wait()
-    # What kill -9 leaves: a lock file naming a process that is gone.
-    assert plan_sweep(spec, out, resume=True).atlas == "complete"
 
 
 def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
