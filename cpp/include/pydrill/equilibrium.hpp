@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "pydrill/export.hpp"
 #include "pydrill/params.hpp"
 
 namespace pydrill {
@@ -13,14 +14,15 @@ namespace pydrill {
 // finite and > 0, a torque (N·m) that is not finite, or an Ω not finite and > 0.
 
 // Surface torque u (N·m) needed to turn at Ω > 0 with the given weight on bit.
-double equilibrium_torque(const Params& params, double wob, double omega);
+PYDRILL_API double equilibrium_torque(const Params& params, double wob, double omega);
 
 // Every Ω > 0 (rad/s) with u = c_r Ω + c_b Ω + T_fb(Ω), in increasing order. The
 // right side is convex in Ω, so there are 0, 1 or 2 solutions; each is found
 // by bracketed bisection to machine precision.
-std::vector<double> equilibrium_velocities(const Params& params, double wob, double torque);
+PYDRILL_API std::vector<double> equilibrium_velocities(const Params& params, double wob,
+                                                   double torque);
 
 // Twist-coordinate steady state (size 2·dof − 1, layout of model.hpp) for velocity Ω.
-std::vector<double> equilibrium_state(const Params& params, double wob, double omega);
+PYDRILL_API std::vector<double> equilibrium_state(const Params& params, double wob, double omega);
 
 }  // namespace pydrill

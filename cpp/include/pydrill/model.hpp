@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "pydrill/export.hpp"
 #include "pydrill/friction.hpp"
 #include "pydrill/params.hpp"
 
@@ -24,9 +25,10 @@ enum class Mode {
   Band,          // Karnopp band |ω_b| < D_v with |T_e| > T_s: friction = ±T_s, the bit creeps
 };
 
-const char* mode_name(Mode m) noexcept;  // "slip+", "slip-", "stick", "band"; "?" outside the enum
+// "slip+", "slip-", "stick", "band"; "?" for a value outside the enum.
+PYDRILL_API const char* mode_name(Mode m) noexcept;
 
-class Chain {
+class PYDRILL_API Chain {
  public:
   // Throws std::invalid_argument for invalid Params, a wob (N) not finite and > 0, or a
   // torque (N·m) that is not finite.

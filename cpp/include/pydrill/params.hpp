@@ -8,12 +8,14 @@
 #include <string>
 #include <vector>
 
+#include "pydrill/export.hpp"
+
 namespace pydrill {
 
 // Mechanical chain plus bit–rock friction law. Operating inputs (weight on bit,
 // surface torque) are not part of it: they are the axes of every study.
 // Allowed values (validate() checks them; every number finite):
-struct Params {
+struct PYDRILL_API Params {
   std::vector<double> inertias;     // I_0 (top drive) ... I_{N-1} (bit), kg·m²; dof >= 2, each > 0
   std::vector<double> stiffnesses;  // k_i joins inertia i and i+1, N·m/rad; dof − 1 of them, > 0
   std::vector<double> dampings;     // c_i joins inertia i and i+1, N·m·s/rad; dof − 1, >= 0
@@ -38,16 +40,16 @@ struct Params {
 //   "real-string":   the 2-DOF string of Eq. (53); other dof are refused.
 // Throws std::invalid_argument for an unknown name or a dof outside these ranges (the
 // cap stops a mistyped size from taking all memory; a hand-built Params has none).
-Params preset(const std::string& name, int dof);
-std::vector<std::string> preset_names();  // {"reduced-scale", "real-string"}
+PYDRILL_API Params preset(const std::string& name, int dof);
+PYDRILL_API std::vector<std::string> preset_names();  // {"reduced-scale", "real-string"}
 
 // dof of a reduced-scale string with `pipes` drill pipes between the top drive, the
 // BHA and the bit: dof = pipes + 3. Throws std::invalid_argument unless
 // 1 <= pipes <= 99997 (preset's dof cap minus 3).
-int pipes_to_dof(int pipes);
+PYDRILL_API int pipes_to_dof(int pipes);
 
 // The operating-point check every entry point runs (BitFriction's constructor calls it):
 // throws std::invalid_argument unless wob (N) is finite and > 0 and torque (N·m) finite.
-void check_operating_point(double wob, double torque);
+PYDRILL_API void check_operating_point(double wob, double torque);
 
 }  // namespace pydrill

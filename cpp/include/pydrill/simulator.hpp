@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "pydrill/export.hpp"
 #include "pydrill/model.hpp"
 #include "pydrill/params.hpp"
 
@@ -34,12 +35,12 @@ enum class Regime {
 // Names and their parsers: the names Python, the command line and an atlas use. A name
 // function returns "?" for a value outside its enum (a static_cast of any int); a parser
 // throws std::invalid_argument for any other name.
-const char* method_name(Method m) noexcept;           // "auto", "bdf", "adams", "erk", "dop853"
-const char* regime_name(Regime r) noexcept;           // "steady", "stick-slip", "stuck", "oscillation"
-Method parse_method(const std::string& s);            // "auto", "bdf", "adams", "erk", "dop853"
-FrictionLaw parse_friction(const std::string& s);     // "exact", "karnopp"
-Initial parse_initial(const std::string& s);          // "rest", "equilibrium", "state"
-Regime parse_regime(const std::string& s);            // "steady", "stick-slip", "stuck", "oscillation"
+PYDRILL_API const char* method_name(Method m) noexcept;  // "auto", "bdf", "adams", "erk", "dop853"
+PYDRILL_API const char* regime_name(Regime r) noexcept;  // "steady", "stick-slip", "stuck", "oscillation"
+PYDRILL_API Method parse_method(const std::string& s);
+PYDRILL_API FrictionLaw parse_friction(const std::string& s);  // "exact", "karnopp"
+PYDRILL_API Initial parse_initial(const std::string& s);       // "rest", "equilibrium", "state"
+PYDRILL_API Regime parse_regime(const std::string& s);
 
 // Tolerance floors: a double resolves ~2.2e-16 relative, and CVODES and ARKODE give up near
 // rtol 1e-16; 1e-14 keeps a margin (the paper's dof-4 case runs with every method down to
@@ -49,7 +50,7 @@ constexpr double kMinAtol = 1e-20;
 
 // validate() (called by simulate) throws std::invalid_argument naming the option, its value
 // and the allowed range, for any value outside the ranges below.
-struct SimulationOptions {
+struct PYDRILL_API SimulationOptions {
   double t_end = 300.0;              // s, finite and > 0
   std::vector<double> t_out;         // s, strictly increasing in [0, t_end]; empty: n_out uniform
   int n_out = 3001;                  // used when t_out is empty; 2 .. 1e8 (each keeps 2·dof + 4 doubles)
@@ -77,7 +78,7 @@ struct SimulationOptions {
 
 enum class SwitchKind { Stick, Slip, Reversal, BandEnter, BandLeave };
 // "stick", "slip", "reversal", "band-enter", "band-leave"; "?" outside the enum.
-const char* switch_kind_name(SwitchKind k) noexcept;
+PYDRILL_API const char* switch_kind_name(SwitchKind k) noexcept;
 
 struct Switch {
   double t;              // s
@@ -140,7 +141,7 @@ struct Result {
 
 // A solver failure: the integrator's message (CVODES's or ARKODE's own text, or DOP853's
 // or the run's: step size too small, max_steps reached, chattering) and the time reached.
-class SolverError : public std::runtime_error {
+class PYDRILL_API SolverError : public std::runtime_error {
  public:
   SolverError(const std::string& what, double t_reached)
       : std::runtime_error(what), t_reached_(t_reached) {}
@@ -151,7 +152,7 @@ class SolverError : public std::runtime_error {
 };
 
 // A run stopped because options.interrupt said so; t_reached is where.
-class Interrupted : public std::runtime_error {
+class PYDRILL_API Interrupted : public std::runtime_error {
  public:
   explicit Interrupted(double t_reached)
       : std::runtime_error("interrupted"), t_reached_(t_reached) {}
@@ -169,17 +170,18 @@ struct StiffnessEstimate {
   double fastest_frequency = 0;  // rad/s, bound on the highest natural frequency (M⁻¹K)
   double fundamental = 0;        // rad/s, lowest natural frequency
 };
-StiffnessEstimate estimate_stiffness(const Params& params);
+PYDRILL_API StiffnessEstimate estimate_stiffness(const Params& params);
 // fastest_decay / fundamental: how much faster the fastest mode dies than the
 // slowest one moves.
-double stiffness_ratio(const Params& params);
+PYDRILL_API double stiffness_ratio(const Params& params);
 // What Method::Auto runs: DOP853, or BDF for a stiff string; `reason` (if given) says why.
-Method choose_method(const Params& params, std::string* reason = nullptr);
+PYDRILL_API Method choose_method(const Params& params, std::string* reason = nullptr);
 
 // Runs one simulation at weight on bit `wob` (N, finite and > 0) and surface torque
 // `torque` (N·m, finite). Throws std::invalid_argument on bad input (nothing is
 // computed), SolverError if the integrator fails, Interrupted if options.interrupt
 // says so. Thread-safe: no global state.
-Result simulate(const Params& params, double wob, double torque, const SimulationOptions& options);
+PYDRILL_API Result simulate(const Params& params, double wob, double torque,
+                            const SimulationOptions& options);
 
 }  // namespace pydrill

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "pydrill/export.hpp"
 #include "pydrill/params.hpp"
 
 // Every function below throws std::invalid_argument for invalid Params (Params::validate)
@@ -34,50 +35,51 @@ namespace pydrill {
 // StabilityInterrupted (a Ctrl-C from Python, a cancel button in a program that embeds
 // pydrill). Empty: never asked. The dense O(n'³) eigensolver is not asked inside, only before
 // it starts (where structured_eigenvalues and the stability points fall back on it).
-class StabilityInterrupted : public std::runtime_error {
+class PYDRILL_API StabilityInterrupted : public std::runtime_error {
  public:
   StabilityInterrupted() : std::runtime_error("interrupted") {}
 };
 
 // δ(Ω, W_ob), N·m·s/rad; W_ob > 0, Ω >= 0.
-double stribeck_slope(const Params& params, double wob, double omega);
+PYDRILL_API double stribeck_slope(const Params& params, double wob, double omega);
 // The weight on bit (N) at which δ(Ω, W_ob) = delta; delta must be > 0 and Ω >= 0 (rad/s).
-double boundary_wob(const Params& params, double delta, double omega);
+PYDRILL_API double boundary_wob(const Params& params, double delta, double omega);
 
 // Z_b(λ) = J_b λ + c_b + Z_string(λ) in N·m·s/rad, λ in 1/s (finite), evaluated in O(dof).
-std::complex<double> bit_impedance(const Params& params, std::complex<double> lambda);
+PYDRILL_API std::complex<double> bit_impedance(const Params& params, std::complex<double> lambda);
 
 // Dense reduced Jacobian at slope δ, row-major n' × n' (twist coordinates).
-std::vector<double> jacobian(const Params& params, double delta);
+PYDRILL_API std::vector<double> jacobian(const Params& params, double delta);
 // Its eigenvalues (brute force, O(n'³)); sorted by decreasing real part. Throws
 // std::runtime_error if the dense eigenvalue solver does not converge.
-std::vector<std::complex<double>> eigenvalues(const Params& params, double delta);
+PYDRILL_API std::vector<std::complex<double>> eigenvalues(const Params& params, double delta);
 // The same eigenvalues in O(n'²), as the roots of Z_b(λ) = δ found all at once
 // (Ehrlich–Aberth on the chain's recurrence, started from the free chain's modes
 // with their modal damping): 0.67 s becomes 0.02 s at dof 303, and on overdamped
 // real strings alike. Checked against the trace and conjugate symmetry; where a
 // check fails (e.g. a multiple eigenvalue), the dense solver answers. `interrupt`: see
 // StabilityInterrupted above.
-std::vector<std::complex<double>> structured_eigenvalues(const Params& params, double delta,
-                                            const std::function<bool()>& interrupt = {});
+PYDRILL_API std::vector<std::complex<double>> structured_eigenvalues(
+    const Params& params, double delta, const std::function<bool()>& interrupt = {});
 // Its O(n'²) part alone: true, with the sorted eigenvalues in `out`, when every
 // check passed; false (and `out` untouched) when the dense solver is needed.
-bool roots_of_impedance(const Params& params, double delta, std::vector<std::complex<double>>& out,
-                        const std::function<bool()>& interrupt = {});
+PYDRILL_API bool roots_of_impedance(const Params& params, double delta,
+                                    std::vector<std::complex<double>>& out,
+                                    const std::function<bool()>& interrupt = {});
 
 // Characteristic polynomial det(λI − J) at slope δ, monic, coefficients in
 // ascending powers a_0 … a_{n'} (a_{n'} = 1), from exact polynomial
 // recurrences of the continued fraction. Meant for small strings (the
 // coefficients span many decades as dof grows); std::invalid_argument above dof 12.
-std::vector<double> characteristic_polynomial(const Params& params, double delta);
+PYDRILL_API std::vector<double> characteristic_polynomial(const Params& params, double delta);
 // Hurwitz determinants Δ_1 … Δ_{n−1} of a polynomial given in ascending
 // powers (leading coefficient last, positive). std::invalid_argument for degree < 1,
 // a coefficient that is not finite or a leading one <= 0.
-std::vector<double> hurwitz_determinants(const std::vector<double>& ascending);
+PYDRILL_API std::vector<double> hurwitz_determinants(const std::vector<double>& ascending);
 // The paper's n' = 3 closed form (dof 2, Eq. 50–51 with Δ_2 = a_2 a_1 − a_0):
 // the δ at which Δ_2 = 0, in increasing order (0, 1 or 2 values > 0).
 // std::invalid_argument unless dof = 2.
-std::vector<double> hopf_deltas_dof2(const Params& params);
+PYDRILL_API std::vector<double> hopf_deltas_dof2(const Params& params);
 
 // How eigenvalues reach the imaginary axis.
 enum class CrossingType {
@@ -85,9 +87,9 @@ enum class CrossingType {
   Fold,  // λ = 0: steady states meet (at δ = c_r + c_b)
 };
 // "hopf", "fold"; "?" for a value outside the enum.
-const char* crossing_type_name(CrossingType t) noexcept;
+PYDRILL_API const char* crossing_type_name(CrossingType t) noexcept;
 // The inverse; std::invalid_argument for any other name.
-CrossingType parse_crossing_type(const std::string& s);
+PYDRILL_API CrossingType parse_crossing_type(const std::string& s);
 
 // A value of δ at which eigenvalues reach the imaginary axis.
 struct Crossing {
@@ -101,8 +103,8 @@ struct Crossing {
 // Every crossing with δ > 0, in increasing δ. Found from the zeros of
 // Im Z_b(iω) on a frequency grid fine enough to separate the string's modes,
 // refined to machine precision; O(dof²) in all (`interrupt`: see StabilityInterrupted).
-std::vector<Crossing> critical_deltas(const Params& params,
-                                      const std::function<bool()>& interrupt = {});
+PYDRILL_API std::vector<Crossing> critical_deltas(const Params& params,
+                                                  const std::function<bool()>& interrupt = {});
 
 // First Lyapunov coefficient of the Hopf point at slope δ with frequency ω
 // (Kuznetsov's formula; the only nonlinearity is the bit friction, whose
@@ -112,11 +114,12 @@ std::vector<Crossing> critical_deltas(const Params& params,
 // Normalisation: the eigenvector q of iω has unit Euclidean norm in twist coordinates
 // (which mix rad and rad/s) and ⟨p, q⟩ = 1, so the value depends on that choice: use
 // its sign, and compare sizes only between Hopf points of one string. O(dof): banded solves.
-double first_lyapunov_coefficient(const Params& params, double delta, double frequency);
+PYDRILL_API double first_lyapunov_coefficient(const Params& params, double delta,
+                                              double frequency);
 
 // Number of eigenvalues with positive real part at slope δ, from the crossings (any
 // finite δ; 0 below the first crossing, so for every δ <= 0).
-int unstable_count(const std::vector<Crossing>& crossings, double delta);
+PYDRILL_API int unstable_count(const std::vector<Crossing>& crossings, double delta);
 
 struct StabilityPoint {
   // The steady state: Ω (rad/s; < 0 for a negative torque), W_ob (N), u (N·m), δ (N·m·s/rad).
@@ -131,22 +134,21 @@ struct StabilityPoint {
 
 // Stability of the steady state at velocity Ω (finite, > 0; the torque it needs follows),
 // W_ob > 0. These three take an `interrupt` as critical_deltas does (see StabilityInterrupted).
-StabilityPoint stability_at_velocity(const Params& params, double wob, double omega,
-                                     const std::function<bool()>& interrupt = {});
-// Stability of every steady state for (W_ob > 0, finite u): 0, 1 or 2 of them. For u < 0, the mirror
-// image of |u|: the same points with Ω and u reversed.
-std::vector<StabilityPoint> stability_at_torque(const Params& params, double wob, double torque,
-                                                const std::function<bool()>& interrupt = {});
+PYDRILL_API StabilityPoint stability_at_velocity(const Params& params, double wob, double omega,
+                                                 const std::function<bool()>& interrupt = {});
+// Stability of every steady state for (W_ob > 0, finite u): 0, 1 or 2 of them. For u < 0, the
+// mirror image of |u|: the same points with Ω and u reversed.
+PYDRILL_API std::vector<StabilityPoint> stability_at_torque(
+    const Params& params, double wob, double torque, const std::function<bool()>& interrupt = {});
 // The same with the string's crossings (critical_deltas(params)) already at hand: they
 // depend on the string alone, and finding them costs more than the rest on a short
 // string (a sweep over W_ob and u computes them once per string, not once per point).
 // They come right after the string they belong to, so that stability_at_torque(p, wob, u, {})
-// means one thing (no interrupt) and a call can never take `{}` for "no crossings": they
-// must be this string's, in increasing δ, with its fold at δ = c_r + c_b when c_r + c_b > 0
-// (std::invalid_argument otherwise; crossings of another string with the same damping pass).
-std::vector<StabilityPoint> stability_at_torque(const Params& params,
-                                                const std::vector<Crossing>& crossings, double wob,
-                                                double torque,
-                                                const std::function<bool()>& interrupt = {});
+// has one meaning (no interrupt). They must be this string's: its fold at δ = c_r + c_b when
+// c_r + c_b > 0, none otherwise (std::invalid_argument for an empty list of a damped string, or
+// another string's; crossings of another string with the same damping pass unnoticed).
+PYDRILL_API std::vector<StabilityPoint> stability_at_torque(
+    const Params& params, const std::vector<Crossing>& crossings, double wob, double torque,
+    const std::function<bool()>& interrupt = {});
 
 }  // namespace pydrill
