@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -191,36 +192,62 @@ class AtlasTable:
 
     def apply(self, rec: dict[str, Any], row: int | None = None) -> None:
         """Store one point's record at its flat index (or at ``row`` of a block)."""
-        # Flat views share memory with the grid-shaped arrays.
-        i = rec["i"] if row is None else row
+        self._apply(rec, rec["i"] if row is None else row, self._flat())
+
+    def apply_all(self, records: Iterable[dict[str, Any]]) -> int:
+        """Store every record of ``records`` (an iterator is read one record at a time, so a
+        journal of millions of points is never held whole); returns how many. The flat views
+        are taken once: taking them per record was half of a journal's replay (74000 records:
+        2.7 million reshapes, 0.8 s of 4.6 s)."""
+        flat, n = self._flat(), 0
+        for rec in records:
+            self._apply(rec, rec["i"], flat)
+            n += 1
+        return n
+
+    def _flat(self) -> dict[str, np.ndarray]:
+        """Views of the arrays with the point axes flattened (they share memory with them)."""
         n = self.status.size
-        self.status.reshape(n)[i] = STATUS[rec["status"]]
-        self.message.reshape(n)[i] = rec.get("message", "")
+        k = self.eig.shape[-1]
+        return {
+            "status": self.status.reshape(n),
+            "message": self.message.reshape(n),
+            "regime": self.regime.reshape(n, -1),
+            "caveat": self.caveat.reshape(n, -1),
+            "coexistence": self.coexistence.reshape(n),
+            "eig": self.eig.reshape(n, N_EQ, k),
+            **{f"run:{name}": a.reshape(n, -1) for name, a in self.runs.items()},
+            **{f"eq:{name}": a.reshape(n, N_EQ) for name, a in self.eqs.items()},
+        }
+
+    def _apply(self, rec: dict[str, Any], i: int, flat: dict[str, np.ndarray]) -> None:
+        flat["status"][i] = STATUS[rec["status"]]
+        flat["message"][i] = rec.get("message", "")
         runs = rec.get("runs", {})
         for j, init in enumerate(self.spec.initials):
             run = runs.get(init)
             if run is None:
                 if rec["status"] == "failed":  # the point failed before this start ran
-                    self.regime.reshape(n, -1)[i, j] = REGIMES["failed"]
+                    flat["regime"][i, j] = REGIMES["failed"]
                 continue
-            self.regime.reshape(n, -1)[i, j] = REGIMES[run["regime"]]
-            self.caveat.reshape(n, -1)[i, j] = CAVEATS[run.get("caveat") or ""]
+            flat["regime"][i, j] = REGIMES[run["regime"]]
+            flat["caveat"][i, j] = CAVEATS[run.get("caveat") or ""]
             for name, (_, fill, _, _) in RUN_FIELDS.items():
                 v = run.get(name)
-                self.runs[name].reshape(n, -1)[i, j] = fill if v is None else v
+                flat[f"run:{name}"][i, j] = fill if v is None else v
         stab = rec.get("stability")
         if stab:
             for name, (_, fill, _, _) in EQ_FIELDS.items():
                 vals = list(stab.get(name, []))[:N_EQ]
                 row = [fill if v is None else v for v in vals] + [fill] * (N_EQ - len(vals))
-                self.eqs[name].reshape(n, N_EQ)[i] = row
-            k = self.eig.shape[-1]
-            eig = self.eig.reshape(n, N_EQ, k)
+                flat[f"eq:{name}"][i] = row
+            eig = flat["eig"]
+            k = eig.shape[-1]
             for e, row in enumerate(stab.get("eigenvalues", [])[:N_EQ]):
                 for m, (re, im) in enumerate(row[:k]):
                     eig[i, e, m] = complex(re, im)
         if rec.get("coexistence") is not None:
-            self.coexistence.reshape(n)[i] = int(rec["coexistence"])
+            flat["coexistence"][i] = int(rec["coexistence"])
 
     def missing(self) -> np.ndarray:
         """Flat indices of the points still to compute."""

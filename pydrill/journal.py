@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -33,13 +34,19 @@ def journal_path(path: Path) -> Path:
 
 
 def read_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> list[dict[str, Any]]:
-    """The records of ``path``'s journal. A last line cut by a kill (or Ctrl-C) mid-write is
-    dropped and, with ``repair``, cut off the file, so that the next append starts on a line
-    of its own; its points are simply computed again."""
+    """The records of ``path``'s journal, as a list (``iter_journal``)."""
+    return list(iter_journal(path, spec, repair=repair))
+
+
+def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterator[dict[str, Any]]:
+    """The records of ``path``'s journal, one at a time: a journal holds about 1 kB a point,
+    and its records as Python objects 5 kB (a list of a 74000-point journal's took 400 MB; a
+    million points' would have taken 5 GB on top of the table). A last line cut by a kill (or
+    Ctrl-C) mid-write is dropped and, with ``repair``, cut off the file once all are read, so
+    that the next append starts on a line of its own; its points are simply computed again."""
     jp = journal_path(path)
     if not jp.exists():
-        return []
-    records = []
+        return
     good = 0  # bytes up to the end of the last whole line
     with jp.open("rb") as fh:  # line by line: a journal may hold millions of points
         for n, raw in enumerate(fh):
@@ -62,14 +69,13 @@ def read_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> list[di
                         f"{data.get('spec_digest')} != {spec.digest})"
                     )
                 continue
-            records.append(data)
+            yield data
     if not repair:
         pass
     elif good == 0:  # not even the header survived
         jp.write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
     elif good < jp.stat().st_size:
         os.truncate(jp, good)
-    return records
 
 
 def journaled(path: Path) -> np.ndarray:
@@ -208,10 +214,7 @@ def prepare(
         if table is None:
             fmt.create(out, spec, params_json, version)
             table = fmt.AtlasTable(spec)
-        replayed = 0
-        for rec in read_journal(out, spec):
-            table.apply(rec)
-            replayed += 1
+        replayed = table.apply_all(iter_journal(out, spec))
         if replayed or not out.exists():  # a complete atlas, resumed, is left as it is
             write_atlas(out, table)
         done = int(np.sum(table.status != fmt.STATUS["missing"]))

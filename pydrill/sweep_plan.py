@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from . import atlas_format as fmt
-from .journal import journal_path, read_existing, read_journal
+from .journal import iter_journal, journal_path, read_existing
 from .spec import SweepSpec, _require_spec
 
 #: two-sided 95 % normal quantile, for the range of the estimate
@@ -90,7 +90,7 @@ def _todo(spec: SweepSpec, out: Path | None, resume: bool) -> tuple[np.ndarray, 
     table = read_existing(spec, out, resume=resume)
     if table is not None:
         done |= table.status.ravel() != fmt.STATUS["missing"]
-    for rec in read_journal(out, spec, repair=False):
+    for rec in iter_journal(out, spec, repair=False):  # one at a time: it may be gigabytes
         done[rec["i"]] = True
     todo = np.flatnonzero(~done)
     return todo, "resume" if len(todo) else "complete"
