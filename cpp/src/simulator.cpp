@@ -360,12 +360,33 @@ void Run::restart(double t) {
 // the torsional wave the states are exponentially small, and arithmetic on
 // subnormals costs ~100x: measured, 200 pipes from rest ran 2x slower per step
 // than from equilibrium. Nothing below 2e-308 matters at any tolerance.
+// The caller's own code — options.interrupt, which a program that embeds pydrill may use to
+// run its event loop, and Python's signal handlers — runs with the caller's setting: see
+// ask().
 class FlushSubnormals {
  public:
 #ifdef PYDRILL_HAVE_MXCSR
   FlushSubnormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040); }  // FTZ | DAZ
   ~FlushSubnormals() { _mm_setcsr(saved_); }
+  FlushSubnormals(const FlushSubnormals&) = delete;
+  FlushSubnormals& operator=(const FlushSubnormals&) = delete;
+#endif
 
+  // interrupt() under the caller's floating-point setting, ours again after it (or after an
+  // exception from it). It ran with subnormals flushed: a callback's arithmetic on numbers
+  // below 2e-308 silently gave 0 there.
+  bool ask(const std::function<bool()>& interrupt) const {
+#ifdef PYDRILL_HAVE_MXCSR
+    struct Caller {
+      unsigned ours;
+      explicit Caller(unsigned theirs) : ours(_mm_getcsr()) { _mm_setcsr(theirs); }
+      ~Caller() { _mm_setcsr(ours); }
+    } caller(saved_);
+#endif
+    return interrupt();
+  }
+
+#ifdef PYDRILL_HAVE_MXCSR
  private:
   unsigned saved_;
 #endif
@@ -424,7 +445,7 @@ Result Run::run() {
   try {
     while (t < t_end) {
       if (opt_.interrupt && (++polls & 63) == 0 && clock::now() >= next_poll) {
-        if (opt_.interrupt()) throw Interrupted(t);
+        if (flush.ask(opt_.interrupt)) throw Interrupted(t);
         next_poll = clock::now() + std::chrono::milliseconds(100);
       }
       const double tprev = t;
@@ -467,9 +488,11 @@ Result Run::run() {
   w.top1 = q[0];
   w.bit1 = bit_angle(y, q[0]);
   res_.stats.switches = static_cast<long>(res_.switches.size());
+  std::function<bool()> interrupt;
+  if (opt_.interrupt) interrupt = [&] { return flush.ask(opt_.interrupt); };
   try {  // the judgement may need the string's crossings: stoppable too, as the run was
     res_.summary = detail::summarize(chain_, trace_, modes_, w, data_.karnopp,
-                                     detail::steady_swing_for_tolerance(opt_.rtol), opt_.interrupt);
+                                     detail::steady_swing_for_tolerance(opt_.rtol), interrupt);
   } catch (const StabilityInterrupted&) {
     throw Interrupted(opt_.t_end);
   }

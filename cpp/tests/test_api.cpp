@@ -3,7 +3,15 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <string>
+#include <thread>
+#include <vector>
+
+#if defined(__SSE2__) || defined(_M_X64)
+#include <xmmintrin.h>
+#define PYDRILL_TEST_MXCSR 1
+#endif
 
 #include "pydrill/simulator.hpp"
 #include "pydrill/stability.hpp"
@@ -46,3 +54,102 @@ TEST_CASE("a result says what ran and what it found as enums", "[api]") {
   REQUIRE(fold != c.end());
   CHECK(fold->delta == Approx(0.18 + 0.01));  // at c_r + c_b
 }
+
+namespace {
+
+struct Case {
+  int dof;
+  double wob, torque;
+  Method method;
+};
+
+// Everything a run computes that another run of the same case must reproduce bit for bit.
+struct Outcome {
+  std::vector<double> states, energy;
+  std::vector<int> modes;
+  Regime regime;
+  double period;
+  long steps;
+  std::vector<Crossing> crossings;
+  std::vector<StabilityPoint> points;
+};
+
+Outcome compute(const Case& c) {
+  const Params p = preset("reduced-scale", c.dof);
+  SimulationOptions o;
+  o.t_end = 100.0;
+  o.n_out = 501;
+  o.method = c.method;
+  const Result r = simulate(p, c.wob, c.torque, o);
+  return {r.states, r.energy, r.modes, r.summary.regime, r.summary.period, r.stats.steps,
+          critical_deltas(p), stability_at_torque(p, c.wob, c.torque)};
+}
+
+void check_same(const Outcome& a, const Outcome& b) {
+  CHECK(a.states == b.states);
+  CHECK(a.energy == b.energy);
+  CHECK(a.modes == b.modes);
+  CHECK(a.regime == b.regime);
+  CHECK(a.period == b.period);
+  CHECK(a.steps == b.steps);
+  REQUIRE(a.crossings.size() == b.crossings.size());
+  for (std::size_t k = 0; k < a.crossings.size(); ++k) CHECK(a.crossings[k].delta == b.crossings[k].delta);
+  REQUIRE(a.points.size() == b.points.size());
+  for (std::size_t k = 0; k < a.points.size(); ++k) CHECK(a.points[k].eigenvalues == b.points[k].eigenvalues);
+}
+
+}  // namespace
+
+TEST_CASE("two threads simulate and analyse at once, each as if alone", "[api][threads]") {
+  // simulate() and the stability functions keep no state between calls: a program may run
+  // them in as many threads as it likes (Python's sweeps run them in Dask's worker threads).
+  // Each integrator, with a string long enough to need the structured eigenvalues (dof >= 24).
+  const std::vector<Case> cases = {{4, 100.0, 8.3, Method::DOP853}, {4, 100.0, 8.3, Method::BDF},
+                                   {30, 100.0, 8.3, Method::ERK},   {30, 40.0, 8.3, Method::Adams},
+                                   {4, 40.0, 8.3, Method::Auto},    {30, 160.0, 8.3, Method::DOP853}};
+  std::vector<Outcome> alone;
+  for (const Case& c : cases) alone.push_back(compute(c));
+  // Two threads, each through every case, in opposite orders, so that different integrators
+  // and the stability analysis overlap.
+  std::vector<Outcome> forward(cases.size()), backward(cases.size());
+  std::thread a([&] {
+    for (std::size_t k = 0; k < cases.size(); ++k) forward[k] = compute(cases[k]);
+  });
+  std::thread b([&] {
+    for (std::size_t k = cases.size(); k-- > 0;) backward[k] = compute(cases[k]);
+  });
+  a.join();
+  b.join();
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    INFO("case " << k << ", method " << method_name(cases[k].method));
+    check_same(alone[k], forward[k]);
+    check_same(alone[k], backward[k]);
+  }
+}
+
+#ifdef PYDRILL_TEST_MXCSR
+TEST_CASE("options.interrupt runs with the caller's floating-point setting", "[api]") {
+  // A run flushes subnormal numbers to zero in its thread (they cost ~100x); the callback,
+  // the caller's own code, ran so too: a value below 2e-308 computed there became 0.
+  const unsigned flags = 0x8040;  // FTZ | DAZ
+  const unsigned before = _mm_getcsr();
+  REQUIRE((before & flags) == 0);
+  SimulationOptions o;
+  o.t_end = 20000.0;  // 300 pipes: long enough to be asked (every 0.1 s)
+  o.n_out = 11;
+  unsigned seen = flags;
+  volatile double tiny = 1e-300;
+  double product = 0.0;
+  o.interrupt = [&] {
+    seen = _mm_getcsr() & flags;
+    product = tiny * 1e-10;  // 1e-310, subnormal
+    return true;
+  };
+  CHECK_THROWS_AS(simulate(preset("reduced-scale", 303), 100.0, 8.3, o), Interrupted);
+  CHECK(seen == 0);
+  CHECK(product > 0.0);
+  // Restored after the run, interrupted or not (the control bits: the low six are sticky
+  // exception flags, which the subnormal product above raises).
+  CHECK((_mm_getcsr() & ~0x3Fu) == (before & ~0x3Fu));
+}
+#endif

@@ -20,7 +20,8 @@
 #include "pydrill/params.hpp"
 
 // Every function below throws std::invalid_argument for invalid Params (Params::validate)
-// and for a slope δ that is not a finite number; other ranges are given with each one.
+// and for a slope δ that is not a finite number; other ranges are given with each one. None
+// keeps state between calls: any number of threads may call them at once.
 // Units: δ in N·m·s/rad, Ω and frequencies in rad/s, W_ob in N, torques in N·m, λ in 1/s.
 namespace pydrill {
 
