@@ -1,27 +1,106 @@
-// The paper's Fig. 4 case from C++: a 4-DOF laboratory string at
-// W_ob = 100 N and u = 8.3 N·m sticks and slips.
+// pydrill from C++: simulate a laboratory string, judge its regime, and analyse the stability
+// of its steady states.
+//
+//   pydrill_example [W_ob N] [u N·m] [dof] [seconds of wall time allowed]
+//
+// Without arguments: the paper's Fig. 4 case, a 4-DOF string at W_ob = 100 N and
+// u = 8.3 N·m, which sticks and slips. Exit status 0, 2 for bad input, 3 when the integrator
+// fails, 4 when the time allowed runs out.
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <pydrill/simulator.hpp>
+#include <pydrill/stability.hpp>
 
-int main() {
-  const int dof = 4;
-  const double wob = 100.0, torque = 8.3;  // N, N·m
-  const pydrill::Params params = pydrill::preset("reduced-scale", dof);
-  pydrill::SimulationOptions options;
-  options.t_end = 300.0;
-  options.initial = pydrill::Initial::Rest;
-  std::printf("reduced-scale string, dof %d: W_ob %g N, u %g N·m, from rest for %g s\n", dof, wob, torque,
-              options.t_end);
+namespace {
 
-  const pydrill::Result r = pydrill::simulate(params, wob, torque, options);
-  const pydrill::Summary& s = r.summary;
-  std::printf("regime: %s (judged on t = %g ... %g s)\n", pydrill::regime_name(s.regime), s.window_start, s.window_end);
-  std::printf("in that window: bit velocity min %.4f  max %.4f  mean %.4f rad/s\n", s.bit_min, s.bit_max,
-              s.bit_mean);
-  std::printf("in that window: period %.4f s, %ld stick events, stuck %.1f %% of the time\n", s.period,
-              s.stick_events, 100.0 * s.stuck_fraction);
-  std::printf("whole run: solver %s, %ld steps, %ld switches, %.3f ms\n", pydrill::method_name(r.stats.method),
-              r.stats.steps, r.stats.switches, 1e3 * r.stats.wall_time);
-  return s.regime == pydrill::Regime::StickSlip ? 0 : 1;
+// A command-line number, all of it (std::stod alone takes "8.3x" for 8.3).
+double number(const char* text, const char* what) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || text[used] != '\0') {
+    throw std::invalid_argument(std::string(what) + " = '" + text + "' is not a number");
+  }
+  return value;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const double wob = argc > 1 ? number(argv[1], "W_ob") : 100.0;        // N
+    const double torque = argc > 2 ? number(argv[2], "u") : 8.3;          // N·m
+    const double dof_given = argc > 3 ? number(argv[3], "dof") : 4.0;
+    if (dof_given != static_cast<int>(dof_given)) {
+      throw std::invalid_argument("dof = '" + std::string(argv[3]) + "' is not a whole number");
+    }
+    const int dof = static_cast<int>(dof_given);
+    const double allowed = argc > 4 ? number(argv[4], "time allowed") : 60.0;  // s of wall time
+
+    // Every call checks its input and throws std::invalid_argument naming what is wrong.
+    const pydrill::Params params = pydrill::preset("reduced-scale", dof);
+    pydrill::SimulationOptions options;
+    options.t_end = 300.0;  // s of simulated time
+    options.initial = pydrill::Initial::Rest;
+    // Asked every 0.1 s of wall time: a program's cancel button, here a deadline.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(allowed);
+    options.interrupt = [deadline] { return std::chrono::steady_clock::now() > deadline; };
+    std::printf("reduced-scale string, dof %d: W_ob %g N, u %g N·m, from rest for %g s\n", dof, wob,
+                torque, options.t_end);
+
+    const pydrill::Result r = pydrill::simulate(params, wob, torque, options);
+    const pydrill::Summary& s = r.summary;
+    std::printf("regime: %s (judged on t = %g ... %g s)\n", pydrill::regime_name(s.regime),
+                s.window_start, s.window_end);
+    if (!s.note.empty()) std::printf("  note: %s\n", s.note.c_str());
+    std::printf("in that window: bit velocity min %.4f  max %.4f  mean %.4f rad/s\n", s.bit_min,
+                s.bit_max, s.bit_mean);
+    if (s.regime == pydrill::Regime::StickSlip) {
+      std::printf("in that window: period %.4f s, %ld stick events, stuck %.1f %% of the time\n",
+                  s.period, s.stick_events, 100.0 * s.stuck_fraction);
+    }
+    std::printf("whole run: solver %s, %ld steps, %ld switches, %.3f ms\n",
+                pydrill::method_name(r.stats.method), r.stats.steps, r.stats.switches,
+                1e3 * r.stats.wall_time);
+
+    // The steady states at the same (W_ob, u) and their stability. The crossings depend on
+    // the string alone: a program that visits many operating points finds them once.
+    const std::vector<pydrill::Crossing> crossings = pydrill::critical_deltas(params, options.interrupt);
+    for (const pydrill::Crossing& c : crossings) {
+      if (c.type == pydrill::CrossingType::Hopf && c.direction > 0) {
+        std::printf("first Hopf crossing at delta = %.5f N m s/rad (%.3f rad/s)\n", c.delta,
+                    c.frequency);
+        break;
+      }
+    }
+    const std::vector<pydrill::StabilityPoint> points =
+        pydrill::stability_at_torque(params, crossings, wob, torque, options.interrupt);
+    if (points.empty()) std::printf("no steady state at this (W_ob, u)\n");
+    for (const pydrill::StabilityPoint& p : points) {
+      std::printf("steady state at Omega = %.4f rad/s: %s (%d eigenvalues in the right half-plane)\n",
+                  p.omega, p.stable ? "stable" : "unstable", p.unstable);
+    }
+    return 0;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "bad input: %s\n", e.what());
+    return 2;
+  } catch (const pydrill::SolverError& e) {
+    std::fprintf(stderr, "the integrator failed at t = %g s: %s\n", e.t_reached(), e.what());
+    return 3;
+  } catch (const pydrill::Interrupted& e) {
+    std::fprintf(stderr, "out of time at t = %g s of simulated time\n", e.t_reached());
+    return 4;
+  } catch (const pydrill::StabilityInterrupted&) {
+    std::fprintf(stderr, "out of time in the stability analysis\n");
+    return 4;
+  }
 }
