@@ -24,6 +24,6 @@ int main() {
   n += pydrill::structured_eigenvalues(p, 0.01, {}).size();
   n += pydrill::stability_at_velocity(p, 40.0, 30.0, {}).eigenvalues.size();
   std::vector<std::complex<double>> roots;
-  n += pydrill::roots_of_impedance(p, 0.01, roots, {}) ? 1 : 0;
+  n += pydrill::roots_of_impedance(p, 0.01, roots, {}) ? 1U : 0U;
   return n > 0 ? 0 : 1;
 }
