@@ -340,14 +340,16 @@ class Atlas:
         x: str | None = None,
         y: str | None = None,
         at: dict[str, float] | None = None,
+        profile: bool = False,
     ):
         """The atlas as a map, a matplotlib ``Figure`` (what ``pydrill atlas plot`` saves):
         the regime, or ``metric`` (e.g. ``"severity"``, ``"spectral_abscissa"``; any of
         ``pydrill.plot_atlas.METRICS``) with a colour bar, on the axes ``x`` and ``y``
         (default: the first two swept), any other held at its grid value nearest ``at[name]``
         (default: its first), from the start ``initial`` (default: the first). On (W_ob, u)
-        the stuck boundary and the first Hopf curve are drawn on top. An atlas of one axis
-        is drawn as a profile along it: bit velocities from each start, the fastest steady
+        the stuck boundary and the first Hopf curve are drawn on top. With ``profile`` (and
+        always for an atlas of one axis) a profile along ``x`` instead, the other axes held
+        as for a map: bit velocities from each start (or ``metric``), the fastest steady
         state (dashed where unstable) and the regimes in a strip below."""
         from .plot_atlas import atlas_figure
 
@@ -357,7 +359,7 @@ class Atlas:
                 f"{self.path}: metric = {metric!r} is not in this atlas: the pydrill that wrote "
                 "it did not record it; sweep the spec again into a new atlas to map it"
             )
-        return atlas_figure(self, initial=initial, x=x, y=y, at=at, metric=metric)
+        return atlas_figure(self, initial=initial, x=x, y=y, at=at, metric=metric, profile=profile)
 
     def to_xarray(self):
         """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates, read

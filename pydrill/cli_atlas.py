@@ -136,7 +136,8 @@ def register_atlas(sub) -> None:
         epilog="examples:\n  pydrill atlas plot paper.h5 --out map.png\n"
         "  pydrill atlas plot paper.h5 --out severity.png --metric severity\n"
         "  pydrill atlas plot paper.h5 --out growth.pdf --metric spectral_abscissa\n"
-        "  pydrill atlas plot sizes.h5 --out map8.png --x wob --y torque --set dof=8",
+        "  pydrill atlas plot sizes.h5 --out map8.png --x wob --y torque --set dof=8\n"
+        "  pydrill atlas plot paper.h5 --out along-wob.png --profile --x wob --set torque=8.3",
         formatter_class=raw,
     )
     plot.add_argument("atlas", metavar="ATLAS.h5")
@@ -163,6 +164,13 @@ def register_atlas(sub) -> None:
         help="hold another axis at its grid value nearest VALUE (SI, or with a unit: "
         "depth=3000ft; default: its first value); a VALUE beyond half a grid step past either "
         "end is refused",
+    )
+    plot.add_argument(
+        "--profile",
+        action="store_true",
+        help="draw a profile along --x (default: the first swept axis) instead of a map, every "
+        "other axis held (--set): the bit velocity from each start, the fastest steady state "
+        "and a regime strip; with --metric, that value along the axis",
     )
     from .atlas_format import EQ_FIELDS, RUN_FIELDS
 
@@ -403,7 +411,13 @@ def _cmd_plot(args: argparse.Namespace) -> int:
                     file=sys.stderr,
                 )
         fig = atlas_figure(
-            atlas, initial=args.initial, x=args.x, y=args.y, at=at, metric=args.metric
+            atlas,
+            initial=args.initial,
+            x=args.x,
+            y=args.y,
+            at=at,
+            metric=args.metric,
+            profile=args.profile,
         )
         save(fig, args.out)
     print(f"figure: {args.out}")

@@ -49,6 +49,7 @@ def atlas_figure(
     y: str | None = None,
     at: dict[str, float] | None = None,
     metric: str | None = None,
+    profile: bool = False,
 ) -> Figure:
     """Regime map of an atlas on the axes ``x`` and ``y`` (default: its first two swept ones),
     every other axis held at the grid value nearest ``at[name]`` (default: its first value;
@@ -57,9 +58,10 @@ def atlas_figure(
     at those values are drawn on top (the paper's Figs. 6b and 12); on other axes, the stuck
     boundary found at the grid points and where the fastest steady state's recorded spectral
     abscissa changes sign (see ``plot_atlas_bounds``).
-    An atlas of one axis has no map: its figure is a profile along it (the bit velocity from
-    each start with the fastest steady state and its stability, or ``metric``; a regime strip
-    per start below).
+    With ``profile`` (and always for an atlas of one axis, which has no map) the figure is a
+    profile along ``x`` instead, every other axis held as above: the bit velocity from each
+    start with the fastest steady state and its stability, or ``metric``, above a regime strip
+    per start (``plot_atlas_line``).
 
     With ``metric`` (a name of ``METRICS``: ``severity``, ``stuck_fraction``, ``period``,
     ``spectral_abscissa``, ...) the map is coloured by that value instead, with a colour bar
@@ -80,16 +82,10 @@ def atlas_figure(
     if metric in fmt.EQ_FIELDS and not atlas.spec.record["stability"]:
         raise ValueError(f"metric = {metric!r}: {NO_STABILITY}")
     order = list(atlas.axes)
-    if len(order) < 2:  # nothing to map: the regimes and bit velocities along the axis
-        from .plot_atlas_line import profile_figure
-
-        if y is not None or (x is not None and x != order[0]):
-            given = y if y is not None else x
-            raise ValueError(
-                f"{'y' if y is not None else 'x'} = {given!r}: this atlas has one axis, "
-                f"{order[0]}, drawn along x"
-            )
-        return profile_figure(atlas, init, metric)
+    profile = profile or len(order) < 2  # one axis: nothing to map, a profile along it
+    if profile and y is not None:
+        why = f": this atlas has one axis, {order[0]}" if len(order) < 2 else " with --profile"
+        raise ValueError(f"y = {y!r}{why}: a profile is drawn along x alone")
     at = dict(at or {})
     for what, name in [("x", x), ("y", y)] + [("a held axis", n) for n in at]:
         if name is not None and name not in order:
@@ -102,10 +98,10 @@ def atlas_figure(
         raise ValueError(f"{sorted({x, y} & set(at))[0]!r} is drawn; it cannot also be held")
     swept_first = sorted(order, key=lambda n: len(atlas.axes[n]) <= 1)
     free = [n for n in swept_first if n not in (x, y) and n not in at]
-    if len(free) < (x is None) + (y is None):
+    if len(free) < (x is None) + (y is None and not profile):
         raise ValueError(f"no axis left to draw: {', '.join(order)} are all given as x, y or held")
     xname = x or free.pop(0)
-    yname = y or free.pop(0)
+    yname = None if profile else y or free.pop(0)
     held: dict[str, float] = {}
     index: list[int | slice] = []
     for name in order:
@@ -116,6 +112,11 @@ def atlas_figure(
         k = nearest_index(atlas, name, at[name]) if name in at else 0
         held[name] = float(values[k])
         index.append(k)
+    if profile:
+        from .plot_atlas_line import profile_figure
+
+        return profile_figure(atlas, init, metric, xname, held, index)
+    assert yname is not None
     # A simulation's value from the start drawn; a steady state's of the fastest (column 0).
     column = 0 if metric in fmt.EQ_FIELDS else j
     grid = atlas._f[metric or "regime"][..., column][tuple(index)]

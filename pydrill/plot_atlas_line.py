@@ -22,16 +22,23 @@ if TYPE_CHECKING:
 STARTS = {"rest": ("#1f4e79", "o"), "equilibrium": ("#7b241c", "s")}
 
 
-def profile_figure(atlas, initial: str, metric: str | None = None) -> Figure:
-    """The figure of a one-axis atlas: bit velocities (or ``metric``) against the axis from
-    every start (``initial`` first), the fastest steady state's velocity with its stability
-    when recorded, and a strip per start coloured by regime."""
+def profile_figure(
+    atlas, initial: str, metric: str | None, name: str, held: dict[str, float], index: list
+) -> Figure:
+    """A profile along the axis ``name``, every other axis held (``held``: their values,
+    ``index``: the atlas's grid index, a slice along ``name``): bit velocities (or
+    ``metric``) from every start (``initial`` first), the fastest steady state's velocity
+    with its stability when recorded, and a strip per start coloured by regime."""
     import numpy as np
     from matplotlib.patches import Patch
 
-    (name,) = atlas.axes
     x = np.asarray(atlas.axes[name], dtype=float)
-    f = atlas._f
+    cut = tuple(index)
+
+    def read(dataset: str, j: int):
+        """Dataset ``dataset`` along the profile, at start (or steady state) ``j``."""
+        return atlas._f[dataset][..., j][cut]
+
     starts = [initial] + [s for s in atlas.initials if s != initial]
     columns = {s: atlas.initials.index(s) for s in starts}
     fig, (ax, strip) = plt.subplots(
@@ -47,22 +54,20 @@ def profile_figure(atlas, initial: str, metric: str | None = None) -> Figure:
         for s in starts:
             j = columns[s]
             color, marker = STARTS.get(s, ("#1f4e79", "o"))
-            low, mean, high = (
-                f[k][..., j].astype(float) for k in ("bit_min", "bit_mean", "bit_max")
-            )
+            low, mean, high = (read(k, j).astype(float) for k in ("bit_min", "bit_mean", "bit_max"))
             ax.fill_between(x, low, high, color=color, alpha=0.15, lw=0)
             (line,) = ax.plot(x, mean, marker=marker, ms=3, color=color, lw=1.2)
             line.set_label(f"from {s}: mean (band: least to largest)")
             lines.append(line)
         if atlas.spec.record["stability"]:
-            lines += _steady_line(ax, x, f)
+            lines += _steady_line(ax, x, read("omega_eq", 0), read("spectral_abscissa", 0))
         ax.set_ylabel("bit velocity (rad/s)")
         what = "bit velocity and regime"
     else:
         unit, meaning = METRICS[metric]
         steady = metric in fmt.EQ_FIELDS
         for s in starts[:1] if steady else starts:
-            values = f[metric][..., 0 if steady else columns[s]].astype(float)
+            values = read(metric, 0 if steady else columns[s]).astype(float)
             if fmt.RUN_FIELDS.get(metric, fmt.EQ_FIELDS.get(metric))[0].startswith("i"):
                 values[values < 0] = np.nan  # a count's -1: not measured
             color, marker = STARTS.get(s, ("#1f4e79", "o"))
@@ -76,7 +81,7 @@ def profile_figure(atlas, initial: str, metric: str | None = None) -> Figure:
         what = f"{metric}: {meaning}"
     ax.grid(alpha=0.3)
     # The regime strip: one row per start, each cell as wide as its grid value's.
-    codes = np.array([f["regime"][..., columns[s]] for s in starts])
+    codes = np.array([read("regime", columns[s]) for s in starts])
     order = {fmt.REGIMES[n]: k for k, n in enumerate(MAP_COLORS)}
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
@@ -108,24 +113,21 @@ def profile_figure(atlas, initial: str, metric: str | None = None) -> Figure:
     scale_ticks(strip.xaxis, scale)
     lo, hi = _edges(x)[[0, -1]] if len(x) == 1 else (x[0], x[-1])
     ax.set_xlim(lo, hi)
-    scales = {
-        n: unit_scale(atlas.spec.fixed[n], AXIS_SI[n])
-        for n in ("wob", "torque")
-        if n in atlas.spec.fixed
-    }
-    string, count = context(atlas, {}, scales)
+    both = {**atlas.spec.fixed, **held}
+    scales = {n: unit_scale(both[n], AXIS_SI[n]) for n in ("wob", "torque") if n in both}
+    string, count = context(atlas, held, scales)
     after = "" if metric in fmt.EQ_FIELDS else f" after {atlas.spec.simulation['t_end']:g} s"
     ax.set_title(f"{string}: {what}{after} ({count})", fontsize=10)
     return fig
 
 
-def _steady_line(ax, x, f) -> list:
+def _steady_line(ax, x, omega, abscissa) -> list:
     """The fastest steady state's bit velocity: solid where it is stable (every eigenvalue in
     the left half-plane), dashed where not; nothing where there is none."""
     import numpy as np
 
-    omega = f["omega_eq"][..., 0].astype(float)
-    stable = f["spectral_abscissa"][..., 0] < 0
+    omega = omega.astype(float)
+    stable = abscissa < 0
     handles = []
     for where, style, face, label in (
         (stable, "-", "#196f3d", "fastest steady state, stable"),

@@ -99,7 +99,7 @@ def test_a_profile_refuses_a_second_axis_by_name(line_atlas):
     with Atlas(line_atlas) as atlas:
         with pytest.raises(ValueError, match=r"y = 'torque': this atlas has one axis, wob"):
             atlas.plot(y="torque")
-        with pytest.raises(ValueError, match=r"x = 'dof': this atlas has one axis, wob"):
+        with pytest.raises(ValueError, match=r"x = 'dof' is not an axis of this atlas; axes: wob"):
             atlas.plot(x="dof")
 
 
@@ -110,3 +110,54 @@ def test_atlas_plot_command_draws_a_one_axis_atlas(line_atlas, tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert out.stat().st_size > 20_000
+
+
+def test_a_profile_of_a_map_is_the_sweep_of_its_row(line_atlas, tmp_path):
+    """A (W_ob, u) atlas's profile along W_ob at u = 8.3 draws what a sweep of W_ob alone at
+    u = 8.3 (LINE) computed: the same points, simulated apart."""
+    out = tmp_path / "map.h5"
+    run_sweep(
+        parse_spec(
+            LINE.replace("torque = 8.3\n", "").replace(
+                "[simulation]", "torque = [6.0, 8.3]\n[simulation]"
+            )
+        ),
+        out,
+        serial=True,
+    )
+    with Atlas(out) as atlas, Atlas(line_atlas) as line:
+        cut = atlas.plot(profile=True, x="wob", at={"torque": 8.3})
+        alone = line.plot()
+        metric = atlas.plot("stuck_fraction", profile=True, at={"torque": 8.3})
+        with pytest.raises(ValueError, match=r"y = 'torque' with --profile: a profile is drawn"):
+            atlas.plot(profile=True, y="torque")
+    for a, b in zip(cut.axes[0].get_lines(), alone.axes[0].get_lines(), strict=True):
+        assert a.get_label() == b.get_label()
+        np.testing.assert_array_equal(a.get_xdata(), b.get_xdata())
+        np.testing.assert_array_equal(a.get_ydata(), b.get_ydata())
+    np.testing.assert_array_equal(
+        cut.axes[1].collections[0].get_array(), alone.axes[1].collections[0].get_array()
+    )
+    assert "torque = 8.3 N·m" in cut.axes[0].get_title()
+    assert "(26 points)" in cut.axes[0].get_title()  # the whole atlas's count
+    with h5py.File(out, "r") as f:
+        k = list(f["torque"][...]).index(8.3)
+        np.testing.assert_array_equal(
+            metric.axes[0].get_lines()[0].get_ydata(), f["stuck_fraction"][:, k, 0]
+        )
+    proc = subprocess.run(
+        [
+            *CMD,
+            "atlas",
+            "plot",
+            str(out),
+            "--out",
+            str(tmp_path / "p.png"),
+            "--profile",
+            "--set",
+            "torque=8.3",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0 and (tmp_path / "p.png").stat().st_size > 20_000, proc.stderr
