@@ -155,6 +155,34 @@ def _refuse_complete(out: str, spec) -> None:
     )
 
 
+def _already_done(out: Path, spec) -> int | None:
+    """Points of ``out`` done (in the atlas or its journal), read fast and only to be said:
+    None when it is not this sweep's atlas, or another sweep is writing it (the sweep itself
+    refuses those, saying why)."""
+    import h5py
+    import numpy as np
+
+    from . import atlas_format as fmt
+    from .atlas_lock import writer
+    from .journal import journaled
+
+    if writer(out) is not None:
+        return None
+    done = np.zeros(spec.size, dtype=bool)
+    try:
+        with h5py.File(out, "r") as f:
+            if f.attrs.get("spec_digest") != spec.digest:
+                return None
+            done |= f["status"][...].ravel() != fmt.STATUS["missing"]
+    except FileNotFoundError:
+        pass  # a journal alone: the atlas is rebuilt from it
+    except (OSError, KeyError, ValueError):
+        pass  # damaged: rebuilt from the journal, if there is one (else the sweep says so)
+    found = journaled(out)  # the indices alone: 0.1 s for 74000 lines, where a replay takes 4
+    done[found[(found >= 0) & (found < spec.size)]] = True
+    return int(np.count_nonzero(done))
+
+
 def _say(bar, line: str) -> None:
     """A line on stderr, above a tqdm bar (which stays whole) or in a log."""
     if hasattr(bar, "write"):
@@ -236,15 +264,25 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             f"--plot draws a map over two axes; this sweep has one ({next(iter(spec.axes))}): "
             "drop --plot, or add an axis"
         )
+    # A resumed sweep's bar counts the points left from the start (it counted the whole grid
+    # until the first batch came back: minutes, for strings of hundreds of pipes), and the
+    # journal's replay, a minute for a million points, is said before it sits there.
+    done = _already_done(Path(args.out), spec) if args.resume else None
     bar = None
     if args.no_progress:
         pass
     elif sys.stderr.isatty() and not args.json:
         from tqdm import tqdm
 
-        bar = tqdm(total=spec.size, unit="pt", desc="sweep", file=sys.stderr)
+        bar = tqdm(total=spec.size - (done or 0), unit="pt", desc="sweep", file=sys.stderr)
     else:  # a log file (nohup, a batch job): a plain line now and then
-        bar = _LogProgress(spec.size)
+        bar = _LogProgress(spec.size - (done or 0))
+    if done:
+        _say(
+            bar,
+            f"sweep: resuming {args.out}: {done} of {spec.size} points are done, "
+            f"{spec.size - done} to compute",
+        )
     done_before = [0]
 
     def progress(n: int, total: int) -> None:

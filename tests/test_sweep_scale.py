@@ -1,10 +1,13 @@
 """What a large study meets and a small test grid does not: costs that grow with the atlas."""
 
 import json
+import os
+import subprocess
+import sys
 import tracemalloc
 
 import numpy as np
-from sweeping import SMALL
+from sweeping import SMALL, TINY
 
 from pydrill import atlas_format as fmt
 from pydrill.journal import journal_path, prepare
@@ -50,3 +53,46 @@ def test_resume_replays_a_journal_one_record_at_a_time(tmp_path):
         want = [fmt.REGIMES[computed[i % 3]["runs"][s]["regime"]] for s in spec.initials]
         assert flat[i].tolist() == want
     assert np.all(table.status == fmt.STATUS["done"])
+
+
+def test_a_resumed_sweep_counts_the_points_left_from_the_start_and_says_so(tmp_path):
+    # The bar counted the whole grid (0/100000) until the first batch came back, then jumped
+    # to the points left (256/48288): minutes of a wrong total for strings of hundreds of
+    # pipes, whose batches take seconds each, and no word that this was a resume.
+    spec = parse_spec(TINY)
+    out = tmp_path / "r.h5"
+    lines = [json.dumps({"spec_digest": spec.digest}) + "\n"]
+    lines += [json.dumps(evaluate_point(spec, i)) + "\n" for i in (0, 3)]
+    journal_path(out).write_text("".join(lines))
+    spec_file = tmp_path / "tiny.toml"
+    spec_file.write_text(TINY)
+    # With no terminal, the progress is a line every 30 s, of the points left (_LogProgress).
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    script = (
+        "import sys, pydrill.cli_sweep as c\n"
+        "class Log(c._LogProgress):\n"
+        "    def __init__(self, total, every=30.0):\n"
+        "        print('total', total, file=sys.stderr)\n"
+        "        super().__init__(total, every)\n"
+        "c._LogProgress = Log\n"
+        "from pydrill.cli import main\n"
+        "sys.exit(main(sys.argv[1:]))\n"
+    )
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            script,
+            "sweep",
+            str(spec_file),
+            f"--out={out}",
+            "--resume",
+            "--serial",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr.startswith("total 4\n"), proc.stderr
+    assert f"sweep: resuming {out}: 2 of 6 points are done, 4 to compute" in proc.stderr
