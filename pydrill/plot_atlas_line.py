@@ -116,6 +116,8 @@ def profile_figure(
     both = {**atlas.spec.fixed, **held}
     scales = {n: unit_scale(both[n], AXIS_SI[n]) for n in ("wob", "torque") if n in both}
     string, count = context(atlas, held, scales)
+    if len(atlas.axes) > 1:  # a row of a bigger atlas: how many of its points are drawn
+        count = f"{len(x)} points of an atlas of {count}"
     after = "" if metric in fmt.EQ_FIELDS else f" after {atlas.spec.simulation['t_end']:g} s"
     ax.set_title(f"{string}: {what}{after} ({count})", fontsize=10)
     return fig

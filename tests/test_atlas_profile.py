@@ -139,7 +139,7 @@ def test_a_profile_of_a_map_is_the_sweep_of_its_row(line_atlas, tmp_path):
         cut.axes[1].collections[0].get_array(), alone.axes[1].collections[0].get_array()
     )
     assert "torque = 8.3 N·m" in cut.axes[0].get_title()
-    assert "(26 points)" in cut.axes[0].get_title()  # the whole atlas's count
+    assert "(13 points of an atlas of 26 points)" in cut.axes[0].get_title()
     with h5py.File(out, "r") as f:
         k = list(f["torque"][...]).index(8.3)
         np.testing.assert_array_equal(
