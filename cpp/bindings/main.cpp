@@ -4,12 +4,13 @@
 
 #include "bindings.hpp"
 #include "pydrill/simulator.hpp"
+#include "pydrill/version.hpp"
 
 namespace py = pybind11;
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "pydrill C++ core (private: use the pydrill package)";
-  m.attr("__version__") = PYDRILL_VERSION;
+  m.attr("__version__") = pydrill::version();
   // std::invalid_argument already arrives as ValueError; SolverError keeps the
   // time the integration reached.
   static py::handle solver_error =

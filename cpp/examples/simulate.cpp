@@ -15,6 +15,7 @@
 
 #include <pydrill/simulator.hpp>
 #include <pydrill/stability.hpp>
+#include <pydrill/version.hpp>
 
 namespace {
 
@@ -54,8 +55,8 @@ int main(int argc, char** argv) {
     // Asked every 0.1 s of wall time: a program's cancel button, here a deadline.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(allowed);
     options.interrupt = [deadline] { return std::chrono::steady_clock::now() > deadline; };
-    std::printf("reduced-scale string, dof %d: W_ob %g N, u %g N·m, from rest for %g s\n", dof, wob,
-                torque, options.t_end);
+    std::printf("pydrill %s: reduced-scale string, dof %d: W_ob %g N, u %g N·m, from rest for %g s\n",
+                pydrill::version(), dof, wob, torque, options.t_end);
 
     const pydrill::Result r = pydrill::simulate(params, wob, torque, options);
     const pydrill::Summary& s = r.summary;

@@ -1,4 +1,5 @@
 #include "pydrill/params.hpp"
+#include "pydrill/version.hpp"
 
 #include "shortest.hpp"
 
@@ -7,6 +8,8 @@
 #include <stdexcept>
 
 namespace pydrill {
+
+const char* version() noexcept { return PYDRILL_VERSION_STRING; }
 namespace {
 
 using detail::shortest;

@@ -15,6 +15,7 @@
 
 #include "pydrill/simulator.hpp"
 #include "pydrill/stability.hpp"
+#include "pydrill/version.hpp"
 
 using namespace pydrill;
 
@@ -53,6 +54,16 @@ TEST_CASE("a result says what ran and what it found as enums", "[api]") {
   const auto fold = std::find_if(c.begin(), c.end(), [](const Crossing& x) { return x.type == CrossingType::Fold; });
   REQUIRE(fold != c.end());
   CHECK(fold->delta == Approx(0.18 + 0.01));  // at c_r + c_b
+}
+
+TEST_CASE("the headers and the library say which pydrill they are", "[api]") {
+  // A program that builds against more than one pydrill had nothing to test: the C++ API
+  // changes between minor versions before 1.0.
+  CHECK(std::string(version()) == PYDRILL_VERSION_STRING);
+  CHECK(std::string(PYDRILL_VERSION_STRING) == PYDRILL_PROJECT_VERSION);  // CMake's project()
+  CHECK(std::string(PYDRILL_VERSION_STRING) == std::to_string(PYDRILL_VERSION_MAJOR) + "." +
+                                                   std::to_string(PYDRILL_VERSION_MINOR) + "." +
+                                                   std::to_string(PYDRILL_VERSION_PATCH));
 }
 
 namespace {

@@ -5,6 +5,7 @@
 #include <pydrill/model.hpp>
 #include <pydrill/simulator.hpp>
 #include <pydrill/stability.hpp>
+#include <pydrill/version.hpp>
 
 #include <complex>
 #include <vector>
