@@ -152,7 +152,7 @@ class Atlas:
             v = coordinate(name, coords[name])
             i = int(np.argmin(np.abs(values - v)))
             if method == "exact" and not on_grid(values, i, v):
-                shown, near = distinct(v, values[i])
+                shown, near = distinct(v, values[i], name)
                 raise KeyError(
                     f"{name} = {shown} is not on the grid (nearest {near}); "
                     "use method='nearest' (--nearest)"
@@ -415,7 +415,7 @@ def _on_grid(name: str, values: np.ndarray, value: Any) -> float:
     v = coordinate(name, value)
     i = int(np.argmin(np.abs(values - v)))
     if not on_grid(values, i, v):
-        shown, near = distinct(v, values[i])
+        shown, near = distinct(v, values[i], name)
         raise KeyError(
             f"{name} = {shown} is not on the grid (nearest {near}); use method='nearest'"
         )

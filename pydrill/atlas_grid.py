@@ -21,10 +21,40 @@ def on_grid(values: np.ndarray, i: int, v: float) -> bool:
     return abs(v - g) <= tol
 
 
-def distinct(a: float, b: Any) -> tuple[str, str]:
-    """``a`` and ``b`` printed briefly (``:g``), or in full when that shows them equal."""
-    short = f"{a:g}", f"{b:g}"
-    return short if short[0] != short[1] else (repr(float(a)), repr(float(b)))
+def axis_unit(name: str) -> str:
+    """The SI unit of a sweep axis's values ("1": a count or a plain number)."""
+    from .model import _UNITS
+
+    known = {"wob": "N", "torque": "N·m", "depth": "m", "dof": "1", "pipes": "1"}
+    unit = known.get(name) or _UNITS.get(name, "1")
+    return "1" if unit == "friction coefficient" else unit
+
+
+def shown_unit(name: str, *values: float) -> tuple[str, float]:
+    """The unit a sweep axis's values are printed in, and its size in SI: a real string's
+    weights on bit (1e5 N) read as kN, the reduced-scale rig's (100 N) as N."""
+    unit = axis_unit(name)
+    if unit in ("N", "N·m") and max(abs(float(v)) for v in values) >= 1e4:
+        return "k" + unit, 1e3
+    return unit, 1.0
+
+
+def with_unit(name: str, value: float, unit: tuple[str, float] | None = None) -> str:
+    """A sweep axis's SI value as text with its unit ("80 N", "120 kN", "4" for a count)."""
+    text, factor = unit or shown_unit(name, value)
+    number = f"{value / factor:g}"
+    return number if text == "1" else f"{number} {text}"
+
+
+def distinct(a: float, b: Any, name: str | None = None) -> tuple[str, str]:
+    """``a`` and ``b`` printed briefly (``:g``), or in full when that shows them equal; with
+    the unit of axis ``name`` when it is given, the one its grid value ``b`` reads in (both in
+    it: 70 kN, 60 kN)."""
+    text, factor = shown_unit(name, b) if name else ("1", 1.0)
+    x, y = float(a) / factor, float(b) / factor
+    short = f"{x:g}", f"{y:g}"
+    pair = short if short[0] != short[1] else (repr(x), repr(y))
+    return pair if text == "1" else (f"{pair[0]} {text}", f"{pair[1]} {text}")
 
 
 def near_enough(name: str, values: np.ndarray, v: float) -> None:
@@ -32,14 +62,18 @@ def near_enough(name: str, values: np.ndarray, v: float) -> None:
     never went: beyond half a grid step past either end, or off a one-value axis."""
     if len(values) == 1:
         if not on_grid(values, 0, v):
-            shown, only = distinct(v, values[0])
+            shown, only = distinct(v, values[0], name)
             raise KeyError(f"{name} = {shown} is outside the atlas (only {only})")
         return
     ends = np.sort(values)
     lo = ends[0] - 0.5 * (ends[1] - ends[0])
     hi = ends[-1] + 0.5 * (ends[-1] - ends[-2])
     if not lo <= v <= hi:
-        raise KeyError(f"{name} = {v:g} is outside the atlas ({ends[0]:g} ... {ends[-1]:g})")
+        unit = shown_unit(name, ends[0], ends[-1])  # the grid's unit, whatever was asked
+        first, last = (with_unit(name, e, unit) for e in (ends[0], ends[-1]))
+        raise KeyError(
+            f"{name} = {with_unit(name, v, unit)} is outside the atlas ({first} ... {last})"
+        )
 
 
 def coordinate(name: str, value: Any) -> float:

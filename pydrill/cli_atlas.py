@@ -7,6 +7,7 @@ import sys
 import textwrap
 from pathlib import Path
 
+from .atlas_grid import axis_unit, shown_unit, with_unit
 from .cli_options import figure_path, json_document, print_json, writable_place
 
 
@@ -14,27 +15,11 @@ def axis_line(name: str, size: int, low: float, high: float) -> str:
     """An axis as ``atlas info`` and ``sweep --dry-run`` list it, with its unit."""
     if size == 1:
         return f"  axis {name:12s} {size:6d} value,  {with_unit(name, low)}"
-    unit = _shown_unit(name, low, high)
+    unit = shown_unit(name, low, high)
     return (
         f"  axis {name:12s} {size:6d} values, {with_unit(name, low, unit)} ... "
         f"{with_unit(name, high, unit)}"
     )
-
-
-def _shown_unit(name: str, *values: float) -> tuple[str, float]:
-    """The unit a sweep axis's values are printed in, and its size in SI: a real string's
-    weights on bit (1e5 N) read as kN, the reduced-scale rig's (100 N) as N."""
-    unit = _axis_unit(name)
-    if unit in ("N", "N·m") and max(abs(v) for v in values) >= 1e4:
-        return "k" + unit, 1e3
-    return unit, 1.0
-
-
-def with_unit(name: str, value: float, unit: tuple[str, float] | None = None) -> str:
-    """A sweep axis's SI value as text with its unit ("80 N", "120 kN", "4" for a count)."""
-    text, factor = unit or _shown_unit(name, value)
-    number = f"{value / factor:g}"
-    return number if text == "1" else f"{number} {text}"
 
 
 def register_atlas(sub) -> None:
@@ -232,7 +217,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
     if args.json:
         results = dict(s)
         inputs = {"path": results.pop("path")}
-        units = {"axes": {name: _axis_unit(name) for name in s["axes"]}}
+        units = {"axes": {name: axis_unit(name) for name in s["axes"]}}
         print_json(json_document(inputs, results, units))
         return 0
     print(
@@ -262,15 +247,6 @@ def _cmd_info(args: argparse.Namespace) -> int:
             "or was stopped; 'pydrill sweep SPEC.toml --out ATLAS.h5 --resume' completes it"
         )
     return 0
-
-
-def _axis_unit(name: str) -> str:
-    """The SI unit of a sweep axis's values ("1": a count or a plain number)."""
-    from .model import _UNITS
-
-    known = {"wob": "N", "torque": "N·m", "depth": "m", "dof": "1", "pipes": "1"}
-    unit = known.get(name) or _UNITS.get(name, "1")
-    return "1" if unit == "friction coefficient" else unit
 
 
 def _json_unit(unit: str) -> str:
@@ -349,7 +325,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
             for name, (_, _, unit, _) in {**fmt.RUN_FIELDS, **fmt.EQ_FIELDS}.items()
         }
         units["eigenvalues"] = "1/s"
-        units["coords"] = {name: _axis_unit(name) for name in v["coords"]}
+        units["coords"] = {name: axis_unit(name) for name in v["coords"]}
         print_json(json_document(inputs, flat, units))
         return 0
     print(

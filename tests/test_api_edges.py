@@ -144,18 +144,24 @@ def test_atlas_matches_float32_coordinates(close_atlas):
         # Two grid values 4e-7 apart: each is found, and a value between them is neither.
         assert atlas.index(wob=100.0, torque=6.0) == (1, 0)
         assert atlas.index(wob=100.0000004, torque=6.0) == (2, 0)
-        with pytest.raises(KeyError, match=r"wob = 100.0000002 is not on the grid"):
+        with pytest.raises(KeyError, match=r"wob = 100.0000002 N is not on the grid"):
             atlas.index(wob=100.0000002, torque=6.0)
 
 
 def test_atlas_miss_shows_the_difference(close_atlas):
     with Atlas(close_atlas) as atlas:
         # Both print as 40 and 100 with 6 digits ({:g}): in full, they differ.
-        with pytest.raises(KeyError, match=r"wob = 40.000045 is not on the grid \(nearest 40.0\)"):
+        with pytest.raises(
+            KeyError, match=r"wob = 40.000045 N is not on the grid \(nearest 40.0 N\)"
+        ):
             atlas.value(wob=40.000045, torque=8.3)
-        with pytest.raises(KeyError, match=r"wob = 100.00004 is not on .*\(nearest 100.0000004\)"):
+        with pytest.raises(
+            KeyError, match=r"wob = 100.00004 N is not on .*\(nearest 100.0000004 N\)"
+        ):
             atlas.value(wob=100.00004, torque=8.3)
-        with pytest.raises(KeyError, match=r"torque = 8.4 is not on the grid \(nearest 8.3\)"):
+        with pytest.raises(
+            KeyError, match=r"torque = 8.4 N·m is not on the grid \(nearest 8.3 N·m\)"
+        ):
             atlas.value(wob=40.0, torque=8.4)
 
 

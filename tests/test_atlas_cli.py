@@ -43,7 +43,9 @@ def test_query_command_json(tmp_path):
     assert miss.stderr.startswith("pydrill atlas query: error: ") and "--nearest" in miss.stderr
     with Atlas(out) as atlas:  # SMALL's wob: 40, 100, 160 (steps of 60)
         assert atlas.value("nearest", wob=189.0, torque=8.3)["coords"]["wob"] == 160.0
-        with pytest.raises(KeyError, match=r"wob = 191 is outside the atlas \(40 \.\.\. 160\)"):
+        with pytest.raises(
+            KeyError, match=r"wob = 191 N is outside the atlas \(40 N \.\.\. 160 N\)"
+        ):
             atlas.value("nearest", wob=191.0, torque=8.3)  # more than half a step beyond
 
 

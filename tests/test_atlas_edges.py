@@ -83,7 +83,7 @@ def test_nearest_on_a_one_value_axis_is_no_wider_than_that_value(tmp_path):
     run_sweep(parse_spec(spec.replace("t_end = 200.0", "t_end = 20.0")), out, serial=True)
     with Atlas(out) as atlas:
         assert atlas.value("nearest", wob=40.0, torque=8.3)["status"] == "done"
-        with pytest.raises(KeyError, match=r"wob = 99999 is outside the atlas \(only 40\)"):
+        with pytest.raises(KeyError, match=r"wob = 99999 N is outside the atlas \(only 40 N\)"):
             atlas.value("nearest", wob=99999.0, torque=8.3)
     proc = run("atlas", "query", out, "--wob", "99999", "--torque", "-500", "--nearest")
     assert proc.returncode == 2 and "outside the atlas" in proc.stderr and not proc.stdout
@@ -326,7 +326,9 @@ def test_sel_off_the_grid_says_so_as_value_does(tmp_path):
     out = tmp_path / "a.h5"
     run_sweep(parse_spec(SMALL), out, serial=True)
     with Atlas(out) as atlas:
-        message = re.escape("torque = 8.4 is not on the grid (nearest 8.3); use method='nearest'")
+        message = re.escape(
+            "torque = 8.4 N·m is not on the grid (nearest 8.3 N·m); use method='nearest'"
+        )
         with pytest.raises(KeyError, match=message):
             atlas.value(wob=100.0, torque=8.4)
         with pytest.raises(KeyError, match=message):
