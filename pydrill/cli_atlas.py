@@ -383,7 +383,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             if not on_grid(atlas.axes[name], k, value):  # say so: the title shows the grid's
                 print(
                     f"pydrill atlas plot: note: --set {name}={given[name]} is not a grid value; "
-                    f"drawn at the nearest, {name} = {grid:g}",
+                    f"drawn at the nearest, {name} = {with_unit(name, grid)}",
                     file=sys.stderr,
                 )
         fig = atlas_figure(

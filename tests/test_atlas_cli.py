@@ -541,5 +541,5 @@ def test_set_takes_values_with_units_as_the_other_options_do(parameter_atlas, tm
     off = pydrill(*argv, "--set", "wob=0.09kN")
     assert off.returncode == 0 and off.stderr.strip() == (
         "pydrill atlas plot: note: --set wob=0.09kN is not a grid value; "
-        "drawn at the nearest, wob = 100"
+        "drawn at the nearest, wob = 100 N"
     )
