@@ -105,19 +105,30 @@ class _LogProgress:
     none at all for a sweep shorter than that. Speaks tqdm's ``total``/``reset``/``update``/
     ``close``, as ``_cmd_sweep`` uses them."""
 
-    def __init__(self, total: int, every: float = 30.0) -> None:
+    def __init__(self, total: int, every: float = 30.0, *, resumed: bool = False) -> None:
         self.total, self.every, self.done = total, every, 0
-        self.start = self.last = time.monotonic()
+        self.last = time.monotonic()
+        # A resumed sweep counts its rate from its first batch back: before it comes the
+        # journal's replay (40 s for a million points), which made a sweep of 2000 points left
+        # say "7 points/s, about 4 min 05 s left" when it had seconds to go.
+        self.resumed = resumed
+        self.first: tuple[float, int] | None = None if resumed else (self.last, 0)
 
     def reset(self, total: int) -> None:
         self.total, self.done = total, 0
+        if self.resumed:
+            self.first = None
 
     def update(self, n: int) -> None:
         self.done += n
         now = time.monotonic()
+        if self.first is None:  # (resumed) the first batch back: the rate counts from here
+            self.first, self.last = (now, self.done), now
+            return
         if now - self.last >= self.every and self.done < self.total:
             self.last = now
-            rate = self.done / (now - self.start)
+            since, before = self.first
+            rate = max(self.done - before, 1) / max(now - since, 1e-9)
             left = (self.total - self.done) / rate
             sys.stderr.write(
                 f"sweep: {self.done}/{self.total} points ({100 * self.done / self.total:.0f} %), "
@@ -276,7 +287,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
         bar = tqdm(total=spec.size - (done or 0), unit="pt", desc="sweep", file=sys.stderr)
     else:  # a log file (nohup, a batch job): a plain line now and then
-        bar = _LogProgress(spec.size - (done or 0))
+        bar = _LogProgress(spec.size - (done or 0), resumed=args.resume)
     if done:
         _say(
             bar,

@@ -71,9 +71,9 @@ def test_a_resumed_sweep_counts_the_points_left_from_the_start_and_says_so(tmp_p
     script = (
         "import sys, pydrill.cli_sweep as c\n"
         "class Log(c._LogProgress):\n"
-        "    def __init__(self, total, every=30.0):\n"
+        "    def __init__(self, total, every=30.0, **kw):\n"
         "        print('total', total, file=sys.stderr)\n"
-        "        super().__init__(total, every)\n"
+        "        super().__init__(total, every, **kw)\n"
         "c._LogProgress = Log\n"
         "from pydrill.cli import main\n"
         "sys.exit(main(sys.argv[1:]))\n"
@@ -96,3 +96,20 @@ def test_a_resumed_sweep_counts_the_points_left_from_the_start_and_says_so(tmp_p
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr.startswith("total 4\n"), proc.stderr
     assert f"sweep: resuming {out}: 2 of 6 points are done, 4 to compute" in proc.stderr
+
+
+def test_a_resumed_sweeps_log_progress_counts_its_rate_from_the_first_batch(monkeypatch, capsys):
+    # A resumed million-point sweep replays its journal for ~40 s before its first batch; the
+    # rate counted from the bar's creation said "7 points/s, about 4 min 05 s left" of a sweep
+    # that had seconds to go.
+    import pydrill.cli_sweep as cli_sweep
+
+    clock = [0.0]
+    monkeypatch.setattr(cli_sweep.time, "monotonic", lambda: clock[0])
+    log = cli_sweep._LogProgress(10000, every=30.0, resumed=True)
+    clock[0] = 100.0  # the replay, the cluster's start and the first batch
+    log.update(100)
+    clock[0] = 131.0
+    log.update(3000)  # 3000 points in 31 s: ~97 a second, 6900 left: 71 s
+    said = capsys.readouterr().err
+    assert said == "sweep: 3100/10000 points (31 %), 97 points/s, about 1 min 11 s left\n"
