@@ -183,13 +183,15 @@ def atlas_figure(
             fontsize=9,
         )
     string, count = context(atlas, held, scales)
-    ax.set_title(
-        f"{string}: {what}"
-        + ("" if metric in fmt.EQ_FIELDS else f" after {atlas.spec.simulation['t_end']:g} s")
-        + f" ({count})",
-        fontsize=10,
-    )
+    after = "" if metric in fmt.EQ_FIELDS else f" after {atlas.spec.simulation['t_end']:g} s"
+    ax.set_title(title(string, f"{what}{after} ({count})"), fontsize=10)
     return fig
+
+
+def title(string: str, what: str) -> str:
+    """A figure's title, "string: what" on one line, or on two where one would run past the
+    figure's edges (a real string's name, dof, torque and depth, and a metric's meaning)."""
+    return f"{string}: {what}" if len(string) + len(what) <= 95 else f"{string}:\n{what}"
 
 
 def context(atlas, held: dict[str, float], scales: dict[str, tuple[float, str]]):
@@ -209,6 +211,7 @@ def context(atlas, held: dict[str, float], scales: dict[str, tuple[float, str]])
     where = "".join(
         f", {n} = "
         + (quantity(v, AXIS_SI[n], scales[n][0]) if n in scales else f"{v:.4g}")
+        + (f" {AXIS_SI[n]}" if AXIS_SI.get(n) and n not in scales else "")  # depth's m
         + ("" if n in AXIS_SI or not shown_unit(n) else f" {shown_unit(n)}")
         for n, v in {**s.fixed, **held}.items()
     )

@@ -13,7 +13,16 @@ from typing import TYPE_CHECKING
 
 from . import atlas_format as fmt
 from .plot import plt, scale_ticks, unit_scale
-from .plot_atlas import AXIS_LABELS, AXIS_SI, MAP_COLORS, METRICS, _edges, context, shown_unit
+from .plot_atlas import (
+    AXIS_LABELS,
+    AXIS_SI,
+    MAP_COLORS,
+    METRICS,
+    _edges,
+    context,
+    shown_unit,
+    title,
+)
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -119,7 +128,7 @@ def profile_figure(
     if len(atlas.axes) > 1:  # a row of a bigger atlas: how many of its points are drawn
         count = f"{len(x)} points of an atlas of {count}"
     after = "" if metric in fmt.EQ_FIELDS else f" after {atlas.spec.simulation['t_end']:g} s"
-    ax.set_title(f"{string}: {what}{after} ({count})", fontsize=10)
+    ax.set_title(title(string, f"{what}{after} ({count})"), fontsize=10)
     return fig
 
 

@@ -161,3 +161,40 @@ def test_a_profile_of_a_map_is_the_sweep_of_its_row(line_atlas, tmp_path):
         text=True,
     )
     assert proc.returncode == 0 and (tmp_path / "p.png").stat().st_size > 20_000, proc.stderr
+
+
+DEPTH = """
+[model]
+tally = "{tally}"
+dof = 6
+torque = "9 kN·m"
+[axes]
+depth = [1000.0, 3000.0]
+wob = ["40 kN", "70 kN", "100 kN"]
+[simulation]
+t_end = 50.0
+initial = ["rest"]
+"""
+
+
+def test_titles_give_held_depths_in_metres_and_fit_the_figure(tmp_path):
+    """'depth = 3000' had no unit; a real string's title ran past both edges of a profile."""
+    from pathlib import Path
+
+    tally = Path(__file__).resolve().parents[1] / "examples" / "tallies" / "paper-eq53.toml"
+    out = tmp_path / "depth.h5"
+    run_sweep(parse_spec(DEPTH.format(tally=tally), base=tmp_path), out, serial=True)
+    with Atlas(out) as atlas:
+        figures = [
+            atlas.plot(profile=True, x="wob", at={"depth": 3000.0}),
+            atlas.plot("severity", x="depth", y="wob"),
+            atlas.plot(x="wob", y="depth"),
+        ]
+    for fig in figures:
+        text = fig.axes[0].get_title()
+        assert "torque = 9 kN·m" in text and all(len(line) <= 95 for line in text.split("\n"))
+        fig.canvas.draw()  # the title inside the figure, as saved
+        box = fig.axes[0].title.get_window_extent()
+        assert box.x0 >= 0 and box.x1 <= fig.bbox.width
+    assert "depth = 3000 m:" in figures[0].axes[0].get_title()
+    assert figures[0].axes[1].get_xlabel() == "weight on bit $W_{ob}$ (kN)"
