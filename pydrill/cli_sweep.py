@@ -261,6 +261,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if args.dry_run:
         from .cli_sweep_dry_run import dry_run
 
+        if args.out is not None and not args.resume:  # refused as the sweep would refuse it
+            _refuse_complete(args.out, spec)
         return dry_run(args, spec)
     if args.out is None:
         raise ValueError("--out ATLAS.h5 is required: the atlas to write (or give --dry-run)")

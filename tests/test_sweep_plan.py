@@ -293,3 +293,19 @@ def test_the_estimate_counts_the_encoding_a_worker_does_for_each_point(monkeypat
     monkeypatch.setattr(points, "encode_batch", slow_encoding)
     plan = plan_sweep(parse_spec(SMALL), most=4, least=4)
     assert plan.sampled == 4 and plan.point_seconds > 0.02
+
+
+def test_the_dry_run_of_a_complete_atlas_says_what_the_sweep_says(tmp_path):
+    # The dry run said "already exists for this sweep; use --resume to complete it" of an
+    # atlas with nothing left to complete; the sweep itself says it is complete.
+    spec_file = tmp_path / "s.toml"
+    spec_file.write_text(SMALL)
+    out = tmp_path / "s.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    proc = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), "--dry-run"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2
+    assert f"{out} already holds this sweep, complete: 6 points" in proc.stderr
