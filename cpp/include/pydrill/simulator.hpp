@@ -81,11 +81,11 @@ enum class SwitchKind { Stick, Slip, Reversal, BandEnter, BandLeave };
 PYDRILL_API const char* switch_kind_name(SwitchKind k) noexcept;
 
 struct Switch {
-  double t;              // s
-  SwitchKind kind;
-  int direction;         // bit direction after the switch: +1, −1, 0 (stuck)
-  double reaction;       // T_e at the switch, N·m
-  double root_residual;  // value of the triggering root function at t (≈ 0)
+  double t = 0;                          // s
+  SwitchKind kind = SwitchKind::Stick;
+  int direction = 0;                     // bit direction after the switch: +1, −1, 0 (stuck)
+  double reaction = 0;                   // T_e at the switch, N·m
+  double root_residual = 0;              // value of the triggering root function at t (≈ 0)
 };
 
 struct SolverStats {
