@@ -11,14 +11,16 @@ from .atlas_grid import axis_unit, shown_unit, with_unit
 from .cli_options import figure_path, json_document, print_json, writable_place
 
 
-def axis_line(name: str, size: int, low: float, high: float) -> str:
-    """An axis as ``atlas info`` and ``sweep --dry-run`` list it, with its unit."""
+def axis_line(name: str, size: int, low: float, high: float, width: int = 12) -> str:
+    """An axis as ``atlas info`` and ``sweep --dry-run`` list it, with its unit; ``width``:
+    the longest name of the axes listed together (stribeck_velocity), so that they align."""
+    name = name.ljust(max(width, 12))
     if size == 1:
-        return f"  axis {name:12s} {size:6d} value,  {with_unit(name, low)}"
-    unit = shown_unit(name, low, high)
+        return f"  axis {name} {size:6d} value,  {with_unit(name.strip(), low)}"
+    unit = shown_unit(name.strip(), low, high)
     return (
-        f"  axis {name:12s} {size:6d} values, {with_unit(name, low, unit)} ... "
-        f"{with_unit(name, high, unit)}"
+        f"  axis {name} {size:6d} values, {with_unit(name.strip(), low, unit)} ... "
+        f"{with_unit(name.strip(), high, unit)}"
     )
 
 
@@ -225,7 +227,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
         f"spec {s['spec_digest']}"
     )
     for name, ax in s["axes"].items():
-        print(axis_line(name, ax["size"], ax["min"], ax["max"]))
+        print(axis_line(name, ax["size"], ax["min"], ax["max"], max(map(len, s["axes"]))))
     print("  status  " + ", ".join(f"{k} {v}" for k, v in s["status"].items()))
     for init, counts in s["regimes"].items():
         print(f"  from {init:12s}" + ", ".join(f"{k} {v}" for k, v in counts.items()))

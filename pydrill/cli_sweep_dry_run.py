@@ -90,7 +90,7 @@ def dry_run(args: argparse.Namespace, spec) -> int:
     grid = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
     print(f"{args.spec}: {plan.points} points ({grid}), from " + " and ".join(spec.initials))
     for name, values in spec.axes.items():
-        print(axis_line(name, len(values), values[0], values[-1]))
+        print(axis_line(name, len(values), values[0], values[-1], max(map(len, spec.axes))))
     state = {
         "none": "no --out given",
         "new": f"{args.out}: a new atlas",

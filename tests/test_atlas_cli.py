@@ -407,6 +407,16 @@ def test_info_and_query_text_give_the_axes_units(small_atlas):
     assert "axis torque            2 values, 6 N·m ... 8.3 N·m" in info
 
 
+def test_axis_lines_align_whatever_the_names():
+    """'axis stribeck_velocity      4 values' pushed its counts out of line with wob's."""
+    from pydrill.cli_atlas import axis_line
+
+    names = ["wob", "stribeck_velocity"]
+    lines = [axis_line(n, 12, 1.0, 2.0, max(map(len, names))) for n in names]
+    assert len({line.index(" values,") for line in lines}) == 1
+    assert lines[1].startswith("  axis stribeck_velocity     12 values, 1 rad/s")
+
+
 def test_a_real_string_axis_reads_in_kilonewtons():
     from pydrill.cli_atlas import axis_line, with_unit
 
