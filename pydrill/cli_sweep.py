@@ -95,7 +95,10 @@ def register_sweep(sub, positive) -> None:
         "runs, the dashboard link and workers coming and going are still said",
     )
     sw.add_argument(
-        "--plot", metavar="FILE.png", type=figure_path, help="draw the regime map when done"
+        "--plot",
+        metavar="FILE.png",
+        type=figure_path,
+        help="draw the regime map when done (a sweep of one axis: its profile along it)",
     )
     sw.set_defaults(handler=_cmd_sweep)
 
@@ -272,11 +275,6 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         raise ValueError(f"--out {exc}") from None
     if not args.resume:
         _refuse_complete(args.out, spec)
-    if args.plot and len(spec.axes) < 2:  # found out now, not after the whole sweep
-        raise ValueError(
-            f"--plot draws a map over two axes; this sweep has one ({next(iter(spec.axes))}): "
-            "drop --plot, or add an axis"
-        )
     # A resumed sweep's bar counts the points left from the start (it counted the whole grid
     # until the first batch came back: minutes, for strings of hundreds of pipes), and the
     # journal's replay, a minute for a million points, is said before it sits there.
