@@ -100,6 +100,27 @@ EQ_FIELDS = {
 
 #: the units of the axes that are not model parameters (UDUNITS, as CF asks; "1": a count)
 AXIS_UNITS = {"wob": "N", "torque": "N m", "dof": "1", "pipes": "1", "depth": "m"}
+#: what each axis is, for readers of the file (CF's long_name); a model parameter's below
+AXIS_NAMES = {
+    "wob": "weight on bit",
+    "torque": "surface torque of the top drive",
+    "dof": "inertias of the lumped string (degrees of freedom)",
+    "pipes": "drill pipes of the lumped string",
+    "depth": "bit depth",
+    "top_damping": "viscous damping at the top drive (c_r)",
+    "bit_damping": "viscous damping at the bit (c_b)",
+    "bit_radius": "bit radius (R_b)",
+    "mu_coulomb": "Coulomb friction coefficient of the bit (mu_cb)",
+    "mu_static": "static friction coefficient of the bit (mu_sb)",
+    "stribeck_decay": "Stribeck decay rate (gamma_b)",
+    "stribeck_velocity": "Stribeck velocity (v_f)",
+    "karnopp_band": "Karnopp band half-width",
+}
+#: where the model comes from, for the file's CF ``references``
+REFERENCE = (
+    "E. M. Navarro-Lopez and D. Cortes, Avoiding harmful oscillations in a drillstring "
+    "through dynamical analysis, Journal of Sound and Vibration 307 (2007) 152-171"
+)
 
 
 def axis_units(name: str) -> str:
@@ -332,11 +353,29 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
         f.attrs["params"] = params_json
         f.attrs["axes"] = json.dumps(list(spec.axes))
         f.attrs["fixed"] = json.dumps(spec.fixed)
+        # What a netCDF/CF reader looks for first (no date: a resumed atlas equals an
+        # uninterrupted run's, and timing metadata is kept out of the file).
+        f.attrs["Conventions"] = "CF-1.8"
+        if spec.tally_text:
+            from .tally import parse_tally
+
+            string = f"string {parse_tally(spec.tally_text).name}"
+        else:
+            string = spec.preset
+        if spec.dof and not {"dof", "pipes"} & set(spec.axes):
+            string += f", dof {spec.dof}"
+        f.attrs["title"] = (
+            f"pydrill regime atlas: {string}, over {' x '.join(spec.axes)}, from "
+            + " and ".join(spec.initials)
+        )
+        f.attrs["source"] = f"pydrill {version} (pydrill sweep)"
+        f.attrs["references"] = REFERENCE
         scales = []
         for name, values in spec.axes.items():
             d = f.create_dataset(name, data=values)
             d.make_scale(name)
             d.attrs["units"] = axis_units(name)
+            d.attrs["long_name"] = AXIS_NAMES.get(name, name)
             scales.append(d)
         init = f.create_dataset("initial", data=np.array(spec.initials, dtype=h5py.string_dtype()))
         init.make_scale("initial")
@@ -397,9 +436,11 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
         for axis, scale in enumerate(scales):
             msg.dims[axis].attach_scale(scale)
         for name, (_, _, unit, desc) in RUN_FIELDS.items():
-            make(name, table.runs[name], [init], units=unit, long_name=desc)
+            ds = make(name, table.runs[name], [init], units=unit, long_name=desc)
+            _mark_fill(ds, name)
         for name, (_, _, unit, desc) in EQ_FIELDS.items():
-            make(name, table.eqs[name], [eq], units=unit, long_name=desc)
+            ds = make(name, table.eqs[name], [eq], units=unit, long_name=desc)
+            _mark_fill(ds, name)
         make(
             "eigenvalues_real",
             table.eig.real,
@@ -447,6 +488,16 @@ def _make_added(f: h5py.File, spec: SweepSpec, name: str, data: np.ndarray) -> N
     ds = _make_per_run(f, spec, name, data, fill)
     ds.attrs["units"] = unit
     ds.attrs["long_name"] = desc
+    _mark_fill(ds, name)
+
+
+def _mark_fill(ds, name: str) -> None:
+    """A count's fill (-1: not measured) named as CF's ``_FillValue``: xarray and netCDF
+    readers then read it as missing, not as a count of -1 (a mean over the atlas counted
+    the failed points' -1). A float's fill is NaN, missing already."""
+    dtype, fill, *_ = RUN_FIELDS.get(name) or EQ_FIELDS[name]
+    if dtype.startswith("i"):
+        ds.attrs["_FillValue"] = np.array(fill, dtype=dtype)
 
 
 def _make_caveat(f: h5py.File, spec: SweepSpec, data: np.ndarray) -> None:

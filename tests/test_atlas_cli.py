@@ -382,6 +382,8 @@ def test_counts_not_measured_are_empty_not_minus_one(tmp_path):
         assert {row["stick_events"] for row in csv.DictReader(fh)} == {""}
     with Atlas(atlas) as a:
         assert np.isnan(a.to_xarray()["stick_events"].values).all()
+    with xr.open_dataset(atlas, engine="h5netcdf") as ds:  # the file read as it is, CF
+        assert np.isnan(ds["stick_events"].values).all() and np.isnan(ds["unstable"]).all()
     with h5py.File(nc, "r") as f:  # the netCDF keeps the integer and names its fill
         assert f["stick_events"].dtype.kind == "i" and (f["stick_events"][...] == -1).all()
     with xr.open_dataset(nc) as ds:
@@ -405,6 +407,21 @@ def test_info_and_query_text_give_the_axes_units(small_atlas):
     ).stdout
     assert "axis wob               3 values, 40 N ... 160 N" in info
     assert "axis torque            2 values, 6 N·m ... 8.3 N·m" in info
+
+
+def test_the_file_says_what_it_is_to_a_netcdf_reader(small_atlas):
+    import xarray as xr
+
+    with xr.open_dataset(small_atlas, engine="h5netcdf") as ds:
+        assert ds.attrs["Conventions"] == "CF-1.8"
+        title = "pydrill regime atlas: reduced-scale, dof 4, over wob x torque, from rest and"
+        assert ds.attrs["title"].startswith(title)
+        assert ds.attrs["source"].startswith("pydrill ") and "2007" in ds.attrs["references"]
+        assert ds["wob"].attrs == {"units": "N", "long_name": "weight on bit"}
+        assert ds["torque"].attrs["long_name"] == "surface torque of the top drive"
+        # measured counts stay whole numbers where measured
+        events = ds["stick_events"].values
+        assert np.all(events[np.isfinite(events)] == np.round(events[np.isfinite(events)]))
 
 
 def test_axis_lines_align_whatever_the_names():
