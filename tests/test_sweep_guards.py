@@ -15,6 +15,7 @@ import pytest
 from sweeping import CMD, MEDIUM, SMALL, TINY
 
 import pydrill
+import pydrill.sweep as sweep_module
 from pydrill import atlas_format as fmt
 from pydrill.atlas import Atlas
 from pydrill.journal import journal_path
@@ -358,6 +359,7 @@ def test_a_full_disk_is_named_with_the_file_and_what_is_kept(tmp_path, monkeypat
         real(fd)
 
     monkeypatch.setattr(os, "fsync", fsync)
+    monkeypatch.setattr(sweep_module, "SYNC_SECONDS", 0.0)  # every batch synced, as on a slow run
     spec = parse_spec(MEDIUM)  # 192 points: a first batch of 96 is saved, the second is not
     with pytest.raises(AtlasError) as err:
         run_sweep(spec, out, serial=True)
@@ -368,6 +370,28 @@ def test_a_full_disk_is_named_with_the_file_and_what_is_kept(tmp_path, monkeypat
     report = run_sweep(spec, out, serial=True, resume=True)
     # at least those 96 (here the failed batch's lines were written before the fsync failed)
     assert report.resumed >= 96 and report.resumed + report.computed == 192
+
+
+def test_the_journal_is_synced_at_most_once_a_second(tmp_path, monkeypatch):
+    """A sync per batch cost 1.5 ms each: the journal is synced once a second at most (a
+    crash of the machine loses that second; kill -9 loses nothing, the kernel has it)."""
+    real, calls = os.fsync, []
+
+    def fsync(fd):
+        calls.append(fd)
+        real(fd)
+
+    monkeypatch.setattr(os, "fsync", fsync)
+    counts = {}
+    for every in (0.0, 1e9):
+        monkeypatch.setattr(sweep_module, "SYNC_SECONDS", every)
+        calls.clear()
+        report = run_sweep(parse_spec(MEDIUM), tmp_path / f"a{every:g}.h5", serial=True)
+        counts[every] = len(calls)
+    assert report.computed == 192 and sweep_module.SYNC_SECONDS == 1e9
+    assert counts[0.0] - counts[1e9] >= 2  # a sync per batch (two batches of 96), or none
+    monkeypatch.undo()
+    assert sweep_module.SYNC_SECONDS == 1.0
 
 
 def test_an_atlas_that_cannot_be_written_is_named_with_what_is_kept(tmp_path, monkeypatch):
