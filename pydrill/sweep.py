@@ -1,10 +1,11 @@
 """Parameter sweeps into HDF5 atlases, serially or on a Dask cluster.
 
 Only the client writes. Every finished batch is first appended to a journal next to the atlas
-(``ATLAS.h5.journal``, one JSON line per point, flushed to disk), then folded into the atlas
-every few seconds and at the end. A sweep killed at any moment (Ctrl-C, kill -9, a lost
-machine) therefore loses nothing that finished: ``--resume`` replays the journal — rebuilding
-the atlas from it if the kill caught the HDF5 file mid-write — and computes only the rest.
+(``ATLAS.h5.journal``, one JSON line per point, synced to disk every second), then folded
+into the atlas every few seconds and at the end. A sweep killed at any moment (Ctrl-C,
+kill -9, a lost worker machine) therefore loses nothing that finished: ``--resume`` replays
+the journal — rebuilding the atlas from it if the kill caught the HDF5 file mid-write — and
+computes only the rest.
 """
 
 from __future__ import annotations
