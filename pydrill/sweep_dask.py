@@ -185,6 +185,26 @@ def run_dask(
     on_cluster: Callable[[Any], None] | None = None,
     starting: Callable[[], contextlib.AbstractContextManager[None]] = contextlib.nullcontext,
 ) -> None:
+    """Compute ``todo`` as :func:`_run_dask` says; the workers a local cluster forks from this
+    process get standard streams of their own (``fork_stdio``: a worker forked while another
+    thread wrote to stderr hung at its first log line)."""
+    from .fork_stdio import forking_workers
+
+    local = not hasattr(scheduler, "submit") and not scheduler  # a cluster of this sweep's
+    with forking_workers() if local else contextlib.nullcontext():
+        _run_dask(spec, todo, workers, scheduler, absorb, dashboard, on_cluster, starting)
+
+
+def _run_dask(
+    spec: SweepSpec,
+    todo: np.ndarray,
+    workers: int | None,
+    scheduler: Any,
+    absorb: Callable[[Any], None],
+    dashboard: str | None = None,
+    on_cluster: Callable[[Any], None] | None = None,
+    starting: Callable[[], contextlib.AbstractContextManager[None]] = contextlib.nullcontext,
+) -> None:
     """Compute the flat indices ``todo`` of ``spec``, handing each finished batch to ``absorb``.
     ``scheduler``: None (a LocalCluster of ``workers`` processes, for this sweep alone), an
     address, a scheduler file (``*.json``), or a ``distributed.Client`` of the caller's, which

@@ -1,0 +1,106 @@
+"""A worker forked while another thread writes to stderr: its own writes must not hang.
+
+The hazard, reproduced exactly: a thread of the parent is inside a write to stderr (its
+buffer's lock held) when another thread forks. The child's copy of that lock is held for ever.
+"""
+
+import subprocess
+import sys
+import textwrap
+
+SCENARIO = textwrap.dedent(
+    """
+    import io, logging, os, sys, tempfile, threading, time
+    from pydrill.fork_stdio import forking_workers
+
+    guarded = sys.argv[1] == "guarded"
+    gate = threading.Event()
+
+    class Slow(io.RawIOBase):  # a stderr whose writes wait: its buffer's lock stays held
+        def __init__(self, fd):
+            self.fd = fd
+        def writable(self):
+            return True
+        def fileno(self):
+            return self.fd
+        def write(self, b):
+            if threading.current_thread() is not threading.main_thread():
+                gate.wait()
+            return os.write(self.fd, b)
+
+    log = tempfile.NamedTemporaryFile(delete=False)
+    stream = io.TextIOWrapper(io.BufferedWriter(Slow(log.fileno())), line_buffering=True)
+    sys.stderr = stream
+    logger = logging.getLogger("worker")
+    logger.addHandler(logging.StreamHandler(stream))
+    writer = threading.Thread(target=lambda: stream.write("a progress bar\\n"), daemon=True)
+    writer.start()
+    time.sleep(0.3)  # the writer is inside the write, holding the lock
+
+    def child():
+        logger.error("worker started")  # as a Dask worker logs "Start worker at ..."
+        sys.stderr.flush()
+        os._exit(0)
+
+    with forking_workers() if guarded else open(os.devnull):
+        pid = os.fork()
+        if pid == 0:
+            child()
+    for _ in range(100):  # 5 s
+        done, _ = os.waitpid(pid, os.WNOHANG)
+        if done:
+            break
+        time.sleep(0.05)
+    else:
+        os.kill(pid, 9)
+        os.waitpid(pid, 0)
+    gate.set()
+    writer.join()
+    stream.flush()
+    print("hung" if not done else "exited", open(log.name).read().count("worker started"))
+    """
+)
+
+
+def run(mode: str) -> str:
+    proc = subprocess.run(
+        [sys.executable, "-c", SCENARIO, mode], capture_output=True, text=True, timeout=60
+    )
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout.strip()
+
+
+def test_a_child_forked_during_a_write_to_stderr_hangs_without_the_guard():
+    """The scenario reproduces the hazard: unguarded, the child never gets its line out."""
+    assert run("bare") == "hung 0"
+
+
+def test_a_child_forked_under_the_guard_writes_its_log_line_and_exits():
+    assert run("guarded") == "exited 1"
+
+
+WIRED = textwrap.dedent(
+    """
+    import sys
+    from pydrill import fork_stdio
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    spec = parse_spec(sys.argv[1])
+    how = {"serial": True} if sys.argv[3] == "serial" else {"workers": 1}
+    run_sweep(spec, sys.argv[2], **how)
+    print(fork_stdio._registered, fork_stdio._active)
+    """
+)
+
+
+def test_a_local_cluster_forks_its_workers_under_the_guard_and_leaves_it(tmp_path):
+    """The sweep's own cluster is started under the guard (registered), which ends with it
+    (children forked later by the caller keep their streams); a serial sweep forks nothing."""
+    from sweeping import TINY
+
+    for how, expect in (("serial", "False 0"), ("local", "True 0")):
+        argv = [sys.executable, "-c", WIRED, TINY, str(tmp_path / f"{how}.h5"), how]
+        proc = subprocess.run(argv, capture_output=True, text=True, timeout=120)
+        assert proc.returncode == 0, proc.stderr
+        assert proc.stdout.strip() == expect
