@@ -11,8 +11,8 @@ after a fork, not those of the streams.
 
 So, while :func:`forking_workers` is active, a forked child replaces ``sys.stdout`` and
 ``sys.stderr`` (and ``sys.__stdout__``/``sys.__stderr__``) with fresh streams on duplicates
-of the same file descriptors, and points every logging handler that wrote to an old one at
-its replacement. Output goes where it went; only the copied locks are left behind.
+of the same file descriptors, and so the stream of every logging handler on a descriptor.
+Output goes where it went; only the copied locks are left behind.
 """
 
 from __future__ import annotations
@@ -48,30 +48,30 @@ def _after_fork_in_child() -> None:
 
 def fresh_std_streams() -> None:
     """Replace this process's standard output and error streams by new ones on duplicates of
-    their file descriptors, and repoint the logging handlers that used the old ones."""
+    their file descriptors, and so the stream of every logging handler that writes to a file
+    descriptor (a handler keeps the stream it was made with: Dask's, the sys.stderr of the
+    moment it was imported, which need not be today's)."""
     swaps: dict[int, object] = {}
-    for name in ("stdout", "stderr"):
-        for attr in (name, f"__{name}__"):
-            old = getattr(sys, attr, None)
-            if old is None:
-                continue
-            if id(old) not in swaps:
-                new = _reopen(old)
-                if new is None:
-                    continue
-                swaps[id(old)] = new
+
+    def fresh(old):
+        if id(old) not in swaps:
+            swaps[id(old)] = _reopen(old)
+        return swaps[id(old)]
+
+    for attr in ("stdout", "stderr", "__stdout__", "__stderr__"):
+        old = getattr(sys, attr, None)
+        if old is not None and fresh(old) is not None:
             setattr(sys, attr, swaps[id(old)])
-    if not swaps:
-        return
     loggers = [logging.getLogger()] + [
         x for x in logging.Logger.manager.loggerDict.values() if isinstance(x, logging.Logger)
     ]
     for logger in loggers:
         for handler in logger.handlers:
             stream = getattr(handler, "stream", None)
-            if isinstance(handler, logging.StreamHandler) and id(stream) in swaps:
-                # not setStream(): it flushes the old stream, which is what hangs
-                handler.stream = swaps[id(stream)]
+            if isinstance(handler, logging.StreamHandler) and stream is not None:
+                new = fresh(stream)
+                if new is not None:  # not setStream(): it flushes the old one, which hangs
+                    handler.stream = new
 
 
 def _reopen(stream):

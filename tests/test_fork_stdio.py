@@ -33,6 +33,8 @@ SCENARIO = textwrap.dedent(
     sys.stderr = stream
     logger = logging.getLogger("worker")
     logger.addHandler(logging.StreamHandler(stream))
+    if sys.argv[2] == "moved":  # the handler's stream is no longer sys.stderr (as Dask's,
+        sys.stderr = open(os.devnull, "w")  # made at import, is under pytest's capture)
     writer = threading.Thread(target=lambda: stream.write("a progress bar\\n"), daemon=True)
     writer.start()
     time.sleep(0.3)  # the writer is inside the write, holding the lock
@@ -62,9 +64,9 @@ SCENARIO = textwrap.dedent(
 )
 
 
-def run(mode: str) -> str:
+def run(mode: str, stderr: str = "same") -> str:
     proc = subprocess.run(
-        [sys.executable, "-c", SCENARIO, mode], capture_output=True, text=True, timeout=60
+        [sys.executable, "-c", SCENARIO, mode, stderr], capture_output=True, text=True, timeout=60
     )
     assert proc.returncode == 0, proc.stderr
     return proc.stdout.strip()
@@ -73,10 +75,13 @@ def run(mode: str) -> str:
 def test_a_child_forked_during_a_write_to_stderr_hangs_without_the_guard():
     """The scenario reproduces the hazard: unguarded, the child never gets its line out."""
     assert run("bare") == "hung 0"
+    assert run("bare", "moved") == "hung 0"
 
 
 def test_a_child_forked_under_the_guard_writes_its_log_line_and_exits():
     assert run("guarded") == "exited 1"
+    # a logging handler on a stream that sys.stderr no longer is: its stream is renewed too
+    assert run("guarded", "moved") == "exited 1"
 
 
 WIRED = textwrap.dedent(
