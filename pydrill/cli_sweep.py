@@ -256,7 +256,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             )
         )
     if dashboard:
-        from .sweep_dask import check_dashboard
+        from .dask_connect import check_dashboard
 
         check_dashboard(
             dashboard, "--dashboard-address" if args.dashboard_address else "--dashboard"
@@ -305,7 +305,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
     configured = None
     if args.scheduler is None and args.workers is None and not args.serial:
-        from .sweep_dask import configured_scheduler
+        from .dask_connect import configured_scheduler
 
         configured = configured_scheduler()
 
@@ -336,7 +336,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
     address = args.scheduler or configured
     if address and str(address).endswith(".json"):
-        from .sweep_dask import connect_timeout, scheduler_file_address
+        from .dask_connect import connect_timeout, scheduler_file_address
 
         file = Path(address)
         if not file.exists():
@@ -352,7 +352,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             except Exception:
                 address = None
     if address:
-        from .sweep_dask import unanswered
+        from .dask_connect import unanswered
 
         patience = unanswered(address)
         if patience is not None:  # or the run would sit silent until Dask gives up

@@ -31,7 +31,7 @@ def dry_run(args: argparse.Namespace, spec) -> int:
     elif args.scheduler is not None:
         workers, where = None, f"on the cluster at {args.scheduler}"
     else:
-        from .sweep_dask import configured_scheduler
+        from .dask_connect import configured_scheduler
 
         configured = configured_scheduler()
         if configured is not None and args.workers is None:

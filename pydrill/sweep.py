@@ -175,7 +175,7 @@ def run_sweep(
         raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
     implicit = None  # where the sweep goes when told nowhere, as Dask's own work would
     if scheduler is None and workers is None and not serial:
-        from .sweep_dask import configured_scheduler, default_dask_client
+        from .dask_connect import configured_scheduler, default_dask_client
 
         client = default_dask_client()
         if client is not None:
@@ -198,7 +198,7 @@ def run_sweep(
             raise ValueError(
                 f"dashboard: only a local cluster's dashboard is started by the sweep; {elsewhere}"
             )
-        from .sweep_dask import check_dashboard
+        from .dask_connect import check_dashboard
 
         check_dashboard(dashboard)
     from .sweep_plan import check_memory

@@ -11,10 +11,7 @@ through the client alone.
 from __future__ import annotations
 
 import contextlib
-import importlib.metadata
 import logging
-import os
-import sys
 import threading
 import warnings
 from collections.abc import Callable
@@ -25,6 +22,12 @@ import dask
 import dask.system
 import numpy as np
 
+from .dask_connect import (
+    ConfiguredAddress,
+    connect_timeout,
+    scheduler_file_address,
+    worker_count,
+)
 from .spec import SweepSpec
 
 # One process per core: the Python around each simulation holds the GIL. Workers are forked
@@ -41,138 +44,6 @@ QUIET = {
     "distributed.worker.memory.monitor-interval": "1s",
     "distributed.admin.system-monitor.interval": "5s",
 }
-
-
-class ConfiguredAddress(str):
-    """A scheduler address from the Dask config rather than from the caller: messages name
-    where it came from (``source``), as the user may not remember setting it."""
-
-    source = "Dask's config (scheduler-address)"
-
-
-def configured_scheduler() -> ConfiguredAddress | None:
-    """The cluster a Dask user has named for all their work, as ``distributed.Client()`` finds
-    it: the config's ``scheduler-address``, from ``DASK_SCHEDULER_ADDRESS`` or a YAML file."""
-    address = dask.config.get("scheduler-address", None)
-    if not address:
-        return None
-    found = ConfiguredAddress(address)
-    if os.environ.get("DASK_SCHEDULER_ADDRESS") == address:
-        found.source = "DASK_SCHEDULER_ADDRESS"
-    return found
-
-
-def connect_timeout() -> float:
-    """How long (s) a Dask client keeps trying to reach its scheduler:
-    ``distributed.comm.timeouts.connect`` (30 s unless configured)."""
-    import distributed  # noqa: F401 - its config defaults, which name the timeout
-    from dask.utils import parse_timedelta
-
-    return float(parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s"))
-
-
-def scheduler_file_address(file: Path, wait: float) -> str:
-    """The scheduler's address in ``file`` (``dask scheduler --scheduler-file FILE.json``),
-    waiting up to ``wait`` s for the file to appear: a job script may start the scheduler and
-    the sweep together. Dask's own client would wait for ever, and take a file without an
-    address for one not written yet. Raises ``SchedulerError`` naming the file."""
-    import json
-    import time
-
-    from .sweep import SchedulerError
-
-    how = "it is written by 'dask scheduler --scheduler-file FILE.json'"
-    deadline = time.monotonic() + wait
-    while not file.is_file():
-        if file.exists() or time.monotonic() > deadline:
-            raise SchedulerError(
-                f"--scheduler {file}: no such scheduler file"
-                + ("" if file.exists() else f" after waiting {wait:g} s")
-                + f" ({how}; distributed.comm.timeouts.connect sets the wait)"
-            )
-        time.sleep(0.1)
-    for _ in range(20):  # it may be there but not written whole yet
-        try:
-            address = json.loads(file.read_text())["address"]
-            if isinstance(address, str) and address:
-                return address
-        except (OSError, ValueError, KeyError, TypeError):
-            pass
-        time.sleep(0.05)
-    raise SchedulerError(
-        f'--scheduler {file}: not a Dask scheduler file (no scheduler "address" in it; {how})'
-    )
-
-
-def unanswered(address: str, within: float = 0.5) -> float | None:
-    """When nothing answers at the scheduler address ``address`` right now (refused,
-    unreachable, or silent ``within`` seconds): how long Dask's client will keep trying
-    (``distributed.comm.timeouts.connect``, s), in case a scheduler is starting. None when
-    one answers, or for an address this cannot probe (not TCP, a scheduler file)."""
-    import socket
-
-    from distributed.comm.addressing import parse_address, parse_host_port
-
-    try:
-        scheme, where = parse_address(str(address))
-        if scheme not in ("tcp", "tls"):
-            return None
-        host, port = parse_host_port(where)
-    except ValueError:
-        return None
-    try:
-        with socket.create_connection((host, port), timeout=within):
-            return None
-    except OSError:
-        return connect_timeout()
-
-
-def worker_count(client: Any) -> int:
-    """Workers connected to the cluster of ``client``. Not ``len(scheduler_info()["workers"])``:
-    distributed 2025.4 ... 2026.6 lists at most 5 workers there by default (dask/distributed
-    #9065), which would size a hundred workers' batches for five. The count is in
-    ``n_workers`` where that cap exists; before it, the list is whole."""
-    info = client.scheduler_info()
-    n = info.get("n_workers")
-    return n if isinstance(n, int) and n >= 0 else len(info.get("workers", {}))
-
-
-def default_dask_client() -> Any:
-    """The caller's default ``distributed.Client`` (the last one made, unless told
-    otherwise), which ``dask.compute`` would use; None without one. Without distributed
-    imported there can be none, and this does not import it."""
-    if "distributed" not in sys.modules:
-        return None
-    from distributed import default_client
-
-    try:
-        return default_client()
-    except ValueError:
-        return None
-
-
-def check_dashboard(address: str, name: str = "dashboard") -> None:
-    """Refuse, before anything runs, a dashboard address that is not ``HOST:PORT`` (or
-    ``:PORT``), or a dashboard that cannot be served: Dask needs bokeh for it, and without
-    bokeh would only log a warning and serve nothing."""
-    _host, sep, port = str(address).rpartition(":")
-    if not sep or not port.isdigit() or not 0 <= int(port) <= 65535:
-        raise ValueError(
-            f"{name} = {address!r} is not allowed: HOST:PORT or :PORT, the port 0 ... 65535 "
-            "(0: any free port), e.g. 127.0.0.1:8787"
-        )
-    try:
-        version = importlib.metadata.version("bokeh")
-    except importlib.metadata.PackageNotFoundError:
-        version = None
-    from packaging.version import Version  # a dependency of dask's
-
-    if version is None or Version(version) < Version("3.1"):
-        found = "it is not installed" if version is None else f"found {version}"
-        raise ValueError(
-            f"{name}: Dask's dashboard needs bokeh >= 3.1 ({found}): "
-            "pip install 'pydrill[dashboard]'"
-        )
 
 
 def run_dask(

@@ -357,7 +357,7 @@ def test_workers_are_counted_beyond_the_five_some_dask_versions_list(tmp_path):
     (dask/distributed#9065) but gives their number in "n_workers"; older versions list all."""
     from distributed import Client, LocalCluster
 
-    from pydrill.sweep_dask import worker_count
+    from pydrill.dask_connect import worker_count
 
     class Capped:  # what those versions' client answers for 7 workers
         def scheduler_info(self):

@@ -13,9 +13,9 @@ import distributed  # noqa: F401 - its config defaults, before any dask.config.s
 import pytest
 from sweeping import CMD, ROOT, SMALL, dask_process, free_port, stop_processes
 
+from pydrill.dask_connect import unanswered
 from pydrill.spec import load_spec, parse_spec
 from pydrill.sweep import run_sweep
-from pydrill.sweep_dask import unanswered
 
 
 def test_no_scheduler_at_the_address_is_one_clear_error_and_leaves_no_files(tmp_path):
