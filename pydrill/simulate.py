@@ -65,7 +65,8 @@ def simulate(
     - ``params``: a :class:`Params` (from :func:`preset` or ``Params(...)``), or None to
       build the string from ``preset``, ``dof``/``pipes`` and ``overrides``.
     - ``wob`` (N), ``torque`` (N·m): the operating point, weight on bit > 0 and the torque
-      the top drive applies.
+      the top drive applies; both at most 1e15 in size (far above any drill string's loads,
+      below where the run would overflow).
     - ``t_end`` (s): simulated time, from t = 0; > 0.
     - ``initial``: ``"rest"``, ``"equilibrium"`` or a 1-D state of ``2·dof − 1`` numbers
       (ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b; rad/s and rad).

@@ -383,6 +383,27 @@ def test_a_weight_near_the_largest_float_is_refused_by_name(wob):
     refused(ValueError, "wob = -1.79769313", simulate, wob=wob, torque=0.0, t_end=1.0, dof=2)
 
 
+@pytest.mark.parametrize(
+    ("key", "value", "allowed"),
+    [
+        ("torque", 1e300, "torque = 1e+300 is not allowed in a simulation: need |torque| <= 1e15 N·m"),
+        ("torque", -1e16, "torque = -1e+16 is not allowed in a simulation"),
+        ("wob", 1e300, "wob = 1e+300 is not allowed in a simulation: must be <= 1e15 N"),
+    ],
+)
+def test_a_load_that_would_overflow_the_run_is_refused_by_name(key, value, allowed):
+    # torque = 1e300 overflowed the accelerations at t = 0, and the run failed with "step size
+    # fell to 0 s at t = 0 s", naming neither the torque nor what is allowed.
+    run = {"wob": 100.0, "torque": 8.3, "t_end": 1.0, key: value}
+    refused(ValueError, allowed, simulate, **run)
+
+
+def test_loads_up_to_the_bound_still_run():
+    # 1e15 is ten orders of magnitude above a real string's loads and still simulates.
+    assert simulate(wob=100.0, torque=1e15, t_end=50.0).regime == "steady"
+    assert simulate(wob=1e15, torque=8.3, t_end=1.0).regime == "stuck"
+
+
 # 12. Tolerances a double can resolve.
 
 

@@ -526,11 +526,28 @@ std::vector<double> initial_state(const Params& params, double wob, double torqu
   return {};
 }
 
+// Loads a run can integrate: ten orders of magnitude above any drill string's (a real string's
+// torque is ~1e4 N·m, its weight on bit ~1e5 N). Far beyond, the bit speeds and accelerations
+// overflow double precision and the solver could only say that its step fell to 0 at t = 0.
+// Only a run is bounded: the stability curves rightly reach such weights near their asymptotes.
+void check_simulated_loads(double wob, double torque) {
+  constexpr double kMaxLoad = 1e15;
+  if (wob > kMaxLoad) {
+    throw std::invalid_argument("wob = " + detail::shortest(wob) +
+                                " is not allowed in a simulation: must be <= 1e15 N");
+  }
+  if (std::abs(torque) > kMaxLoad) {
+    throw std::invalid_argument("torque = " + detail::shortest(torque) +
+                                " is not allowed in a simulation: need |torque| <= 1e15 N·m");
+  }
+}
+
 }  // namespace
 
 Result simulate(const Params& params, double wob, double torque, const SimulationOptions& options) {
   params.validate();
   check_operating_point(wob, torque);
+  check_simulated_loads(wob, torque);
   options.validate(params.dof());
   const Chain chain(params, wob, torque);
   std::string reason;

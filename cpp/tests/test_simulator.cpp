@@ -183,6 +183,12 @@ TEST_CASE("bad options are refused before anything runs", "[simulator]") {
   CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::Contains("2*dof-1 = 7"));
   o.initial = Initial::Equilibrium;
   CHECK_THROWS_WITH(simulate(p, 160.0, 8.3, o), Catch::Contains("no steady rotation"));
+  // Loads so large that the run overflowed at t = 0 ("step size fell to 0"): named instead.
+  o.initial = Initial::Rest;
+  CHECK_THROWS_WITH(simulate(p, 100.0, 1e300, o), Catch::Contains("torque = 1e+300") && Catch::Contains("1e15"));
+  CHECK_THROWS_WITH(simulate(p, 2e15, 8.3, o), Catch::Contains("wob = 2e+15"));
+  CHECK(simulate(p, 100.0, -1e15, o).summary.regime != Regime::Stuck);
+  o.initial = Initial::Equilibrium;
   // CVODES takes BDF up to order 5 and Adams up to 12; it used to refuse order 8 for BDF
   // itself, as a runtime_error, after the run had started.
   o.initial = Initial::Rest;
