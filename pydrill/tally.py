@@ -137,7 +137,14 @@ class Tally:
             raise TallyError(
                 f"depth {depth:g} m is shallower than the BHA and other sections ({rest:g} m)"
             )
-        count = max(1, math.ceil(need / self.sections[i].length - 1e-9))
+        joints = need / self.sections[i].length
+        if not math.isfinite(joints):  # a joint so short that no count reaches the depth
+            raise TallyError(
+                f"depth {depth:g} m needs {need:g} m of drill pipe in joints of "
+                f"{self.sections[i].length:g} m: too many joints to count; check the drill "
+                "pipe's length"
+            )
+        count = max(1, math.ceil(joints - 1e-9))
         sections = list(self.sections)
         sections[i] = replace(sections[i], count=count)
         return replace(self, sections=tuple(sections))
@@ -198,12 +205,17 @@ class Tally:
                     f"dof = {_show(dof)} is not allowed: 2 ... {len(k) + 1} for this tally"
                 )
             groups = np.array_split(np.arange(len(k)), dof - 1)
-            k = np.array([1.0 / np.sum(1.0 / k[g]) for g in groups])
-            j = np.array([np.sum(j[g]) for g in groups])
+            # An extreme tally (density 1e308, say) overflows here: Params then refuses the
+            # inf or 0 it makes, naming the entry, and no RuntimeWarning reaches the user.
+            with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+                k = np.array([1.0 / np.sum(1.0 / k[g]) for g in groups])
+                j = np.array([np.sum(j[g]) for g in groups])
+        with np.errstate(over="ignore", invalid="ignore"):
+            c = self.beta * k
         return Params(
             inertias=(self.top_inertia, *j.tolist()),
             stiffnesses=tuple(k.tolist()),
-            dampings=tuple((self.beta * k).tolist()),
+            dampings=tuple(c.tolist()),
             top_damping=self.top_damping,
             bit_damping=self.bit_damping,
             bit_radius=self.bit_radius,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 import tomllib
 from dataclasses import replace
 from pathlib import Path
@@ -122,10 +123,12 @@ def _section(n: int, sec: Any, g: float, rho: float) -> Section:
         _get(sec, "density", where, "density", rho),
     )
     k, j = s.joint_stiffness(), s.joint_inertia()
-    if not (0 < k < math.inf and 0 < j < math.inf):
+    # Normal floats (not subnormal): springs in series add 1/k, which a subnormal k overflows.
+    if not (sys.float_info.min <= k < math.inf and sys.float_info.min <= j < math.inf):
         raise TallyError(
             f"{where}: a joint's stiffness G·I_p/L = {k:g} N·m/rad and inertia ρ·I_p·L = {j:g} "
-            "kg·m² must be finite and > 0: check its length, od, id, shear_modulus and density"
+            f"kg·m² must be finite and >= {sys.float_info.min:g}: check its length, od, id, "
+            "shear_modulus and density"
         )
     return s
 
@@ -172,7 +175,10 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
     length = 0.0
     for n, sec in enumerate(listed):
         s = _section(n, sec, g, rho)
-        length += s.count * s.length
+        try:
+            length += s.count * s.length
+        except OverflowError:  # a count beyond any float: refused below, as too deep
+            length = math.inf
         if not length <= MAX_DEPTH:
             raise _refuse(
                 f"section[{n}].count",
