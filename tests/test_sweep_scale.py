@@ -10,6 +10,7 @@ import numpy as np
 from sweeping import SMALL, TINY
 
 from pydrill import atlas_format as fmt
+from pydrill import atlas_table
 from pydrill.journal import journal_path, prepare
 from pydrill.spec import parse_spec
 from pydrill.sweep import evaluate_point
@@ -36,7 +37,7 @@ def test_resume_replays_a_journal_a_few_records_at_a_time(tmp_path, monkeypatch)
     # 400 MB at 74000 points (measured), 5 GB at a million, beyond what the sweep's memory
     # check had counted. Read a chunk at a time, the replay holds the table and the chunk
     # (4096 records; 256 here, a sixteenth of this journal).
-    monkeypatch.setattr(fmt, "REPLAY_CHUNK", 256)
+    monkeypatch.setattr(atlas_table, "REPLAY_CHUNK", 256)
     spec = parse_spec(WIDE)
     out = tmp_path / "big.h5"
     computed = journal_of_every_point(spec, out)
