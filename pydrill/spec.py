@@ -43,6 +43,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     SIZE_AXES,
     ReadOnlyDict,
     SpecError,
+    TextTooLong,
     _axis,
     _check_axes,
     _check_grid,
@@ -56,6 +57,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     _simulation,
     _table,
     in_si,
+    read_text,
 )
 
 _NONE = object()  # a key one spec has and the other does not
@@ -309,9 +311,11 @@ def load_spec(path: str | Path) -> SweepSpec:
     runs."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = read_text(path)
     except UnicodeDecodeError:
         raise SpecError(f"cannot read the spec {path}: not UTF-8 text") from None
     except OSError as exc:
         raise SpecError(f"cannot read the spec {path}: {exc.strerror}") from None
+    except TextTooLong as exc:
+        raise SpecError(f"cannot read the spec {path}: {exc}") from None
     return parse_spec(text, base=path.parent)

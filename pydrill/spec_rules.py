@@ -127,6 +127,12 @@ def _range(key: str, value: dict[str, Any]) -> np.ndarray:
         )
     # Increasing order: from the top down, it is the same grid (the same values and digest).
     low, high = sorted((float(start), float(stop)))
+    if not math.isfinite(high - low):  # linspace would fill the axis with inf and nan
+        raise _fail(
+            key,
+            f"start = {start:g} and stop = {stop:g} are too far apart: their difference "
+            "overflows a float; give a list, or a range within about ±8.9e307",
+        )
     values = np.linspace(low, high, num)
     if np.any(np.diff(values) <= 0):
         raise _fail(key, f"repeated values: steps of {(high - low) / (num - 1):g} are too fine")
@@ -177,6 +183,30 @@ def _axis(name: str, value: Any) -> np.ndarray:
 _LARGEST = f" (a string has at most {MAX_DOF} inertias; pipes P means dof = P + 3)"
 
 
+#: The longest spec or tally file read, in characters. Both are kilobytes (a tally of MAX_DOF
+#: joints some 15 MB); reading /dev/zero, or a disk image named by mistake, filled the memory.
+MAX_TEXT = 64 * 2**20
+
+
+class TextTooLong(ValueError):
+    """A file longer than ``MAX_TEXT`` characters (:func:`read_text`)."""
+
+    def __init__(self) -> None:
+        super().__init__(
+            f"longer than {MAX_TEXT // 2**20} MiB, which no spec or tally is: is it the right file?"
+        )
+
+
+def read_text(path: Path) -> str:
+    """``path.read_text()``, but at most ``MAX_TEXT`` characters: :class:`TextTooLong`
+    beyond (and OSError, UnicodeDecodeError as read_text)."""
+    with path.open() as file:
+        text = file.read(MAX_TEXT + 1)
+    if len(text) > MAX_TEXT:
+        raise TextTooLong()
+    return text
+
+
 def _read_tally(tally_path: Any, base: Path | None) -> str:
     if not isinstance(tally_path, str):
         raise _fail(
@@ -187,11 +217,13 @@ def _read_tally(tally_path: Any, base: Path | None) -> str:
     if not path.is_absolute() and base is not None and (base / path).exists():
         path = base / path
     try:
-        return path.read_text()
+        return read_text(path)
     except UnicodeDecodeError:
         raise _fail("model.tally", f"cannot read {tally_path}: not UTF-8 text") from None
     except OSError as exc:
         raise _fail("model.tally", f"cannot read {tally_path}: {exc.strerror}") from None
+    except TextTooLong as exc:
+        raise _fail("model.tally", f"cannot read {tally_path}: {exc}") from None
     except ValueError as exc:  # a NUL in the name
         raise _fail("model.tally", f"cannot read {tally_path!r}: {exc}") from None
 

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from . import units
+from .spec_rules import TextTooLong, read_text
 from .tally import (
     _DEEPEST,
     KINDS,
@@ -240,7 +241,11 @@ def load_tally(path: str | Path) -> Tally:
     """
     path = Path(path)
     try:
-        text = path.read_text()
+        text = read_text(path)
+    except UnicodeDecodeError:
+        raise TallyError(f"cannot read the tally {path}: not UTF-8 text") from None
     except OSError as exc:
         raise TallyError(f"cannot read the tally {path}: {exc.strerror}") from None
+    except TextTooLong as exc:
+        raise TallyError(f"cannot read the tally {path}: {exc}") from None
     return parse_tally(text, name=path.stem)
