@@ -3,13 +3,21 @@
 from __future__ import annotations
 
 import argparse
-import shlex
 import signal
-import sys
-import time
 from pathlib import Path
 
 from .cli_options import figure_path, json_document, print_json, writable_place
+from .cli_sweep_report import (
+    UNITS,
+    ClusterLines,
+    failures,
+    inputs,
+    interrupted,
+    progress_bar,
+    results_of,
+    say,
+    say_if_waiting,
+)
 
 SWEEP_EPILOG = """\
 examples:
@@ -103,46 +111,6 @@ def register_sweep(sub, positive) -> None:
     sw.set_defaults(handler=_cmd_sweep)
 
 
-class _LogProgress:
-    """Progress for a log rather than a terminal: one line at most every ``every`` seconds,
-    none at all for a sweep shorter than that. Speaks tqdm's ``total``/``reset``/``update``/
-    ``close``, as ``_cmd_sweep`` uses them."""
-
-    def __init__(self, total: int, every: float = 30.0, *, resumed: bool = False) -> None:
-        self.total, self.every, self.done = total, every, 0
-        self.last = time.monotonic()
-        # A resumed sweep counts its rate from its first batch back: before it comes the
-        # journal's replay (40 s for a million points), which made a sweep of 2000 points left
-        # say "7 points/s, about 4 min 05 s left" when it had seconds to go.
-        self.resumed = resumed
-        self.first: tuple[float, int] | None = None if resumed else (self.last, 0)
-
-    def reset(self, total: int) -> None:
-        self.total, self.done = total, 0
-        if self.resumed:
-            self.first = None
-
-    def update(self, n: int) -> None:
-        self.done += n
-        now = time.monotonic()
-        if self.first is None:  # (resumed) the first batch back: the rate counts from here
-            self.first, self.last = (now, self.done), now
-            return
-        if now - self.last >= self.every and self.done < self.total:
-            self.last = now
-            since, before = self.first
-            rate = max(self.done - before, 1) / max(now - since, 1e-9)
-            left = (self.total - self.done) / rate
-            sys.stderr.write(
-                f"sweep: {self.done}/{self.total} points ({100 * self.done / self.total:.0f} %), "
-                f"{rate:.0f} points/s, about {_duration(left)} left\n"
-            )
-            sys.stderr.flush()
-
-    def close(self) -> None:
-        pass
-
-
 def _refuse_complete(out: str, spec) -> None:
     """Refuse, saying so, to sweep again into an atlas that already holds this whole sweep
     (without --resume the sweep would say "use --resume to complete it", though nothing is
@@ -197,47 +165,6 @@ def _already_done(out: Path, spec) -> int | None:
     return int(np.count_nonzero(done))
 
 
-def _say(bar, line: str) -> None:
-    """A line on stderr, above a tqdm bar (which stays whole) or in a log."""
-    if hasattr(bar, "write"):
-        bar.write(line, file=sys.stderr)
-    else:
-        sys.stderr.write(line + "\n")
-        sys.stderr.flush()
-
-
-def _duration(seconds: float) -> str:
-    m, s = divmod(round(seconds), 60)
-    h, m = divmod(m, 60)
-    return f"{h} h {m:02d} min" if h else f"{m} min {s:02d} s" if m else f"{s} s"
-
-
-_UNITS = {"wall_time": "s", "write_time": "s"}
-
-
-def _inputs(args: argparse.Namespace, run) -> dict:
-    """What ``sweep --json`` echoes of its command line: the spec and the atlas written."""
-    return {"spec": args.spec, "atlas": str(run.atlas)}
-
-
-def _results(run, cluster, interrupted: bool) -> dict:
-    """A sweep's results for --json, from its SweepReport or its SweepInterrupted."""
-    results = {
-        "interrupted": interrupted,
-        "points": run.points,
-        "computed": run.computed,
-        "failed": run.failed,
-        "already_done": run.resumed,
-        "wall_time": run.wall_time,
-        "write_time": run.write_time,
-        "cluster": cluster,
-    }
-    # The atlas whole (so far, if interrupted): what failed in it, with the first message.
-    results["failed_in_atlas"] = run.failed_in_atlas
-    results["first_failure"] = run.first_failure or None
-    return results
-
-
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from .spec import load_spec
     from .sweep import SweepInterrupted, run_sweep
@@ -279,88 +206,27 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     # until the first batch came back: minutes, for strings of hundreds of pipes), and the
     # journal's replay, a minute for a million points, is said before it sits there.
     done = _already_done(Path(args.out), spec) if args.resume else None
-    bar = None
-    if args.no_progress:
-        pass
-    elif sys.stderr.isatty() and not args.json:
-        from tqdm import tqdm
-
-        bar = tqdm(total=spec.size - (done or 0), unit="pt", desc="sweep", file=sys.stderr)
-    else:  # a log file (nohup, a batch job): a plain line now and then
-        bar = _LogProgress(spec.size - (done or 0), resumed=args.resume)
+    bar = progress_bar(args, spec.size - (done or 0))
     if done:
-        _say(
+        say(
             bar,
             f"sweep: resuming {args.out}: {done} of {spec.size} points are done, "
             f"{spec.size - done} to compute",
         )
-    done_before = [0]
 
     def progress(n: int, total: int) -> None:
         if bar is not None:
             if bar.total != total:
                 bar.reset(total=total)
             bar.update(n)
-        done_before[0] += n
 
     configured = None
     if args.scheduler is None and args.workers is None and not args.serial:
         from .dask_connect import configured_scheduler
 
         configured = configured_scheduler()
-
-    cluster: dict[str, object] | None = None  # where it ran, for --json (None: not on Dask)
-
-    def on_cluster(info) -> None:
-        nonlocal cluster
-        plural = "s" if info.workers != 1 else ""
-        if cluster is not None:  # later: the existing cluster's workers came or went
-            line = f"sweep: now {info.workers} Dask worker{plural}"
-            if info.workers == 0:
-                line += " (the points wait for workers to join; Ctrl-C stops, keeping what is done)"
-            _say(bar, line)  # told with or without a progress bar: a log needs it most
-            return
-        cluster = {"scheduler": info.scheduler, "workers": info.workers}
-        cluster["dashboard"] = info.dashboard
-        line = f"sweep: {info.workers} Dask worker{plural}, scheduler {info.scheduler}"
-        if configured is not None:
-            line += f" (from {configured.source})"
-        if info.workers == 0:
-            line += " (none yet: the points wait for workers to join)"
-        if info.dashboard:
-            line += f", dashboard {info.dashboard}"
-            asked = dashboard and dashboard.rpartition(":")[2]
-            if asked not in (None, "0") and f":{asked}/" not in info.dashboard:
-                line += f" (port {asked} is taken)"
-        _say(bar, line)
-
-    address = args.scheduler or configured
-    if address and str(address).endswith(".json"):
-        from .dask_connect import connect_timeout, scheduler_file_address
-
-        file = Path(address)
-        if not file.exists():
-            _say(
-                bar,
-                f"sweep: no scheduler file {file} yet; waiting up to {connect_timeout():g} s for "
-                "a scheduler to write it (distributed.comm.timeouts.connect)",
-            )
-            address = None
-        else:  # probed below; a file without an address is refused by the sweep itself
-            try:
-                address = scheduler_file_address(file, 0.0)
-            except Exception:
-                address = None
-    if address:
-        from .dask_connect import unanswered
-
-        patience = unanswered(address)
-        if patience is not None:  # or the run would sit silent until Dask gives up
-            _say(
-                bar,
-                f"sweep: no Dask scheduler answers at {address} yet; waiting up to "
-                f"{patience:g} s for one to start (distributed.comm.timeouts.connect)",
-            )
+    on_cluster = ClusterLines(bar, configured, dashboard)
+    say_if_waiting(bar, args.scheduler or configured)
     try:
         report = run_sweep(
             spec,
@@ -378,34 +244,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     except SweepInterrupted as exc:
         if bar is not None:
             bar.close()
-        # Where it ran, too: without --scheduler a cluster's sweep would resume on the login node.
-        where = (
-            ["--scheduler", str(args.scheduler)]
-            if args.scheduler
-            else ["--workers", str(args.workers)]
-            if args.workers is not None
-            else ["--serial"]
-            if args.serial
-            else []
-        )
-        again = " ".join(
-            shlex.quote(a) for a in ("pydrill", "sweep", args.spec, "--out", args.out, *where)
-        )
-        if args.json:  # the keys of a finished sweep's, with what says it stopped
-            results = _results(exc, cluster, interrupted=True)
-            results.update(done=exc.done, resume=f"{again} --resume")
-            print_json(json_document(_inputs(args, exc), results, _UNITS))
-        if exc.done == 0 and not Path(exc.atlas).exists():
-            sys.stderr.write(
-                "pydrill sweep: interrupted before any point was computed; nothing was written\n"
-            )
-        else:
-            sys.stderr.write(
-                f"pydrill sweep: interrupted; {exc.done} of {exc.points} points are saved in "
-                f"{exc.atlas}\n  to compute the other {exc.points - exc.done}: {again} --resume\n"
-            )
-        # The shell's convention for "ended by signal N": 128 + N.
-        return 128 + exc.signum
+        return interrupted(args, exc, on_cluster.cluster)
     if bar is not None:
         bar.close()
     if args.plot and report.all_failed:  # a map of failures only says nothing the error does
@@ -418,8 +257,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         with Atlas(args.out) as atlas:
             save(atlas_figure(atlas), args.plot)
     if args.json:
-        results = _results(report, cluster, interrupted=False)
-        print_json(json_document(_inputs(args, report), results, _UNITS, args.plot))
+        results = results_of(report, on_cluster.cluster, interrupted=False)
+        print_json(json_document(inputs(args, report), results, UNITS, args.plot))
     else:
         print(
             f"{report.atlas}: {report.points} points, {report.computed} computed now "
@@ -428,33 +267,4 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         )
         if args.plot:
             print(f"figure: {args.plot}")
-    return _failures(report)
-
-
-def _failures(report) -> int:
-    """Say on stderr what failed, with the first failure's message ("(120 failed)" alone does
-    not say why), and the exit status: 3 when every point of the atlas failed — a study
-    whose every point failed is an error, not a result (scripts and batch jobs see it)."""
-    from .cli import EXIT_SOLVER
-
-    n = report.failed_in_atlas
-    if not n:
-        return 0
-    shown = (
-        report.first_failure
-        if len(report.first_failure) <= 300
-        else (report.first_failure[:297] + "...")
-    )
-    query = f"'pydrill atlas query {report.atlas} ...' shows each point's message"
-    if report.all_failed:
-        sys.stderr.write(
-            f"pydrill sweep: error: every point failed ({n} of {report.points}); nothing in "
-            f"{report.atlas} is a result. The first failure: {shown}\n  {query}; fix the spec, "
-            "then sweep again (into another --out, or after deleting this atlas)\n"
-        )
-        return EXIT_SOLVER
-    sys.stderr.write(
-        f"pydrill sweep: {n} of {report.points} points failed (stored as failed, with their "
-        f"messages). The first: {shown}\n  {query}\n"
-    )
-    return 0
+    return failures(report)

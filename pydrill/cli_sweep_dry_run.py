@@ -6,7 +6,7 @@ import argparse
 
 from .cli_atlas import axis_line
 from .cli_options import json_document, print_json
-from .cli_sweep import _duration
+from .cli_sweep_report import duration
 
 
 def _size(n: float) -> str:
@@ -17,7 +17,7 @@ def _size(n: float) -> str:
 
 
 def _span(seconds: float) -> str:
-    return f"{seconds:.2g} s" if seconds < 10 else _duration(seconds)
+    return f"{seconds:.2g} s" if seconds < 10 else duration(seconds)
 
 
 def dry_run(args: argparse.Namespace, spec) -> int:

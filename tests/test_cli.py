@@ -190,18 +190,18 @@ def test_an_atlas_in_a_folder_that_does_not_exist_is_refused_like_every_other_ou
 
 
 def test_sweep_progress_in_a_log_is_a_plain_line_now_and_then(capsys):
-    from pydrill.cli_sweep import _duration, _LogProgress
+    from pydrill.cli_sweep_report import LogProgress, duration
 
-    log = _LogProgress(1000, every=0.0)
+    log = LogProgress(1000, every=0.0)
     log.update(250)
     log.update(750)  # finished: the summary line says the rest
     lines = capsys.readouterr().err.splitlines()
     assert len(lines) == 1 and lines[0].startswith("sweep: 250/1000 points (25 %), ")
     assert lines[0].endswith(" left") and "\r" not in lines[0]
-    quiet = _LogProgress(1000)  # every 30 s: a short sweep prints nothing
+    quiet = LogProgress(1000)  # every 30 s: a short sweep prints nothing
     quiet.update(999)
     assert capsys.readouterr().err == ""
-    assert [_duration(x) for x in (7.4, 75, 3725)] == ["7 s", "1 min 15 s", "1 h 02 min"]
+    assert [duration(x) for x in (7.4, 75, 3725)] == ["7 s", "1 min 15 s", "1 h 02 min"]
 
 
 @pytest.mark.parametrize(

@@ -69,15 +69,15 @@ def test_a_resumed_sweep_counts_the_points_left_from_the_start_and_says_so(tmp_p
     journal_path(out).write_text("".join(lines))
     spec_file = tmp_path / "tiny.toml"
     spec_file.write_text(TINY)
-    # With no terminal, the progress is a line every 30 s, of the points left (_LogProgress).
+    # With no terminal, the progress is a line every 30 s, of the points left (LogProgress).
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
     script = (
-        "import sys, pydrill.cli_sweep as c\n"
-        "class Log(c._LogProgress):\n"
+        "import sys, pydrill.cli_sweep_report as c\n"
+        "class Log(c.LogProgress):\n"
         "    def __init__(self, total, every=30.0, **kw):\n"
         "        print('total', total, file=sys.stderr)\n"
         "        super().__init__(total, every, **kw)\n"
-        "c._LogProgress = Log\n"
+        "c.LogProgress = Log\n"
         "from pydrill.cli import main\n"
         "sys.exit(main(sys.argv[1:]))\n"
     )
@@ -105,11 +105,11 @@ def test_a_resumed_sweeps_log_progress_counts_its_rate_from_the_first_batch(monk
     # A resumed million-point sweep replays its journal for ~40 s before its first batch; the
     # rate counted from the bar's creation said "7 points/s, about 4 min 05 s left" of a sweep
     # that had seconds to go.
-    import pydrill.cli_sweep as cli_sweep
+    import pydrill.cli_sweep_report as cli_sweep
 
     clock = [0.0]
     monkeypatch.setattr(cli_sweep.time, "monotonic", lambda: clock[0])
-    log = cli_sweep._LogProgress(10000, every=30.0, resumed=True)
+    log = cli_sweep.LogProgress(10000, every=30.0, resumed=True)
     clock[0] = 100.0  # the replay, the cluster's start and the first batch
     log.update(100)
     clock[0] = 131.0
