@@ -246,7 +246,9 @@ def eigenvalues(params: Params, delta: float) -> NDArray[np.complex128]:
     O(dof³)). LAPACK's dense solver (numpy's), not the core's: a check that shares no code
     with the core's eigenvalues, and 3.5× faster at 500 pipes. ``delta`` a finite number
     (N·m·s/rad)."""
-    ev = np.linalg.eigvals(jacobian(params, delta))
+    # Complex always: numpy gives a real array when every eigenvalue is real (an overdamped
+    # string), against the annotation and the dtype a caller expects.
+    ev = np.linalg.eigvals(jacobian(params, delta)).astype(np.complex128)
     return ev[np.lexsort((-ev.imag, -ev.real))]
 
 
