@@ -82,7 +82,7 @@ class Branch:
         }
 
 
-def _positive(name: str, value: float, unit: str, why: str) -> float:
+def _positive(name: str, value: float | None, unit: str, why: str) -> float:
     """``value`` as a float, refused by name unless a finite number > 0."""
     value = _number(name, value, unit)
     if not (math.isfinite(value) and value > 0):
@@ -139,7 +139,7 @@ def branch(
         omega_max = _positive("omega_max", omega_max, "rad/s", "need")
     samples = _integer("samples", samples, 2, MAX_SAMPLES)
     if vary == "wob":
-        torque = _positive("torque", torque, "N·m", "varying wob needs")
+        torque = fixed = _positive("torque", torque, "N·m", "varying wob needs")
         top = torque / c if c > 0 else 100.0
         omega_max = top if omega_max is None else min(omega_max, top)
 
@@ -149,7 +149,7 @@ def branch(
         def torque_of(w):
             return np.full_like(np.asarray(w, dtype=float), torque)
     else:
-        wob = _positive("wob", wob, "N", "varying torque needs")
+        wob = fixed = _positive("wob", wob, "N", "varying torque needs")
         omega_max = 40.0 if omega_max is None else omega_max
 
         def wob_of(w):
@@ -203,6 +203,7 @@ def branch(
                     )
                 )
                 continue
+            assert cr.frequency is not None  # a Hopf crossing's (None for a fold only)
             l1 = _core.first_lyapunov_coefficient(core, cr.delta, cr.frequency)
             points.append(
                 SpecialPoint(
@@ -221,7 +222,7 @@ def branch(
     points.sort(key=lambda s: s.omega)
     return Branch(
         vary,
-        float(torque if vary == "wob" else wob),
+        fixed,
         omega,
         W,
         U,

@@ -11,7 +11,7 @@ import math
 import re
 import sys
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, NoReturn
 
 from .cli_options import (
     _finite,
@@ -66,7 +66,7 @@ class _Parser(argparse.ArgumentParser):
         # pydrill starts with a digit.)
         self._negative_number_matcher = re.compile(r"^-\.?\d")
 
-    def error(self, message: str) -> None:  # exit 2 with a one-line message
+    def error(self, message: str) -> NoReturn:  # exit 2 with a one-line message
         # A bad value of a known option is said in one line (the check names the option and
         # its range); the usage block, ten lines for simulate, only helps when the command
         # line itself is malformed: an option missing, unknown, or a choice not offered.

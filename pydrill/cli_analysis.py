@@ -362,7 +362,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     torque = np.linspace(torque_max / 200, torque_max, 200)
     crossings = critical_deltas(params)
     omap = operating_map(params, wob, torque, crossings)
-    checks = []
+    checks: list[tuple[float, float, str]] = []
     if args.check:
         for w in np.linspace(wob_max / args.check, wob_max, args.check):
             for u in np.linspace(torque_max / args.check, torque_max, args.check):
@@ -406,9 +406,9 @@ def _cmd_map(args: argparse.Namespace) -> int:
     for name, frac in omap.fractions().items():
         print(f"  {100 * frac:5.1f} %  {name}")
     if checks:
-        counts = {}
-        for _, _, r in checks:
-            counts[r] = counts.get(r, 0) + 1
+        counts: dict[str, int] = {}
+        for _, _, regime in checks:
+            counts[regime] = counts.get(regime, 0) + 1
         print("simulated from rest: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
     if args.plot:
         print(f"figure: {args.plot}")

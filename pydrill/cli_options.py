@@ -305,13 +305,14 @@ def string_json(args: argparse.Namespace) -> dict[str, Any]:
 def json_document(
     inputs: dict[str, Any],
     results: dict[str, Any],
-    units: dict[str, str] | None = None,
+    units: dict[str, Any] | None = None,
     plot: str | None = None,
 ) -> dict[str, Any]:
     """Every command's --json object, laid out in one order: the ``inputs`` it was given,
     echoed (the string, the operating point, the files); the ``results``; ``units`` of the
-    quantities; last ``plot``, the figure's path, present iff a figure was written (--plot
-    given, and neither the save failed nor the command stopped first)."""
+    quantities (a unit, or for a group a dict of them: ``{"axes": {...}}``); last ``plot``, the
+    figure's path, present iff a figure was written (--plot given, and neither the save failed
+    nor the command stopped first)."""
     both = inputs.keys() & results.keys()
     assert not both and not {"units", "plot"} & (inputs.keys() | results.keys()), both
     data = {**inputs, **results}

@@ -68,7 +68,8 @@ def drill_ahead(
     state: NDArray[np.float64] | str = initial
     t0 = 0.0
     before = np.empty(0)
-    ts, ds, tops, bits, connections, regimes, carried, strings = [], [], [], [], [], [], [], []
+    ts, ds, tops, bits, regimes, carried, strings = [], [], [], [], [], [], []
+    connections: list[tuple[float, float, int]] = []
     while depth < depth_end - 1e-9:
         params = string.to_params(lump=lump)
         strings.append(params)

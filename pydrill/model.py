@@ -129,7 +129,7 @@ class Params:
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready data: every field (lists for the chain), ``dof`` and ``name``;
         :meth:`from_dict` reads it back."""
-        d = {key: list(getattr(self, key)) for key in _LISTS}
+        d: dict[str, Any] = {key: list(getattr(self, key)) for key in _LISTS}
         d.update({key: getattr(self, key) for key in _SCALARS})
         d["dof"] = self.dof
         d["name"] = self.name

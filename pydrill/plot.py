@@ -171,7 +171,8 @@ def fit_suptitle(fig: Figure, text: str, **kwargs):
     import textwrap
 
     title = fig.suptitle(text, **kwargs)
-    renderer = fig.canvas.get_renderer()
+    # The Agg canvas pydrill draws on has a renderer; FigureCanvasBase's stub does not say so.
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
     room = 0.96 * fig.bbox.width
     width = title.get_window_extent(renderer).width
     if width > room:

@@ -10,6 +10,7 @@ from .plot import plt, quantity, scale_ticks, unit_scale
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+    from numpy.typing import NDArray
 
 
 def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Figure:
@@ -221,7 +222,7 @@ def bifurcation_figure(params, branch) -> Figure:
         pad = max(0.15 * np.ptp(xs), 0.01 * xs.max())
         top = max(pt.omega for pt in branch.points)
         ins = ax.inset_axes(
-            [0.5, 0.4, 0.47, 0.42] if branch.vary == "wob" else [0.5, 0.08, 0.47, 0.42]
+            (0.5, 0.4, 0.47, 0.42) if branch.vary == "wob" else (0.5, 0.08, 0.47, 0.42)
         )
         draw(ins, label=True, short=True)
         ins.set_xlim(xs.min() - pad, xs.max() + 2 * pad)
@@ -283,7 +284,8 @@ def _place_labels(fig, labels, right: bool = True) -> None:
         return float(np.hypot(dx, max(box.y0 - xy[1], 0, xy[1] - box.y1)))
 
     for ax, text, xy, color in labels:
-        markers, centres, curves = [], [], []
+        markers, centres = [], []
+        along: list[NDArray[np.float64]] = []  # points on the curves, in pixels
         for line in ax.get_lines():
             xyd = np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float)
             xyd = ax.transData.transform(xyd[np.isfinite(xyd).all(axis=1)])
@@ -291,13 +293,13 @@ def _place_labels(fig, labels, right: bool = True) -> None:
                 # The curve's vertices and points between them, every few pixels.
                 for a, b in itertools.pairwise(xyd):
                     n = int(np.hypot(*(b - a)) // (2 * points)) + 1
-                    curves.extend(a + (b - a) * t for t in np.arange(n) / n)
+                    along.extend(a + (b - a) * t for t in np.arange(n) / n)
                 continue
             half = (line.get_markersize() / 2 + line.get_markeredgewidth()) * points
             for px, py in xyd:
                 markers.append(Bbox.from_extents(px - half, py - half, px + half, py + half))
                 centres.append((px, py))
-        curves = np.array(curves).reshape(-1, 2)
+        curves = np.array(along).reshape(-1, 2)
         own = ax.transData.transform(xy)
         others = [c for c in centres if np.hypot(*np.subtract(c, own)) > 0.5]
         frame = ax.get_window_extent(renderer)
@@ -333,6 +335,7 @@ def _place_labels(fig, labels, right: bool = True) -> None:
                 best = ((hard, soft), note, box)
             if (hard, soft) == (0, 0):
                 break
+        assert best is not None  # offsets is never empty
         _, note, box = best
         ax.add_artist(note)
         taken.append(box)
@@ -385,7 +388,8 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
             pts = [(w, u) for w, u, r in checks if r == regime]
             if pts:
                 ax.scatter(
-                    *zip(*pts, strict=True),
+                    [pt[0] for pt in pts],
+                    [pt[1] for pt in pts],
                     marker=marker,
                     color=color,
                     s=26,

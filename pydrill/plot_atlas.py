@@ -39,6 +39,7 @@ AXIS_LABELS = {
 AXIS_SI = {"wob": "N", "torque": "N·m", "dof": "", "pipes": "", "depth": "m"}
 
 if TYPE_CHECKING:
+    from matplotlib.artist import Artist
     from matplotlib.figure import Figure
 
 
@@ -95,7 +96,7 @@ def atlas_figure(
     if x is not None and x == y:
         raise ValueError(f"x and y are both {x!r}: a map needs two different axes")
     if {x, y} & set(at):
-        raise ValueError(f"{sorted({x, y} & set(at))[0]!r} is drawn; it cannot also be held")
+        raise ValueError(f"{sorted(set(at) & {x, y})[0]!r} is drawn; it cannot also be held")
     swept_first = sorted(order, key=lambda n: len(atlas.axes[n]) <= 1)
     free = [n for n in swept_first if n not in (x, y) and n not in at]
     if len(free) < (x is None) + (y is None and not profile):
@@ -125,13 +126,13 @@ def atlas_figure(
         grid, regime = grid.T, regime.T
     # grid is (x, y); plot y vertical.
     fig, ax = plt.subplots(figsize=(9.5, 6.2), layout="constrained")
-    x, y = atlas.axes[xname], atlas.axes[yname]
-    handles = []
+    xs, ys = atlas.axes[xname], atlas.axes[yname]
+    handles: list[Artist] = []
     if metric is None:
         shown, colors = list(MAP_COLORS), list(MAP_COLORS.values())
         lut = {fmt.REGIMES[n]: k for k, n in enumerate(shown)}
         mesh = ax.pcolormesh(
-            *_cells(x, y),
+            *_cells(xs, ys),
             np.vectorize(lut.get)(grid).T,
             cmap=ListedColormap(colors),
             norm=BoundaryNorm(np.arange(-0.5, len(shown) + 0.5), len(shown)),
@@ -148,7 +149,7 @@ def atlas_figure(
     else:
         # A stuck bit has no velocity spread (severity 0, as steady drilling): hatch it.
         stuck = regime == fmt.REGIMES["stuck"] if metric in fmt.RUN_FIELDS else None
-        handles, what = _metric_mesh(fig, ax, x, y, grid, metric, init, stuck)
+        handles, what = _metric_mesh(fig, ax, xs, ys, grid, metric, init, stuck)
     si = AXIS_SI
     # A real string's forces in kN, torques in kN·m (the data stay in N and N·m).
     scales = {
@@ -157,13 +158,13 @@ def atlas_figure(
         if n in order or n in atlas.spec.fixed
     }
     units = {**si, **{n: unit for n, (_, unit) in scales.items()}}  # as shown: kN, kN·m
-    label = AXIS_LABELS
+    labels = AXIS_LABELS
     for name, values, set_label, set_ticks, axis in (
-        (xname, x, ax.set_xlabel, ax.set_xticks, ax.xaxis),
-        (yname, y, ax.set_ylabel, ax.set_yticks, ax.yaxis),
+        (xname, xs, ax.set_xlabel, ax.set_xticks, ax.xaxis),
+        (yname, ys, ax.set_ylabel, ax.set_yticks, ax.yaxis),
     ):
         unit = units[name] if name in units else shown_unit(name)
-        set_label(label.get(name, name) + (f" ({unit})" if unit else ""))
+        set_label(labels.get(name, name) + (f" ({unit})" if unit else ""))
         if len(values) <= 12 and np.all(values == np.round(values)):
             set_ticks(values)  # a few whole numbers (dof, pipes): a tick on each
         if name in scales:
@@ -179,7 +180,7 @@ def atlas_figure(
             loc="upper center",
             bbox_to_anchor=(0.5, -0.1),
             # One row if it fits under the map; else two, not wider than it.
-            ncol=len(handles) if sum(len(h.get_label()) for h in handles) < 90 else 2,
+            ncol=len(handles) if sum(len(str(h.get_label())) for h in handles) < 90 else 2,
             fontsize=9,
         )
     string, count = context(atlas, held, scales)
@@ -277,7 +278,8 @@ def _hatch_cells(ax, mesh, where, hatch: str, label: str):
 
     edges = mesh.get_coordinates()  # (len(y) + 1, len(x) + 1, 2)
     faces = mesh.to_rgba(mesh.get_array()).reshape(*edges.shape[:2] - np.array([1, 1]), 4)
-    dark, light = {}, {}
+    dark: dict[tuple[int, int], Rectangle] = {}
+    light: dict[tuple[int, int], Rectangle] = {}
     for i, j in zip(*np.nonzero(np.asarray(where).T), strict=True):
         cell = Rectangle(edges[i, j], *(edges[i + 1, j + 1] - edges[i, j]))
         face = faces[i, j]
@@ -339,6 +341,7 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     # A count of a few values (unstable eigenvalues: 0, 2, 4, ...): a colour for each whole
     # number, not a gradient that says 0 and 1 are nearly the same colour.
     discrete = counts and hi - lo <= 20
+    norm: Normalize
     if discrete:
         cmap = colormaps["viridis"].resampled(int(hi - lo) + 1)
         norm = BoundaryNorm(np.arange(lo - 0.5, hi + 1.5), cmap.N)
@@ -359,8 +362,8 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     if discrete:  # a tick on each whole number (on every other one past ten of them)
         bar.set_ticks(np.arange(lo, hi + 1, 1 if hi - lo < 10 else 2))
         bar.minorticks_off()
-    elif metric in SIGNED:  # whole decades, clear of the linear band about zero
-        top = math.floor(math.log10(norm.vmax))
+    elif isinstance(norm, SymLogNorm):  # SIGNED: whole decades, clear of the band about 0
+        top = math.floor(math.log10(span))
         decades = [10.0**d for d in range(math.ceil(math.log10(norm.linthresh)) + 1, top + 1)]
         bar.set_ticks([-d for d in decades[::-1]] + [0.0] + decades)
     blank = "no steady state (or not computed)" if metric in fmt.EQ_FIELDS else "no value"

@@ -17,7 +17,7 @@ from .plot_atlas import _extent
 
 #: the curves' looks: the stuck boundary in black, the stability boundary in dark red
 STUCK = {"color": "black", "linestyles": "-", "linewidths": 2}
-UNSTABLE = {"colors": "#922b21", "linestyles": "--", "linewidths": 2}
+UNSTABLE: dict[str, Any] = {"colors": "#922b21", "linestyles": "--", "linewidths": 2}
 
 
 def boundaries(atlas, ax, xname: str, yname: str, held: dict[str, float], index: list) -> list:

@@ -77,7 +77,7 @@ def profile_figure(
         steady = metric in fmt.EQ_FIELDS
         for s in starts[:1] if steady else starts:
             values = read(metric, 0 if steady else columns[s]).astype(float)
-            if fmt.RUN_FIELDS.get(metric, fmt.EQ_FIELDS.get(metric))[0].startswith("i"):
+            if (fmt.RUN_FIELDS.get(metric) or fmt.EQ_FIELDS[metric])[0].startswith("i"):
                 values[values < 0] = np.nan  # a count's -1: not measured
             color, marker = STARTS.get(s, ("#1f4e79", "o"))
             label = "fastest steady state" if steady else f"from {s}"
@@ -114,8 +114,8 @@ def profile_figure(
         handles=regimes, loc="outside lower center", ncol=len(regimes), fontsize=9, frameon=False
     )
     si = AXIS_SI.get(name)
-    scale, unit = unit_scale(x, si) if si in ("N", "N·m") else (1.0, si)
-    unit = shown_unit(name) if unit is None else unit
+    scale, si_unit = unit_scale(x, si) if si in ("N", "N·m") else (1.0, si)
+    unit = shown_unit(name) if si_unit is None else si_unit
     strip.set_xlabel(AXIS_LABELS.get(name, name) + (f" ({unit})" if unit else ""))
     if len(x) <= 12 and np.all(x == np.round(x)):
         strip.set_xticks(x)  # a few whole numbers (dof, pipes): a tick on each

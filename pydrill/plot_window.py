@@ -148,7 +148,8 @@ def window_figure(
             pts = [(w / 1e3, r) for w, r, g in checks if g == regime]
             if pts:
                 ax.scatter(
-                    *zip(*pts, strict=True),
+                    [pt[0] for pt in pts],
+                    [pt[1] for pt in pts],
                     marker=marker,
                     s=46,
                     zorder=5,

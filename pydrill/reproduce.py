@@ -16,6 +16,7 @@ arguments, the pydrill version). ``force=True`` recomputes everything.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import shutil
@@ -134,17 +135,23 @@ def reproduce(
     bar.update()
     for preset_name, key in (("reduced-scale", "fig10a"), ("real-string", "fig10b")):
         step(f"analysing {key}")
-        numbers[key] = cache.get(key, {"preset": preset_name}, lambda n=preset_name: ra.fig10(n))
+        numbers[key] = cache.get(
+            key, {"preset": preset_name}, functools.partial(ra.fig10, preset_name)
+        )
     bar.update()
     for panel, *_ in ra.FIG11:
-        numbers[f"fig11{panel}"] = cache.get(f"fig11{panel}", {}, lambda p=panel: ra.fig11(p))
+        numbers[f"fig11{panel}"] = cache.get(
+            f"fig11{panel}", {}, functools.partial(ra.fig11, panel)
+        )
     bar.update()
     step("analysing the paper's strings (Fig. 12, multiple Hopf)")
     numbers["strings"] = cache.get("strings", {}, ra.paper_strings)
     bar.update()
     for p in pipes:
         step(f"analysing {p} pipes")
-        numbers[f"pipes{p}"] = cache.get(f"pipes{p}", {"pipes": p}, lambda p=p: ra.long_string(p))
+        numbers[f"pipes{p}"] = cache.get(
+            f"pipes{p}", {"pipes": p}, functools.partial(ra.long_string, p)
+        )
         bar.update()
     atlases: dict[str, str] = {}
     for name, settings in plan.items():

@@ -9,7 +9,7 @@ Hurwitz determinants as independent checks.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -31,7 +31,7 @@ from .stability import (
 )
 
 #: Fig. 11's four diagrams: (panel, dof, parameter varied, value held fixed).
-FIG11 = (
+FIG11: tuple[tuple[str, int, Literal["wob", "torque"], float], ...] = (
     ("a", 2, "wob", 8.1),
     ("b", 2, "torque", 80.0),
     ("c", 4, "wob", 8.1),
@@ -68,13 +68,15 @@ def fig10(name: str) -> dict[str, Any]:
     # Δ_2 = a2·a1 − a0 as a quadratic in δ.
     quad = np.polynomial.Polynomial([a[2], b[2]]) * np.polynomial.Polynomial([a[1], b[1]])
     quad = quad - np.polynomial.Polynomial([a[0], b[0]])
-    roots = sorted(float(r.real) for r in quad.roots() if abs(r.imag) < 1e-12 and r.real > 0)
-    typo = np.polynomial.Polynomial(
-        [a[1] - a[2] - a[0], b[1] - b[2] - b[0]]
-    ).roots()  # a1 − a2 − a0 = 0: linear in δ
+    qroots = np.asarray(quad.roots(), dtype=complex)
+    roots = sorted(float(r.real) for r in qroots if abs(r.imag) < 1e-12 and r.real > 0)
+    typo = np.asarray(
+        np.polynomial.Polynomial([a[1] - a[2] - a[0], b[1] - b[2] - b[0]]).roots(), dtype=float
+    )  # a1 − a2 − a0 = 0: linear in δ
     hopf = [c for c in crossings if c.type == "hopf"]
     fold = next(c for c in crossings if c.type == "fold")
     h2 = hopf[0]
+    assert h2.frequency is not None  # a Hopf crossing's (None for a fold only)
     row = jacobian(p, 0.0)[0]  # ω̇_r row in twist coordinates (ω_r, θ, ω_b)
     jr, kt, ct, cr = p.inertias[0], p.stiffnesses[0], p.dampings[0], p.top_damping
     return {
@@ -97,7 +99,7 @@ def fig10(name: str) -> dict[str, Any]:
 
 
 def fig11_branch(
-    params: Params, vary: str, fixed: float, crossings: list[Crossing]
+    params: Params, vary: Literal["wob", "torque"], fixed: float, crossings: list[Crossing]
 ) -> dict[str, Any]:
     """One bifurcation diagram: the branch of steady states with its HB and LP points."""
     kw = {"torque": fixed} if vary == "wob" else {"wob": fixed}
@@ -140,6 +142,7 @@ def hopf_curves(
     hopf = [c for c in crossings if c.type == "hopf"]
     curves = []
     for c in hopf:
+        assert c.frequency is not None  # a Hopf crossing's (None for a fold only)
         l1 = _core.first_lyapunov_coefficient(core, c.delta, c.frequency)
         curves.append({**_crossing(c), "lyapunov": l1})
     first = next((c for c in hopf if c.direction > 0), None)
@@ -200,7 +203,8 @@ def hurwitz_check(params: Params, crossings: list[Crossing]) -> dict[str, Any]:
     for j in range(1, (n - 1) // 2 + 1):
         ell, k = (n - 1) - 2 * j, n - 2 * j
         rel = P([a[ell], b[ell]]) - P([a[n - 1], b[n - 1]]) * P([a[k], b[k]])
-        roots = [float(r.real) for r in rel.roots() if abs(r.imag) < 1e-9 and r.real > 0]
+        rroots = np.asarray(rel.roots(), dtype=complex)
+        roots = [float(r.real) for r in rroots if abs(r.imag) < 1e-9 and r.real > 0]
         at_hopf = [abs(rel(c.delta)) / max(abs(a[ell]), 1e-300) for c in hopf]
         off_axis = [float(np.min(np.abs(eigenvalues(params, r).real))) for r in roots]
         relations.append(
@@ -219,6 +223,7 @@ def hurwitz_check(params: Params, crossings: list[Crossing]) -> dict[str, Any]:
 def string_summary(params: Params, crossings: list[Crossing]) -> dict[str, Any]:
     """How many crossings a string has, the stability boundary δ_1 and what δ does past it."""
     hopf = [c for c in crossings if c.type == "hopf"]
+    frequencies = [c.frequency for c in hopf if c.frequency is not None]  # every Hopf's
     steps = np.cumsum([c.direction * c.multiplicity for c in crossings])
     return {
         "dof": params.dof,
@@ -230,9 +235,7 @@ def string_summary(params: Params, crossings: list[Crossing]) -> dict[str, Any]:
         "max_unstable": int(steps.max()) if len(steps) else 0,
         "first": _crossing(crossings[0]),
         "delta_range": [hopf[0].delta, hopf[-1].delta] if hopf else None,
-        "frequency_range": [min(c.frequency for c in hopf), max(c.frequency for c in hopf)]
-        if hopf
-        else None,
+        "frequency_range": [min(frequencies), max(frequencies)] if frequencies else None,
         "crossings": [_crossing(c) for c in crossings],
     }
 

@@ -34,7 +34,7 @@ def _switch_points(run, which: str) -> list[int]:
 def _chain(run, key: str, ax, t_max: float, velocity: bool) -> None:
     k = {"top": 0, "pipe": 1, "collar": -2, "bit": -1}[key]
     keep = run.t <= t_max
-    label = STYLE[key]["label"]
+    label = str(STYLE[key]["label"])
     y = run.omega if velocity else run.angles
     if velocity:
         label = label.replace("\\varphi", "\\dot\\varphi")

@@ -53,7 +53,11 @@ def fig6b(out: Path, numbers: dict[str, Any]) -> Path:
         _regime_image(ax, wob, torque, a[init]["regime"])
         w = np.linspace(0, wob.max() * 1.02, 100)
         ax.plot(
-            w, p.static_torque(w), color=SLIDE, lw=2, label="$u^+ = \\mu_{sb} R_b W_{ob}$ (Eq. 38)"
+            w,
+            p.static_torque(w),  # type: ignore[arg-type]  # broadcasts over W_ob
+            color=SLIDE,
+            lw=2,
+            label="$u^+ = \\mu_{sb} R_b W_{ob}$ (Eq. 38)",
         )
         for case, (ww, uu) in {
             "Fig. 9": (40, 8.3),

@@ -97,7 +97,7 @@ def fig4() -> tuple[dict[str, Any], dict[str, SimulationResult]]:
 
 def regime_interval(
     params: Params, torque: float, wob_max: float, step: float = 5.0, tol: float = 0.05
-) -> dict[str, float | None]:
+) -> dict[str, Any]:
     """From rest at fixed ``torque``: the smallest W_ob at which the bit sticks and slips
     (below it drills steadily: the paper's W*_ob − ε⁻) and the largest (above it stays stuck:
     W*_ob + ε⁺), by a scan in steps of ``step`` N and bisection to ``tol`` N."""
@@ -214,7 +214,7 @@ def fig8(run4: SimulationResult | None = None) -> tuple[dict[str, Any], dict[str
     return numbers, {"run": run}
 
 
-def fig9() -> tuple[dict[str, Any], dict[str, SimulationResult]]:
+def fig9() -> tuple[dict[str, Any], dict[str, Any]]:
     """Fig. 9 (n = 8, W_ob = 40 N, u = 8.3 N·m): the bit leaves Σ̃ and the string settles to
     the steady state x̄_e, which the analysis of Section 4 says is stable."""
     p = lab(4)

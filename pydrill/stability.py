@@ -171,10 +171,10 @@ def boundary_wob(params: Params, delta: float, omega: ArrayLike) -> NDArray[np.f
     """W_ob at which δ(Ω, W_ob) = delta (N); broadcasts over Ω. ``delta`` must be finite and
     > 0 (a crossing's, :func:`critical_deltas`), every Ω finite and >= 0 (rad/s)."""
     p = _params(params)
-    delta = _checked("delta", delta, 0.0, strict=True)
+    slope = _checked("delta", delta, 0.0, strict=True)
     omega = _checked("omega", omega, 0.0, strict=False)
     factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
-    return delta * np.exp(p.stribeck_decay * omega / p.stribeck_velocity) / factor
+    return slope * np.exp(p.stribeck_decay * omega / p.stribeck_velocity) / factor
 
 
 def critical_deltas(params: Params) -> list[Crossing]:

@@ -361,12 +361,12 @@ def _sweep_locked(
             with contextlib.suppress(KeyboardInterrupt), stop.hold():
                 write_atlas(out, table)
             write_time += time.perf_counter() - tw
-            done = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
+            saved = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
             n_failed, first = _failures(table)
             raise SweepInterrupted(
                 out,
                 spec.size,
-                done,
+                saved,
                 stop.signum or signal.SIGINT,
                 computed=computed,
                 failed=failed,

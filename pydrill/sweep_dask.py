@@ -140,7 +140,7 @@ def _run_dask(
                     cluster.close()
                 raise
             except RuntimeError as exc:  # "Nanny failed to start", its reason in the chain
-                root = exc
+                root: BaseException = exc
                 while root.__cause__ is not None:
                     root = root.__cause__
                 raise SchedulerError(
@@ -191,6 +191,7 @@ def _run_dask(
             suspect: list[Any] = []  # the one in flight
 
             def next_suspect() -> None:
+                assert running is not None  # set before the loop that calls this
                 if suspects and not suspect:
                     suspect.extend(submit(0, [[suspects.pop(0)]]))
                     running.update(suspect)

@@ -60,7 +60,8 @@ class SweepPlan:
         divided among them, without the cluster's start. ``workers``: an integer >= 1."""
         if isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1:
             raise _refused("workers", workers, "an integer >= 1")
-        return tuple(s / int(workers) for s in self.compute_seconds)  # type: ignore[return-value]
+        low, estimate, high = (s / int(workers) for s in self.compute_seconds)
+        return low, estimate, high
 
 
 def _refused(name: str, value: object, allowed: str) -> Exception:
