@@ -13,7 +13,7 @@ import io
 import json
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import h5py
 import numpy as np
@@ -23,6 +23,9 @@ from .atlas_grid import coordinate, distinct, near_enough, on_grid
 from .atlas_lock import snapshot
 from .journal import JOURNAL_SUFFIX, AtlasError, journal_hint, journaled
 from .spec import SpecError, parse_spec
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
 class Atlas:
@@ -305,10 +308,11 @@ class Atlas:
         missing = status.ravel()[indices] == fmt.STATUS["missing"]
         return len(np.unique(indices[missing]))
 
-    def sel(self, method: str | None = None, **coords: float):
+    def sel(self, method: str | None = None, **coords: ArrayLike):
         """A slice of the atlas as an ``xarray.Dataset``: fix some axes (or ``initial``),
         keep the others, e.g. ``atlas.sel(torque=8.3).regime_name`` is the regime against W_ob
-        (``regime`` holds the same as codes, named in its ``flag_meanings`` attribute).
+        (``regime`` holds the same as codes, named in its ``flag_meanings`` attribute). An
+        axis takes a value or a list of them: numbers, or strings with a unit (``"20 kN"``).
         Without ``method`` each value must be on the grid, as :meth:`value` has it (a
         KeyError says the nearest); ``method="nearest"`` takes the nearest grid value."""
         unknown = set(coords) - set(self.axes) - {"initial"}
@@ -317,20 +321,25 @@ class Atlas:
                 f"{sorted(unknown)[0]} is not an axis of this atlas; axes: "
                 + ", ".join([*self.axes, "initial"])
             )
+        chosen: dict[str, Any] = dict(coords)  # each axis's value(s) as floats
         for name, v in coords.items():
-            if name in self.axes:  # numbers, or strings with a unit ("20 kN"), as index() takes
-                many = isinstance(v, list | tuple | np.ndarray) and np.ndim(v) > 0
-                coords[name] = [coordinate(name, one) for one in v] if many else coordinate(name, v)
-                if method == "nearest":  # as value() and index(): never an answer off the grid
-                    for one in np.atleast_1d(coords[name]):
-                        near_enough(name, self.axes[name], float(one))
-                elif method is None:  # exact, as index() has it: the grid's own value, or why not
-                    on = [_on_grid(name, self.axes[name], x) for x in np.atleast_1d(coords[name])]
-                    coords[name] = on if many else on[0]
+            if name not in self.axes:
+                continue  # initial: a name
+            # numbers, or strings with a unit ("20 kN"), as index() takes them
+            if isinstance(v, list | tuple | np.ndarray) and np.ndim(v) > 0:
+                many, asked = True, [coordinate(name, one) for one in v]
+            else:
+                many, asked = False, [coordinate(name, v)]
+            if method == "nearest":  # as value() and index(): never an answer off the grid
+                for one in asked:
+                    near_enough(name, self.axes[name], one)
+            elif method is None:  # exact, as index() has it: the grid's own value, or why not
+                asked = [_on_grid(name, self.axes[name], x) for x in asked]
+            chosen[name] = asked if many else asked[0]
         ds = with_regime_names(self.to_xarray().load())
-        if "initial" in coords:  # a name, chosen exactly: "nearest" has no meaning for it
-            ds = ds.sel(initial=coords.pop("initial"))
-        return ds.sel(method=method, **coords) if coords else ds
+        if "initial" in chosen:  # a name, chosen exactly: "nearest" has no meaning for it
+            ds = ds.sel(initial=chosen.pop("initial"))
+        return ds.sel(method=method, **chosen) if chosen else ds
 
     def plot(
         self,

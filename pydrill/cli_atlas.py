@@ -6,6 +6,7 @@ import argparse
 import sys
 import textwrap
 from pathlib import Path
+from typing import Any
 
 from .atlas_grid import axis_unit, shown_unit, with_unit
 from .cli_options import figure_path, json_document, print_json, writable_place
@@ -322,7 +323,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
         flat["coexistence"] = v["coexistence"]
         # Every field's unit from the table the atlas's own "units" attributes come from
         # (dimensionless ones too, so a script need not guess), and the axes'.
-        units = {
+        units: dict[str, Any] = {  # a unit each, and the axes' units as a dict (coords)
             name: _json_unit(unit)
             for name, (_, _, unit, _) in {**fmt.RUN_FIELDS, **fmt.EQ_FIELDS}.items()
         }
