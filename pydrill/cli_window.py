@@ -186,7 +186,10 @@ def _cmd_string(args: argparse.Namespace) -> int:
         print_json(json_document(string_json(args), results, units))
         return 0
     print(f"{tally.name}: {tally.length:.1f} m ({tally.bha_length:.1f} m BHA), dof {p.dof}")
-    print(f"  top drive   J = {p.inertias[0]:.6g} kg m^2, c_r = {p.top_damping:g} N m s/rad")
+    top = f"J = {p.inertias[0]:.6g} kg m^2"
+    if p.inertias[0] != tally.top_inertia:  # a reduced string: its top carries some pipe
+        top += f" ({tally.top_inertia:g} + {p.inertias[0] - tally.top_inertia:.4g} of the string)"
+    print(f"  top drive   {top}, c_r = {p.top_damping:g} N m s/rad")
     if p.dof <= 12:
         for i, (k, c, j) in enumerate(zip(p.stiffnesses, p.dampings, p.inertias[1:], strict=True)):
             print(

@@ -24,9 +24,13 @@ inner diameter and steel properties, plus the top drive and the bit–rock law::
 torsional spring of stiffness G·I_p/L carrying, at its lower end, an inertia ρ·I_p·L, with
 I_p = π(OD⁴ − ID⁴)/32. The chain is the top drive, then these elements in order — the paper's
 structure (Fig. 2), where each pipe is a spring k_t and an inertia J. Reducing to ``dof`` N
-groups the elements into N − 1 consecutive groups of nearly equal element count: springs in series,
-inertias summed at the group's lower end; ``dof = 2`` is the paper's two-inertia model (top
-drive; whole string and BHA at the bit; one equivalent spring).
+groups the elements into N − 1 consecutive groups of nearly equal element count: springs in
+series, and each element's inertia shared between its group's two ends in proportion to where
+it sits along the group's compliance (the static twist interpolated between the ends). Summed at
+the group's lower end instead, the reduced string's first frequency converged only like 1/N
+(5 % low at dof 8 on the shipped tallies); shared, like 1/N² (0.25 % at dof 8, 0.03 % at dof
+20). ``dof = 2`` stays the paper's two-inertia model (top drive; whole string and BHA at the
+bit; one equivalent spring), as its Section 4.2 numbers need.
 """
 
 from __future__ import annotations
@@ -199,6 +203,7 @@ class Tally:
     def to_params(self, dof: int | None = None, lump: int = 1) -> Params:
         """The lumped chain (see the module docstring for the rule)."""
         k, j, _ = self.elements(lump)
+        top = 0.0  # the inertia of the string's top that a reduction adds to the top drive's
         if dof is not None:
             if isinstance(dof, bool) or not isinstance(dof, Integral) or not 2 <= dof <= len(k) + 1:
                 raise TallyError(
@@ -208,12 +213,14 @@ class Tally:
             # An extreme tally (density 1e308, say) overflows here: Params then refuses the
             # inf or 0 it makes, naming the entry, and no RuntimeWarning reaches the user.
             with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-                k = np.array([1.0 / np.sum(1.0 / k[g]) for g in groups])
-                j = np.array([np.sum(j[g]) for g in groups])
+                if dof == 2:  # the paper's: one spring, the whole string's inertia at the bit
+                    k, j = np.array([1.0 / np.sum(1.0 / k)]), np.array([np.sum(j)])
+                else:
+                    k, j, top = _shared_inertias(k, j, groups)
         with np.errstate(over="ignore", invalid="ignore"):
             c = self.beta * k
         return Params(
-            inertias=(self.top_inertia, *j.tolist()),
+            inertias=(self.top_inertia + top, *j.tolist()),
             stiffnesses=tuple(k.tolist()),
             dampings=tuple(c.tolist()),
             top_damping=self.top_damping,
@@ -225,6 +232,27 @@ class Tally:
             stribeck_velocity=self.stribeck_velocity,
             name=self.name,
         )
+
+
+def _shared_inertias(
+    k: np.ndarray, j: np.ndarray, groups: list[np.ndarray]
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """Each group of elements as one spring (in series) between two inertias: the springs,
+    the inertias at the groups' lower ends, and the share of the first group that goes to the
+    top drive. An element's inertia sits at its lower end, where a static twist across the
+    group has reached the share c/C of the group's compliance C above it: that share goes to
+    the group's lower end, the rest to its upper end, so the reduced string keeps the whole
+    string's inertia and moves it as a slow (static-shaped) twist would."""
+    springs, lower, upper = [], [], []
+    for g in groups:
+        compliance = np.cumsum(1.0 / k[g])
+        springs.append(1.0 / compliance[-1])
+        down = float(np.sum(j[g] * (compliance / compliance[-1])))
+        lower.append(down)
+        upper.append(float(np.sum(j[g])) - down)
+    inertias = np.array(lower)
+    inertias[:-1] += upper[1:]
+    return np.array(springs), inertias, upper[0]
 
 
 def _show(value: Any) -> str:

@@ -262,6 +262,44 @@ def test_fundamental_frequency_approaches_the_continuous_shaft(path, depth):
 
 
 @pytest.mark.parametrize("path", TALLIES, ids=TALLY_IDS)
+@pytest.mark.parametrize("depth", [1000.0, 3000.0])
+def test_a_reduced_string_keeps_the_fundamental_to_second_order(path, depth):
+    """dof = N shares each element's inertia between its group's two ends: the reduced
+    string's fundamental nears the full string's like 1/N², 4x closer each time the groups
+    halve. Summed at the groups' lower ends, it neared like 1/N (2x), 5 % low at dof 9."""
+    tally = load_tally(path).at_depth(depth)
+    full = _lumped_fundamental(tally.to_params())
+    error = {n: abs(_lumped_fundamental(tally.to_params(dof=n)) / full - 1) for n in (5, 9, 17)}
+    assert error[9] < 4e-3
+    assert error[5] / error[9] > 3.0
+    assert error[9] / error[17] > 3.0
+
+
+def test_a_reduced_strings_top_drive_carries_the_share_of_the_pipe_above_its_first_group():
+    tally = load_tally(OTHER)
+    k, j, _ = tally.elements(1)
+    p = tally.to_params(dof=3)
+    first = np.array_split(np.arange(len(k)), 2)[0]
+    compliance = np.cumsum(1 / k[first])
+    upper = float(np.sum(j[first] * (1 - compliance / compliance[-1])))
+    assert p.inertias[0] == pytest.approx(tally.top_inertia + upper, rel=1e-12)
+    assert 0 < upper < np.sum(j[first]) / 2 + 1e-9  # pipe, not collars, hangs from the top
+    # The paper's two-inertia model keeps the top drive as it is, the rest at the bit.
+    assert tally.to_params(dof=2).inertias[0] == tally.top_inertia
+
+
+def test_string_command_says_what_a_reduced_top_drive_carries():
+    out = subprocess.run(
+        [sys.executable, "-m", "pydrill", "string", str(OTHER), "--dof", "4"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    top = load_tally(OTHER).to_params(dof=4).inertias[0]
+    assert f"top drive   J = {top:.6g} kg m^2 (2500 + {top - 2500:.4g} of the string)" in out
+
+
+@pytest.mark.parametrize("path", TALLIES, ids=TALLY_IDS)
 def test_sweep_depth_axis_builds_the_at_depth_string(path):
     spec = parse_spec(
         "[model]\ndof = 9\ntorque = 9000.0\n[axes]\ndepth = [1000.0, 3000.0, 5000.0]\n"
