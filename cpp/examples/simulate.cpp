@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   } catch (const pydrill::Interrupted& e) {
     std::fprintf(stderr, "out of time at t = %g s of simulated time\n", e.t_reached());
     return 4;
-  } catch (const pydrill::StabilityInterrupted&) {
+  } catch (const pydrill::Cancelled&) {  // any other stopped computation: the stability's
     std::fprintf(stderr, "out of time in the stability analysis\n");
     return 4;
   }

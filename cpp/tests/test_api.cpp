@@ -158,6 +158,7 @@ TEST_CASE("options.interrupt runs with the caller's floating-point setting", "[a
   };
   CHECK_THROWS_AS(simulate(preset("reduced-scale", 303), 100.0, 8.3, o), Interrupted);
   CHECK(seen == 0);
+  CHECK_THROWS_AS(simulate(preset("reduced-scale", 303), 100.0, 8.3, o), Cancelled);
   CHECK(product > 0.0);
   // Restored after the run, interrupted or not (the control bits: the low six are sticky
   // exception flags, which the subnormal product above raises).

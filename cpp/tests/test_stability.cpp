@@ -257,6 +257,9 @@ TEST_CASE("the O(dof²) analyses ask their interrupt and stop when it says so", 
   CHECK_THROWS_AS(critical_deltas(p, yes), StabilityInterrupted);
   CHECK(asked == 1);
   CHECK(seconds_since(t0) < 0.5 * seconds);
+  // One type catches it and a stopped run's Interrupted alike (a cancel button's handler).
+  CHECK_THROWS_AS(critical_deltas(p, yes), Cancelled);
+  CHECK_THROWS_WITH(critical_deltas(p, yes), "interrupted");
 
   // The structured eigenvalues alike, and the stability of a steady state through both.
   const double delta = crossings.front().delta;

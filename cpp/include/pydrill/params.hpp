@@ -5,12 +5,21 @@
 // kg·m², N·m/rad, N·m·s/rad, m, N, N·m, rad/s.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "pydrill/export.hpp"
 
 namespace pydrill {
+
+// What a computation stopped by its `interrupt` callback throws (a cancel button in a program
+// that embeds pydrill, a Ctrl-C from Python): Interrupted from a run (which knows where it
+// stopped), StabilityInterrupted from a stability computation. Catch Cancelled for both.
+class PYDRILL_API Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("interrupted") {}
+};
 
 // Mechanical chain plus bit–rock friction law. Operating inputs (weight on bit,
 // surface torque) are not part of it: they are the axes of every study.

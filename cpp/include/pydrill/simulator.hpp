@@ -151,11 +151,11 @@ class PYDRILL_API SolverError : public std::runtime_error {
   double t_reached_;
 };
 
-// A run stopped because options.interrupt said so; t_reached is where.
-class PYDRILL_API Interrupted : public std::runtime_error {
+// A run stopped because options.interrupt said so; t_reached is where. A Cancelled, as a
+// stopped stability computation is.
+class PYDRILL_API Interrupted : public Cancelled {
  public:
-  explicit Interrupted(double t_reached)
-      : std::runtime_error("interrupted"), t_reached_(t_reached) {}
+  explicit Interrupted(double t_reached) : t_reached_(t_reached) {}
   double t_reached() const { return t_reached_; }
 
  private:

@@ -36,10 +36,8 @@ namespace pydrill {
 // StabilityInterrupted (a Ctrl-C from Python, a cancel button in a program that embeds
 // pydrill). Empty: never asked. The dense O(n'³) eigensolver is not asked inside, only before
 // it starts (where structured_eigenvalues and the stability points fall back on it).
-class PYDRILL_API StabilityInterrupted : public std::runtime_error {
- public:
-  StabilityInterrupted() : std::runtime_error("interrupted") {}
-};
+// A Cancelled (params.hpp), as a stopped run's Interrupted is.
+class PYDRILL_API StabilityInterrupted : public Cancelled {};
 
 // δ(Ω, W_ob), N·m·s/rad; W_ob > 0, Ω >= 0.
 PYDRILL_API double stribeck_slope(const Params& params, double wob, double omega);
