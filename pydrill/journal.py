@@ -48,6 +48,7 @@ def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterato
     if not jp.exists():
         return
     good = 0  # bytes up to the end of the last whole line
+    size = spec.size
     with jp.open("rb") as fh:  # line by line: a journal may hold millions of points
         for n, raw in enumerate(fh):
             try:
@@ -63,12 +64,18 @@ def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterato
                 ) from None
             good += len(raw)
             if n == 0:
-                if data.get("spec_digest") != spec.digest:
+                digest = data.get("spec_digest") if isinstance(data, dict) else None
+                if digest != spec.digest:
                     raise AtlasError(
-                        f"{jp} belongs to another sweep (spec digest "
-                        f"{data.get('spec_digest')} != {spec.digest})"
+                        f"{jp} belongs to another sweep (spec digest {digest} != {spec.digest})"
                     )
                 continue
+            problem = _quick_problem(data, size)
+            if problem:
+                raise AtlasError(
+                    f"{jp}, line {n + 1}, is damaged ({problem}); remove the journal "
+                    "to start the sweep over"
+                )
             yield data
     if not repair:
         pass
@@ -76,6 +83,105 @@ def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterato
         jp.write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
     elif good < jp.stat().st_size:
         os.truncate(jp, good)
+
+
+def _is_int(v: Any, low: int, high: int) -> bool:
+    return isinstance(v, int) and not isinstance(v, bool) and low <= v <= high
+
+
+def _is_name(v: Any, names: dict[str, int]) -> bool:
+    return isinstance(v, str) and v in names
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def _field_problem(name: str, v: Any, dtype: str) -> str | None:
+    """What is wrong with the value ``v`` of a float (f8) or integer (i2, i4) field."""
+    if v is None:
+        return None
+    if dtype.startswith("i"):
+        bits = 8 * int(dtype[1:])
+        if not _is_int(v, -(2 ** (bits - 1)), 2 ** (bits - 1) - 1):
+            return f"{name} = {_show(v)} is not an integer of {bits} bits"
+    elif not _is_number(v):
+        return f"{name} = {_show(v)} is not a number"
+    return None
+
+
+def _show(v: Any) -> str:
+    text = repr(v)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _quick_problem(rec: Any, size: int) -> str | None:
+    """What makes a journal line's ``rec`` name no point of a grid of ``size``, or no status or
+    message, or None: checked on every line (a negative or fractional index silently wrote
+    another point; one past the grid was an IndexError; a message not text failed the
+    atlas's write). The rest of a record is checked only if it fails to replay
+    (:func:`record_problem`: checking all of every line would slow a replay 2.5 times)."""
+    if not isinstance(rec, dict):
+        return f"{_show(rec)} is not a point's record"
+    i = rec.get("i")
+    if not _is_int(i, 0, size - 1):
+        return f"point i = {_show(i)} is not allowed: an integer 0 ... {size - 1}"
+    if not _is_name(rec.get("status"), fmt.STATUS):
+        return f"status = {_show(rec.get('status'))} is not one of {', '.join(fmt.STATUS)}"
+    if not isinstance(rec.get("message", ""), str):  # else a TypeError writing the atlas
+        return f"message = {_show(rec['message'])} is not text"
+    return None
+
+
+def record_problem(rec: Any, spec: SweepSpec) -> str | None:
+    """What makes a journal line's ``rec`` unfit to replay into ``spec``'s atlas, or None:
+    a name or value of the wrong kind (a KeyError or TypeError from deep inside the replay)."""
+    problem = _quick_problem(rec, spec.size)
+    if problem:
+        return problem
+    runs = rec.get("runs", {})
+    if not isinstance(runs, dict):
+        return f"runs = {_show(runs)} is not a table of runs"
+    for init in spec.initials:
+        run = runs.get(init)
+        if run is None:
+            continue
+        if not isinstance(run, dict):
+            return f"runs.{init} = {_show(run)} is not a run"
+        if not _is_name(run.get("regime"), fmt.REGIMES):
+            return f"runs.{init}.regime = {_show(run.get('regime'))} is not a regime"
+        if not _is_name(run.get("caveat") or "", fmt.CAVEATS):
+            return f"runs.{init}.caveat = {_show(run.get('caveat'))} is not a caveat"
+        for name, (dtype, *_) in fmt.RUN_FIELDS.items():
+            problem = _field_problem(f"runs.{init}.{name}", run.get(name), dtype)
+            if problem:
+                return problem
+    stab = rec.get("stability")
+    if stab:
+        if not isinstance(stab, dict):
+            return f"stability = {_show(stab)} is not a table"
+        for name, (dtype, *_) in fmt.EQ_FIELDS.items():
+            values = stab.get(name, [])
+            if not isinstance(values, list):
+                return f"stability.{name} = {_show(values)} is not a list"
+            for v in values[: fmt.N_EQ]:
+                problem = _field_problem(f"stability.{name}", v, dtype)
+                if problem:
+                    return problem
+        eig = stab.get("eigenvalues", [])
+        if not isinstance(eig, list) or not all(
+            isinstance(row, list)
+            and all(
+                isinstance(pair, list) and len(pair) == 2 and all(map(_is_number, pair))
+                for pair in row
+            )
+            for row in eig
+        ):
+            return f"stability.eigenvalues = {_show(eig)} is not lists of [real, imag] pairs"
+    co = rec.get("coexistence")
+    if co is not None and not (isinstance(co, bool) or _is_int(co, -1, 1)):
+        return f"coexistence = {_show(co)} is not one of true, false, null, -1, 0, 1"
+    return None
 
 
 def journaled(path: Path) -> np.ndarray:
@@ -94,11 +200,16 @@ def journaled(path: Path) -> np.ndarray:
         for raw in fh:
             if not raw.endswith(b"\n"):
                 break
+            i = None
             if raw.startswith(b'{"i": '):
-                found.append(int(raw[6 : raw.index(b",", 6)]))
-            else:  # not as written by run_sweep: parse it whole
+                with contextlib.suppress(ValueError):  # '"3"', 'NaN', no comma: not ours
+                    i = int(raw[6 : raw.index(b",", 6)])
+            if i is None:  # not as written by run_sweep: parse it whole
                 with contextlib.suppress(ValueError, KeyError, TypeError):
-                    found.append(int(json.loads(raw)["i"]))
+                    i = json.loads(raw)["i"]
+            # an index the replay would refuse is no point (nor an OverflowError for numpy)
+            if _is_int(i, 0, 2**63 - 1):
+                found.append(i)
     return np.array(found, dtype=np.int64)
 
 
@@ -210,11 +321,16 @@ def prepare(
     """Open or create the atlas for ``spec``; returns its table and how many points were done."""
     jp = journal_path(out)
     if out.exists() or jp.exists():
-        table = read_existing(spec, out, resume=resume)
-        if table is None:
+        existing = read_existing(spec, out, resume=resume)
+        table = fmt.AtlasTable(spec) if existing is None else existing
+        try:
+            replayed = table.apply_all(iter_journal(out, spec))
+        except (KeyError, TypeError, ValueError, IndexError, AttributeError, OverflowError) as exc:
+            # A record the table cannot hold: the journal's fault, named with its line, not a
+            # traceback from inside the replay. Nothing has been written yet.
+            raise _damaged_record(jp, spec, exc) from None
+        if existing is None:  # created once the journal has replayed: a damaged one leaves none
             fmt.create(out, spec, params_json, version)
-            table = fmt.AtlasTable(spec)
-        replayed = table.apply_all(iter_journal(out, spec))
         if replayed or not out.exists():  # a complete atlas, resumed, is left as it is
             write_atlas(out, table)
         done = int(np.sum(table.status != fmt.STATUS["missing"]))
@@ -225,6 +341,27 @@ def prepare(
         fh.flush()
         os.fsync(fh.fileno())
     return fmt.AtlasTable(spec), 0
+
+
+def _damaged_record(jp: Path, spec: SweepSpec, exc: Exception) -> AtlasError:
+    """The error for a journal whose replay failed with ``exc``: its first line that
+    :func:`record_problem` refuses, found by reading it again (once, on failure only)."""
+    with jp.open("rb") as fh:
+        next(fh, None)  # the header, read already
+        for n, raw in enumerate(fh, start=2):
+            try:
+                problem = record_problem(json.loads(raw), spec)
+            except ValueError:
+                break  # a last line cut by a kill: the replay skipped it
+            if problem:
+                return AtlasError(
+                    f"{jp}, line {n}, is damaged ({problem}); remove the journal "
+                    "to start the sweep over"
+                )
+    return AtlasError(
+        f"{jp} holds a record that cannot be replayed ({type(exc).__name__}: {exc}); remove "
+        "the journal to start the sweep over"
+    )
 
 
 def journal_hint(path: Path) -> str:

@@ -1,0 +1,202 @@
+"""Atlases and journals fuzzed: a damaged journal line or atlas file is an AtlasError naming
+the file (and the line, the key), from ``pydrill.Atlas``, ``pydrill atlas info/query/export``,
+``pydrill sweep --resume`` and its ``--dry-run``; never a KeyError, TypeError, IndexError or
+OverflowError from inside the replay, and never a record silently written to another point.
+The cases are those a by-hand search found (57 journal damages, each with and without the
+atlas; some 250 random ones), kept as specific examples."""
+
+import copy
+import json
+
+import h5py
+import numpy as np
+import pytest
+
+import pydrill
+from pydrill import cli
+from pydrill.journal import AtlasError
+from pydrill.sweep import run_sweep
+from pydrill.sweep_plan import plan_sweep
+from pydrill.sweep_points import evaluate_point
+
+SPEC = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [40.0, 100.0, 160.0]
+torque = [6.0, 8.3]
+[simulation]
+t_end = 50.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+@pytest.fixture(scope="module")
+def spec():
+    return pydrill.parse_spec(SPEC)
+
+
+@pytest.fixture(scope="module")
+def records(spec):
+    """Every point's journal record, as a sweep writes them."""
+    return [json.loads(json.dumps(evaluate_point(spec, i))) for i in range(spec.size)]
+
+
+@pytest.fixture(scope="module")
+def reference(spec, tmp_path_factory):
+    out = tmp_path_factory.mktemp("ref") / "ref.h5"
+    run_sweep(spec, out, serial=True)
+    return out
+
+
+def interrupted(tmp_path, spec, records, damage=None, line=None, atlas=True):
+    """An atlas (all points missing, as a sweep killed before its first flush leaves it, or
+    none with ``atlas=False``) and its journal of every record, the first one changed by
+    ``damage(record)`` or replaced by the text ``line``."""
+    out = tmp_path / "a.h5"
+    if atlas:
+        run_sweep(spec, out, serial=True)
+        with h5py.File(out, "r+") as f:
+            f["status"][...] = 0
+    lines = [json.dumps(r) for r in records]
+    if damage is not None:
+        rec = copy.deepcopy(records[0])
+        damage(rec)
+        lines[0] = json.dumps(rec)
+    if line is not None:
+        lines[0] = line
+    journal = tmp_path / "a.h5.journal"
+    journal.write_text(
+        "".join(x + "\n" for x in [json.dumps({"spec_digest": spec.digest}), *lines])
+    )
+    return out, journal
+
+
+def _set(path, value):
+    def damage(rec):
+        table = rec
+        for key in path[:-1]:
+            table = table[key]
+        table[path[-1]] = value
+
+    return damage
+
+
+DAMAGED_LINES = {
+    # name: (how, what the refusal says after "line 2, is damaged (")
+    "a list": (None, "[]", r"\[\] is not a point's record"),
+    "a number": (None, "7", r"7 is not a point's record"),
+    "i = -1": (_set(["i"], -1), None, r"point i = -1 is not allowed: an integer 0 \.\.\. 5"),
+    "i = 6": (_set(["i"], 6), None, r"point i = 6 is not allowed"),
+    "i = 10**30": (_set(["i"], 10**30), None, r"point i = 1000000000000000000000000000000"),
+    "i = 2.5": (_set(["i"], 2.5), None, r"point i = 2\.5 is not allowed"),
+    "i = true": (_set(["i"], True), None, r"point i = True is not allowed"),
+    "i = '3'": (_set(["i"], "3"), None, r"point i = '3' is not allowed"),
+    "status": (_set(["status"], "weird"), None, r"status = 'weird' is not one of missing"),
+    "status list": (_set(["status"], []), None, r"status = \[\] is not one of"),
+    "message": (_set(["message"], 5), None, r"message = 5 is not text"),
+    "runs": (_set(["runs"], []), None, r"runs = \[\] is not a table of runs"),
+    "run": (_set(["runs", "rest"], 5), None, r"runs\.rest = 5 is not a run"),
+    "regime": (_set(["runs", "rest", "regime"], "wobbly"), None, r"runs\.rest\.regime = 'wob"),
+    "caveat": (_set(["runs", "rest", "caveat"], "meh"), None, r"runs\.rest\.caveat = 'meh'"),
+    "metric": (
+        _set(["runs", "rest", "bit_mean"], "abc"),
+        None,
+        r"runs\.rest\.bit_mean = 'abc' is not",
+    ),
+    "count": (
+        _set(["runs", "rest", "stick_events"], 10**30),
+        None,
+        r"runs\.rest\.stick_events = 1000",
+    ),
+    "stability": (_set(["stability"], "x"), None, r"stability = 'x' is not a table"),
+    "omega_eq": (
+        _set(["stability", "omega_eq"], "abc"),
+        None,
+        r"stability\.omega_eq = 'abc' is not",
+    ),
+    "unstable": (_set(["stability", "unstable"], [10**30]), None, r"stability\.unstable = 1000"),
+    "eigenvalues": (
+        _set(["stability", "eigenvalues"], [[1, 2]]),
+        None,
+        r"stability\.eigenvalues = \[\[",
+    ),
+    "coexistence": (_set(["coexistence"], 500), None, r"coexistence = 500 is not one of true"),
+}
+
+
+@pytest.mark.parametrize("name", list(DAMAGED_LINES))
+def test_a_damaged_journal_line_is_refused_naming_line_and_key(name, tmp_path, spec, records):
+    """Each of these was a KeyError, TypeError, AttributeError, ValueError, IndexError or
+    OverflowError from inside the replay (AtlasTable.apply_all), or, for i = -1, 2.5 or true,
+    a record silently stored at another point; a message not text failed the atlas's write
+    half-way. Now --resume refuses, and writes nothing: the atlas stays as it was."""
+    damage, line, message = DAMAGED_LINES[name]
+    out, _ = interrupted(tmp_path, spec, records, damage, line)
+    before = out.read_bytes()
+    with pytest.raises(AtlasError, match=rf"a\.h5\.journal, line 2, is damaged \({message}"):
+        run_sweep(spec, out, resume=True, serial=True)
+    assert out.read_bytes() == before
+
+
+@pytest.mark.parametrize("name", ["a list", "i = 6", "i = 10**30", "i = '3'", "metric"])
+def test_a_journal_alone_that_is_damaged_leaves_no_atlas(name, tmp_path, spec, records):
+    """Without its atlas, --resume created an empty atlas before the replay failed."""
+    damage, line, message = DAMAGED_LINES[name]
+    out, _ = interrupted(tmp_path, spec, records, damage, line, atlas=False)
+    with pytest.raises(AtlasError, match=rf"line 2, is damaged \({message}"):
+        run_sweep(spec, out, resume=True, serial=True)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("name", ["a list", "i = 6", "i = 10**30", "i = '3'", "i = 2.5"])
+def test_a_damaged_journal_line_in_a_dry_run(name, tmp_path, spec, records, capsys):
+    """plan_sweep (``pydrill sweep --resume --dry-run``) marked ``done[rec["i"]]``: an
+    IndexError or TypeError traceback."""
+    damage, line, message = DAMAGED_LINES[name]
+    out, _ = interrupted(tmp_path, spec, records, damage, line)
+    with pytest.raises(AtlasError, match=rf"line 2, is damaged \({message}"):
+        plan_sweep(spec, out, resume=True)
+    (tmp_path / "s.toml").write_text(SPEC)
+    args = ["sweep", str(tmp_path / "s.toml"), "--out", str(out), "--resume", "--dry-run"]
+    assert cli.main(args) == 2
+    assert "line 2, is damaged" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("header", ["[]", "5", '"x"'])
+def test_a_journal_header_that_is_no_table_is_refused(header, tmp_path, spec, records):
+    """A first line of JSON that is not an object was an AttributeError ('list' object has
+    no attribute 'get')."""
+    out, journal = interrupted(tmp_path, spec, records)
+    journal.write_text(header + "\n" + journal.read_text().split("\n", 1)[1])
+    with pytest.raises(AtlasError, match=r"a\.h5\.journal belongs to another sweep \(spec dig"):
+        run_sweep(spec, out, resume=True, serial=True)
+    with pytest.raises(AtlasError, match=r"belongs to another sweep"):
+        plan_sweep(spec, out, resume=True)
+
+
+@pytest.mark.parametrize("i", ['"3"', "2.5", "true", "NaN", "1" + "0" * 30, "-1"])
+def test_atlas_info_counts_a_journal_whatever_its_indices(i, tmp_path, spec, records, capsys):
+    """journaled() read '{"i": "3", ...}' with int() (a ValueError: Atlas.summary and
+    'pydrill atlas info' failed with "invalid literal for int()") and '{"i": 1e30' into an
+    int64 array (OverflowError). An index that names no point is not counted."""
+    out, journal = interrupted(tmp_path, spec, records)
+    text = journal.read_text().split("\n")
+    text[1] = text[1].replace(f'{{"i": {records[0]["i"]},', f'{{"i": {i},', 1)
+    journal.write_text("\n".join(text))
+    with pydrill.Atlas(out) as atlas:
+        assert atlas.summary()["journal_points"] == spec.size - 1
+    assert cli.main(["atlas", "info", str(out)]) == 0
+
+
+def test_a_sound_journal_still_rebuilds_the_atlas(tmp_path, spec, records, reference):
+    """The checks refuse nothing a sweep writes: the replay gives the uninterrupted atlas."""
+    out, _ = interrupted(tmp_path, spec, records)
+    report = run_sweep(spec, out, resume=True, serial=True)
+    assert (report.computed, report.resumed) == (0, spec.size)
+    with h5py.File(out) as f, h5py.File(reference) as g:
+        for name in ("status", "regime", "bit_mean", "stick_events", "eigenvalues_real"):
+            np.testing.assert_array_equal(
+                np.nan_to_num(f[name][...], nan=-7), np.nan_to_num(g[name][...], nan=-7)
+            )
