@@ -69,6 +69,13 @@ __all__ = [
 ]
 
 
+#: HDF5 object versions an atlas is written with: those of HDF5 1.8 to 1.10, which every
+#: netCDF-C reader opens. "latest" wrote the objects of the writing library's own version
+#: (HDF5 2.0 in h5py 3.16), and netCDF-C on an HDF5 1.10 or 1.12 (Debian 12's ncdump, R's
+#: ncdf4, older MATLABs) refused the whole file: "NetCDF: HDF error".
+LIBVER = ("v108", "v110")
+
+
 def _chunks(shape: tuple[int, ...]) -> tuple[int, ...] | None:
     if not shape or math.prod(shape) < 64:
         return None
@@ -85,7 +92,7 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
 
 def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
     table = AtlasTable(spec)
-    with h5py.File(path, "w", libver="latest", locking=WRITER_LOCKING) as f:
+    with h5py.File(path, "w", libver=LIBVER, locking=WRITER_LOCKING) as f:
         f.attrs["format"] = FORMAT
         f.attrs["format_version"] = FORMAT_VERSION
         f.attrs["pydrill_version"] = version
