@@ -11,9 +11,10 @@ import dataclasses
 import math
 import reprlib
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
+from numpy.typing import NDArray
 
 from . import _core
 
@@ -99,8 +100,13 @@ class Params:
         """Number of drill pipes (``dof − 3``); 0 for the 2- and 3-DOF strings."""
         return max(self.dof - 3, 0)
 
-    def static_torque(self, wob: float) -> float:
-        """T_s = μ_sb · W_ob · R_b: the torque the rock holds on a still bit (N·m)."""
+    @overload
+    def static_torque(self, wob: float) -> float: ...
+    @overload
+    def static_torque(self, wob: NDArray[np.float64]) -> NDArray[np.float64]: ...
+    def static_torque(self, wob: float | NDArray[np.float64]) -> float | NDArray[np.float64]:
+        """T_s = μ_sb · W_ob · R_b: the torque the rock holds on a still bit (N·m); of each
+        weight on bit (N) for an array of them."""
         return self.mu_static * wob * self.bit_radius
 
     def replace(self, **changes: Any) -> Params:

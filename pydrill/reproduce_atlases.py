@@ -194,7 +194,7 @@ def band(a: dict[str, Any], torque: float = 8.3, wob: float = 100.0) -> dict[str
     rest = np.array(a["rest"]["regime"], dtype=object)
     eq = np.array(a["equilibrium"]["regime"], dtype=object)
     # static_torque is annotated for a float, and broadcasts over an array of W_ob as well.
-    ts = p.static_torque(w)[:, None] * np.ones((1, len(u)))  # type: ignore[arg-type,index]
+    ts = p.static_torque(w)[:, None] * np.ones((1, len(u)))
     uu = np.ones((len(w), 1)) * u[None, :]
     slip = rest == "stick-slip"
     j = int(np.argmin(np.abs(u - torque)))
@@ -280,7 +280,7 @@ def hopf_meets_band(a: dict[str, Any], delta: float) -> dict[str, Any]:
     w, u = hopf_curve_wu(p, delta, np.linspace(1e-4, 60.0, 60001))
     order = np.argsort(w)
     w, u = w[order], u[order]
-    above = u - p.static_torque(w)  # type: ignore[arg-type]  # broadcasts over W_ob
+    above = u - p.static_torque(w)  # broadcasts over W_ob
     flips = np.nonzero(np.sign(above[1:]) != np.sign(above[:-1]))[0]
     hits = []
     for i, wi in enumerate(w_ax):

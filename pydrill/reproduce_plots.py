@@ -54,7 +54,7 @@ def fig6b(out: Path, numbers: dict[str, Any]) -> Path:
         w = np.linspace(0, wob.max() * 1.02, 100)
         ax.plot(
             w,
-            p.static_torque(w),  # type: ignore[arg-type]  # broadcasts over W_ob
+            p.static_torque(w),  # broadcasts over W_ob
             color=SLIDE,
             lw=2,
             label="$u^+ = \\mu_{sb} R_b W_{ob}$ (Eq. 38)",
