@@ -387,6 +387,9 @@ class Atlas:
                 ds[name].attrs["units"] = fmt.axis_units(name)
         if "regime" in ds:  # as the atlas names them (older atlases: without a long_name)
             ds["regime"].attrs.update(fmt.regime_attrs())
+        for name, attrs in fmt.index_attrs().items():  # (older atlases: without some)
+            if name in ds:
+                ds[name].attrs.update(attrs)
         for name in COUNT_FIELDS:
             # A count's fill (-1: failed, missing, no such steady state) is not a count: read
             # as NaN, as xarray reads any CF _FillValue, so that means and exports skip it.

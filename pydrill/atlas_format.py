@@ -24,6 +24,7 @@ from .atlas_schema import (
     CAVEAT_NAMES,
     CAVEAT_TEXT,
     CAVEATS,
+    COEXISTENCE,
     EQ_FIELDS,
     FORMAT,
     FORMAT_VERSION,
@@ -36,6 +37,7 @@ from .atlas_schema import (
     STATUS,
     WRITER_LOCKING,
     axis_units,
+    index_attrs,
     regime_attrs,
 )
 from .atlas_table import AtlasTable
@@ -49,6 +51,7 @@ __all__ = [
     "CAVEATS",
     "CAVEAT_NAMES",
     "CAVEAT_TEXT",
+    "COEXISTENCE",
     "EQ_FIELDS",
     "FORMAT",
     "FORMAT_VERSION",
@@ -63,6 +66,7 @@ __all__ = [
     "AtlasTable",
     "axis_units",
     "create",
+    "index_attrs",
     "read_table",
     "regime_attrs",
     "write",
@@ -130,10 +134,12 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
         init.make_scale("initial")
         eq = f.create_dataset("equilibrium", data=np.arange(N_EQ, dtype="i1"))
         eq.make_scale("equilibrium")
-        eq.attrs["long_name"] = "steady state, fastest first"
         k = spec.record["eigenvalues"]
         ev = f.create_dataset("eigenvalue", data=np.arange(k, dtype="i2"))
         ev.make_scale("eigenvalue")
+        cf = index_attrs()
+        for ds in (init, eq, ev):
+            ds.attrs.update(cf[ds.name.lstrip("/")])
 
         def make(name, data, extra, **attrs):
             # A fresh table holds one value everywhere: made the fill value, no chunk is
@@ -170,13 +176,7 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
             reg.dims[axis].attach_scale(scale)
         reg.dims[len(scales)].attach_scale(init)
         reg.attrs.update(regime_attrs())
-        make(
-            "status",
-            table.status,
-            [],
-            flag_values=np.array(list(STATUS.values()), "u1"),
-            flag_meanings=" ".join(STATUS),
-        )
+        make("status", table.status, [], **cf["status"])
         # Empty until a point fails (an unwritten string reads as ""): creating 10^6 empty
         # strings took 0.4 s.
         msg = f.create_dataset("message", shape=table.message.shape, dtype=h5py.string_dtype())
@@ -204,12 +204,7 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
             units="rad/s",
             long_name="leading eigenvalues, imaginary part",
         )
-        make(
-            "coexistence",
-            table.coexistence,
-            [],
-            long_name="1 if rest and equilibrium starts end in different regimes, -1 unknown",
-        )
+        make("coexistence", table.coexistence, [], **cf["coexistence"])
         _make_caveat(f, spec, table.caveat)
 
 

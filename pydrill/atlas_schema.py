@@ -130,6 +130,31 @@ def axis_units(name: str) -> str:
     return " ".join(terms)
 
 
+#: what ``coexistence`` says, by its code (the CSV export's ``coexistence_name``)
+COEXISTENCE = {"unknown": -1, "no-disagreement": 0, "starts-disagree": 1}
+
+
+def index_attrs() -> dict[str, dict[str, Any]]:
+    """The CF attributes of the variables that are neither axes nor per-run fields: the
+    index dimensions, the point status and the coexistence flag. A CF checker asks for a
+    ``long_name`` and ``units`` on each coordinate variable, and a flag's meanings."""
+    return {
+        "initial": {"long_name": "initial condition of the runs (start)"},
+        "equilibrium": {"long_name": "steady state, fastest first", "units": "1"},
+        "eigenvalue": {"long_name": "eigenvalue, by decreasing real part", "units": "1"},
+        "status": {
+            "long_name": "whether the point was computed",
+            "flag_values": np.array(list(STATUS.values()), dtype="u1"),
+            "flag_meanings": " ".join(STATUS),
+        },
+        "coexistence": {
+            "long_name": "1 if rest and equilibrium starts end in different regimes, -1 unknown",
+            "flag_values": np.array(list(COEXISTENCE.values()), dtype="i1"),
+            "flag_meanings": " ".join(COEXISTENCE),
+        },
+    }
+
+
 def regime_attrs() -> dict[str, Any]:
     """The CF attributes of ``regime``: its codes named as pydrill names the regimes
     (``stick-slip``: CF's flag_meanings are separated by blanks only), in every format."""

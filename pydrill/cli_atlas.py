@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 import textwrap
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -412,7 +413,12 @@ def _cmd_export(args: argparse.Namespace) -> int:
     with Atlas(args.atlas) as atlas:
         ds = atlas.to_xarray()
         if out.suffix.lower() == ".nc":
-            ds.load().to_netcdf(out, engine="h5netcdf")
+            with warnings.catch_warnings():
+                # h5netcdf warns that an enum variable's default fill (0) is a regime's code
+                # (steady): it masks nothing here, every element is written and no _FillValue
+                # attribute is (netCDF-C's ncdump, netCDF4 and xarray read 0 as steady).
+                warnings.filterwarnings("ignore", "Creating variable with default fill_value 0")
+                ds.load().to_netcdf(out, engine="h5netcdf", encoding=_netcdf_encoding(ds))
         else:  # .csv, as _export_path allows
             ds = ds.load()
             keep = [
@@ -433,8 +439,21 @@ def _cmd_export(args: argparse.Namespace) -> int:
     return 0
 
 
-#: what ``coexistence`` says, by its code
-COEXISTENCE_NAMES = {1: "starts-disagree", 0: "no-disagreement", -1: "unknown"}
+def _netcdf_encoding(ds) -> dict[str, dict[str, Any]]:
+    """How the .nc export stores what xarray would store otherwise: ``regime`` as a named
+    netCDF enum type, ``regime_t`` (netCDF-C before 4.9.2 cannot read a variable whose enum
+    type has no name, as in the atlas: Debian 12's ncdump left ``regime`` out), and the
+    coordinates without a ``_FillValue`` (xarray gives float ones NaN; CF coordinates have no
+    missing values)."""
+    import numpy as np
+
+    from . import atlas_format as fmt
+
+    encoding: dict[str, dict[str, Any]] = {name: {"_FillValue": None} for name in ds.coords}
+    if "regime" in ds:
+        enum = {"enum": dict(fmt.REGIMES), "enum_name": "regime_t"}
+        encoding["regime"] = {"dtype": np.dtype("i1", metadata=enum)}
+    return encoding
 
 
 def _name_codes(table) -> None:
@@ -447,7 +466,7 @@ def _name_codes(table) -> None:
         "regime": fmt.REGIME_NAMES,
         "caveat": {c: n or "none" for c, n in fmt.CAVEAT_NAMES.items()},
         "status": {c: n for n, c in fmt.STATUS.items()},
-        "coexistence": COEXISTENCE_NAMES,
+        "coexistence": {c: n for n, c in fmt.COEXISTENCE.items()},  # its flag_meanings
     }
     for column, meaning in names.items():
         if column not in table:
