@@ -2,9 +2,9 @@
 
 One file per sweep. The sweep's axes are HDF5 dimension scales (plus ``initial``,
 ``equilibrium`` and ``eigenvalue``), so the file opens in xarray (``engine="h5netcdf"``) with the
-right coordinates. ``regime`` is an HDF5 enumeration; everything is chunked and compressed. The
-spec text, its digest, the model parameters and the pydrill version are root attributes;
-``status`` says, point by point, what has been computed.
+right coordinates. ``regime`` is an HDF5 enumeration (of the named type ``regime_t``);
+everything is chunked and compressed. The spec text, its digest, the model parameters and the
+pydrill version are root attributes; ``status`` says, point by point, what has been computed.
 """
 
 from __future__ import annotations
@@ -96,7 +96,11 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
 
 def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
     table = AtlasTable(spec)
-    with h5py.File(path, "w", libver=LIBVER, locking=WRITER_LOCKING) as f:
+    # Objects in creation order, the regime's named type first: netCDF-C reads them in that
+    # order, and before 4.9.2 (Debian 12's 4.9.0) it dropped a variable whose enum type has
+    # no name, or whose type it met only after it (in alphabetical order, "regime" < "regime_t").
+    with h5py.File(path, "w", libver=LIBVER, locking=WRITER_LOCKING, track_order=True) as f:
+        f["regime_t"] = h5py.enum_dtype(REGIMES, basetype="i1")
         f.attrs["format"] = FORMAT
         f.attrs["format_version"] = FORMAT_VERSION
         f.attrs["pydrill_version"] = version
@@ -162,11 +166,10 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
                 ds.attrs[key] = value
             return ds
 
-        enum = h5py.enum_dtype(REGIMES, basetype="i1")
         reg = f.create_dataset(
             "regime",
             shape=table.regime.shape,
-            dtype=enum,
+            dtype=f["regime_t"],
             chunks=_chunks(table.regime.shape),
             compression="gzip" if _chunks(table.regime.shape) else None,
             compression_opts=GZIP_LEVEL if _chunks(table.regime.shape) else None,

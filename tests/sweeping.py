@@ -63,7 +63,11 @@ initial = ["rest", "equilibrium"]
 
 def atlas_arrays(path):
     with h5py.File(path, "r") as f:
-        return {name: f[name][...] for name in f if name not in ("wall_time",)}
+        return {
+            name: f[name][...]
+            for name in f
+            if isinstance(f[name], h5py.Dataset) and name != "wall_time"
+        }
 
 
 def same_atlas(a, b):
