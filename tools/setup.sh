@@ -27,6 +27,11 @@ if ! "$python" -c 'import venv, ensurepip' >/dev/null 2>&1; then packages+=(pyth
 if ! "$python" -c 'import sysconfig, os, sys; sys.exit(not os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h")))' >/dev/null 2>&1; then
   packages+=(python3-dev)
 fi
+# For the tests (--cpp) only, and only where it can be installed: Debian's netCDF-C tools,
+# whose ncdump tests/test_atlas_netcdf.py reads atlases with (skipped without it).
+if ((want_cpp)) && { [ "$(id -u)" = 0 ] || { command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; }; }; then
+  packages+=(netcdf-bin)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
