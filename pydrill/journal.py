@@ -230,23 +230,28 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
             import h5py
 
             with h5py.File(out, "r") as f:
-                if f.attrs.get("format") != fmt.FORMAT:
+                if not _is_text(f.attrs.get("format"), fmt.FORMAT):
                     raise AtlasError(f"{out} exists and is not a pydrill atlas; not touching it")
                 digest = f.attrs.get("spec_digest")
                 theirs = (f.attrs.get("spec"), f.attrs.get("tally") or None)
-            if digest != spec.digest:
-                raise AtlasError(
-                    f"{out} holds a different sweep ({_what_differs(spec, *theirs)}); choose "
-                    "another --out or remove it"
-                )
+                if not _is_text(digest, spec.digest):
+                    raise AtlasError(
+                        f"{out} holds a different sweep ({_what_differs(spec, *theirs, digest)})"
+                        "; choose another --out or remove it"
+                    )
+                problem = layout_problem(f, spec)
+                if problem:
+                    raise _Damaged(problem)
             table = fmt.read_table(out, spec)
         except AtlasError:
             raise
-        except (OSError, KeyError, ValueError):
+        # RuntimeError: h5py's for a damaged B-tree or checksum; TypeError, AttributeError: a
+        # dataset replaced by a group, an attribute of another type
+        except (OSError, KeyError, ValueError, TypeError, AttributeError, RuntimeError) as exc:
             if not jp.exists():
+                what = str(exc) if isinstance(exc, _Damaged) else "not a readable HDF5 atlas"
                 raise AtlasError(
-                    f"{out} is damaged (not a readable HDF5 atlas) and has no journal to "
-                    "rebuild it from"
+                    f"{out} is damaged ({what}) and has no journal to rebuild it from"
                 ) from None
     if not out.exists():
         # A journal alone (the atlas was removed, or a kill came before it was made): say so,
@@ -271,6 +276,95 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
     return table
 
 
+class _Damaged(ValueError):
+    """An atlas whose layout is not the one its spec makes (:func:`layout_problem`)."""
+
+
+def _is_text(value: Any, text: str) -> bool:
+    """``value == text`` for an attribute of any type (an array's == is no bool)."""
+    return isinstance(value, str) and value == text
+
+
+#: the root attributes atlas_format.create writes as text (one missing is allowed: an
+#: atlas written before it was)
+_TEXT_ATTRS = ("format", "pydrill_version", "spec", "tally", "spec_digest", "params", "axes")
+_TEXT_ATTRS += ("fixed", "Conventions", "title", "source", "references")
+
+
+def layout_problem(f: Any, spec: SweepSpec) -> str | None:
+    """What in the open atlas ``f`` (an ``h5py.File``) differs from the layout that
+    ``atlas_format.create`` makes for ``spec``, or None: every dataset there, a dataset (not
+    a group) of its shape and kind of number; the axes, starts, status, regime and caveat
+    codes those of the spec and schema. A file that passes reads into an ``AtlasTable``,
+    and a sweep or a query finds what it expects in it (a dataset of the wrong shape or type
+    was a ValueError, TypeError or IndexError from deep inside them)."""
+    import h5py
+
+    shape, n_init = spec.shape, len(spec.initials)
+    eig = (*shape, fmt.N_EQ, spec.record["eigenvalues"])
+    expected: dict[str, tuple[tuple[int, ...], str]] = {
+        "status": (shape, "iu"),
+        "message": (shape, "OSU"),
+        "regime": ((*shape, n_init), "iu"),
+        "coexistence": (shape, "iu"),
+        "eigenvalues_real": (eig, "iuf"),
+        "eigenvalues_imag": (eig, "iuf"),
+        "caveat": ((*shape, n_init), "iu"),
+        **{name: ((*shape, n_init), "iuf") for name in fmt.RUN_FIELDS},
+        **{name: ((*shape, fmt.N_EQ), "iuf") for name in fmt.EQ_FIELDS},
+    }
+    optional = {*fmt.ADDED_RUN_FIELDS, "caveat"}  # atlases written before they existed
+    if "spec" not in f.attrs:
+        return "no attribute spec (the sweep it holds)"
+    for name in _TEXT_ATTRS:
+        if name in f.attrs and not isinstance(f.attrs[name], str):
+            return f"attribute {name} = {_show(f.attrs[name])} is not text"
+    version = f.attrs.get("format_version", 0)
+    if isinstance(version, bool) or not isinstance(version, int | np.integer):
+        return f"attribute format_version = {_show(version)} is not an integer"
+    for name in ("equilibrium", "eigenvalue"):  # the scales of the steady states' datasets
+        if not isinstance(f.get(name), h5py.Dataset):
+            return f"no dataset {name}"
+    for name, (want, kinds) in expected.items():
+        ds = f.get(name)
+        if ds is None and name in optional:
+            continue
+        if not isinstance(ds, h5py.Dataset):
+            return f"no dataset {name}" if ds is None else f"{name} is not a dataset"
+        if ds.shape != want:
+            return f"{name} has shape {ds.shape}, not {want}"
+        if ds.dtype.kind not in kinds:
+            return f"{name} holds {ds.dtype}, not numbers" if kinds != "OSU" else f"{name}: no text"
+    try:
+        axes = json.loads(f.attrs.get("axes"))
+    except (TypeError, ValueError):
+        axes = None
+    if axes != list(spec.axes):
+        return f"attribute axes = {_show(f.attrs.get('axes'))} is not {json.dumps(list(spec.axes))}"
+    for name, values in spec.axes.items():
+        ds = f.get(name)
+        if (
+            not isinstance(ds, h5py.Dataset)
+            or ds.shape != values.shape
+            or ds.dtype.kind not in "iuf"
+            or not np.array_equal(ds[...], values)
+        ):
+            return f"axis {name} is not the spec's {len(values)} values"
+    ds = f.get("initial")
+    starts = ds[...].tolist() if isinstance(ds, h5py.Dataset) and ds.ndim == 1 else None
+    if starts is None or [s.decode() if isinstance(s, bytes) else s for s in starts] != list(
+        spec.initials
+    ):
+        return f"initial is not the spec's starts, {', '.join(spec.initials)}"
+    coded = {"status": fmt.STATUS, "regime": fmt.REGIMES, "caveat": fmt.CAVEATS}
+    coded["coexistence"] = {"unknown": -1, "no": 0, "yes": 1}
+    for name, codes in coded.items():
+        if name in f and not np.all(np.isin(f[name][...], list(codes.values()))):
+            names = ", ".join(n or "none" for n in codes)
+            return f"{name} holds codes other than those of {names}"
+    return None
+
+
 def _journal_digest(jp: Path) -> str | None:
     """The spec digest in a journal's first line; None if it has none readable."""
     try:
@@ -280,9 +374,9 @@ def _journal_digest(jp: Path) -> str | None:
         return None
 
 
-def _what_differs(spec: SweepSpec, text: Any, tally: Any) -> str:
+def _what_differs(spec: SweepSpec, text: Any, tally: Any, digest: Any = None) -> str:
     """How the atlas's sweep (its spec ``text``) differs from ``spec``, key by key; its digest
-    when its spec cannot be read."""
+    when its spec cannot be read; that its ``digest`` is not its spec's if they are the same."""
     from .spec import parse_spec
 
     try:
@@ -292,6 +386,11 @@ def _what_differs(spec: SweepSpec, text: Any, tally: Any) -> str:
     changes = [c.replace(" here,", " in this spec,").replace(" there", " in the atlas")
                for c in spec.differences(stored)]  # fmt: skip
     shown = "; ".join(changes[:4]) + (f"; and {len(changes) - 4} more" if len(changes) > 4 else "")
+    if not shown and stored.digest == spec.digest:
+        return (
+            f"its spec is this one, but its spec_digest {_show(digest)} is not that spec's: the "
+            "file was changed after pydrill wrote it"
+        )
     return shown or f"spec digest {stored.digest}, this spec {spec.digest}"
 
 
@@ -346,6 +445,8 @@ def prepare(
 def _damaged_record(jp: Path, spec: SweepSpec, exc: Exception) -> AtlasError:
     """The error for a journal whose replay failed with ``exc``: its first line that
     :func:`record_problem` refuses, found by reading it again (once, on failure only)."""
+    if not jp.exists():  # (the atlas's own table failed: read_existing checks its layout)
+        return AtlasError(f"cannot replay into {jp.with_suffix('')}: {type(exc).__name__}: {exc}")
     with jp.open("rb") as fh:
         next(fh, None)  # the header, read already
         for n, raw in enumerate(fh, start=2):

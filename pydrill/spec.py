@@ -196,6 +196,9 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     A spec may build its string from a tally (``[model] tally = "path.toml"``, resolved against
     ``base``); the tally's text travels with the spec (``tally_text``) so that workers on other
     machines and later readers of the atlas need no file."""
+    if not isinstance(text, str):  # e.g. an atlas's spec attribute rewritten as a number
+        shown = repr(text) if len(repr(text)) <= 60 else repr(text)[:57] + "..."
+        raise SpecError(f"the spec is {shown} ({type(text).__name__}), not TOML text (a str)")
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

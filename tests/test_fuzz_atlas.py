@@ -200,3 +200,143 @@ def test_a_sound_journal_still_rebuilds_the_atlas(tmp_path, spec, records, refer
             np.testing.assert_array_equal(
                 np.nan_to_num(f[name][...], nan=-7), np.nan_to_num(g[name][...], nan=-7)
             )
+
+
+# -- damaged atlas files --------------------------------------------------------------------
+
+
+def _replace(name, data):
+    def damage(f):
+        del f[name]
+        f[name] = data
+
+    return damage
+
+
+def _write(name, value):
+    def damage(f):
+        f[name][...] = value
+
+    return damage
+
+
+def _attr(name, value):
+    def damage(f):
+        f.attrs[name] = value
+
+    return damage
+
+
+DAMAGED_ATLASES = {
+    # name: (damage, what the refusal names)
+    "status of another shape": (_replace("status", np.ones((2, 2), "u1")), r"status has shape"),
+    "status a scalar": (_replace("status", np.uint8(1)), r"status has shape \(\), not \(3, 2\)"),
+    "status a group": (lambda f: (f.__delitem__("status"), f.create_group("status")), "status is"),
+    "status code 7": (_write("status", 7), r"status holds codes other than those of missing"),
+    "regime code 99": (_write("regime", 99), r"regime holds codes other than"),
+    "regime as floats": (_replace("regime", np.zeros((3, 2, 2))), r"regime holds float64"),
+    "bit_mean of another shape": (_replace("bit_mean", np.zeros(2)), r"bit_mean has shape"),
+    "caveat of another shape": (_replace("caveat", np.zeros(3, "i1")), r"caveat has shape"),
+    "omega_eq of another shape": (_replace("omega_eq", np.zeros(3)), r"omega_eq has shape"),
+    "coexistence NaN": (_replace("coexistence", np.full((3, 2), np.nan)), r"coexistence holds"),
+    "wob values": (_write("wob", [1.0, 2.0, 3.0]), r"axis wob is not the spec's 3 values"),
+    "starts": (_replace("initial", np.array([1, 2])), r"initial is not the spec's starts"),
+    "axes attribute": (_attr("axes", 5), r"attribute axes = np\.int64\(5\) is not text"),
+    "format_version": (_attr("format_version", np.void(b"\x00")), r"attribute format_version = np"),
+    "title": (_attr("title", np.arange(3)), r"attribute title = array\(\[0, 1, 2\]\) is not text"),
+    "no eigenvalue scale": (lambda f: f.__delitem__("eigenvalue"), r"no dataset eigenvalue"),
+}
+
+
+def damaged_copy(tmp_path, reference, damage):
+    out = tmp_path / "a.h5"
+    out.write_bytes(reference.read_bytes())
+    with h5py.File(out, "r+") as f:
+        damage(f)
+    return out
+
+
+@pytest.mark.parametrize("name", list(DAMAGED_ATLASES))
+def test_resume_refuses_a_damaged_atlas_without_journal(name, tmp_path, spec, reference):
+    """A dataset of another shape was a ValueError or IndexError from inside the replay; a
+    group for a dataset, an attribute of another type a TypeError; codes that are none (status
+    7, regime 99) were left as they were, and --resume called the atlas complete. Now each is
+    refused naming the file and what is wrong, and the file is left untouched."""
+    damage, what = DAMAGED_ATLASES[name]
+    out = damaged_copy(tmp_path, reference, damage)
+    before = out.read_bytes()
+    with pytest.raises(AtlasError, match=rf"a\.h5 is damaged \({what}.*\) and has no journal"):
+        run_sweep(spec, out, resume=True, serial=True)
+    with pytest.raises(AtlasError, match=r"a\.h5 is damaged"):
+        plan_sweep(spec, out, resume=True)
+    assert out.read_bytes() == before
+
+
+@pytest.mark.parametrize("name", ["status of another shape", "regime code 99", "wob values"])
+def test_resume_rebuilds_a_damaged_atlas_from_its_journal(name, tmp_path, spec, records, reference):
+    damage, _ = DAMAGED_ATLASES[name]
+    out = damaged_copy(tmp_path, reference, damage)
+    (tmp_path / "a.h5.journal").write_text(
+        "".join(json.dumps(x) + "\n" for x in [{"spec_digest": spec.digest}, *records])
+    )
+    report = run_sweep(spec, out, resume=True, serial=True)
+    assert (report.computed, report.resumed) == (0, spec.size)
+    with h5py.File(out) as f, h5py.File(reference) as g:
+        for ds in ("status", "regime", "wob", "bit_mean"):
+            np.testing.assert_array_equal(
+                np.nan_to_num(f[ds][...], nan=-7), np.nan_to_num(g[ds][...], nan=-7)
+            )
+
+
+def test_an_atlas_whose_spec_digest_was_changed_says_so(tmp_path, spec, reference):
+    """The refusal read 'holds a different sweep (spec digest dd1f..., this spec dd1f...)':
+    the same digest twice."""
+    out = damaged_copy(tmp_path, reference, _attr("spec_digest", "0" * 16))
+    with pytest.raises(AtlasError, match=r"its spec is this one, but its spec_digest '0000"):
+        run_sweep(spec, out, resume=True, serial=True)
+
+
+def test_an_atlas_whose_spec_is_no_text_is_refused_on_opening(tmp_path, reference, capsys):
+    """parse_spec(np.int64(5)) raised AttributeError from tomllib: pydrill.Atlas and every
+    'pydrill atlas' command printed a traceback."""
+    out = damaged_copy(tmp_path, reference, _attr("spec", 5))
+    with pytest.raises(AtlasError, match=r"its sweep spec .* the spec is np\.int64\(5\) \(int64\)"):
+        pydrill.Atlas(out)
+    assert cli.main(["atlas", "info", str(out)]) == 2
+    assert "not TOML text" in capsys.readouterr().err
+
+
+# What pydrill.Atlas (atlas.py) and 'pydrill atlas ...' (cli_atlas.py) still let through: their
+# fix is atlas.py's, being split this session (see the fuzzing report): Atlas.__init__ to call
+# journal.layout_problem(self._f, self.spec) after reading the spec, raising AtlasError with
+# what it returns, and to catch TypeError, AttributeError and RuntimeError with the others.
+ATLAS_PY = "atlas.py: Atlas.__init__ checks no layout; fix described in the fuzzing report"
+
+
+@pytest.mark.xfail(strict=True, reason=ATLAS_PY)
+@pytest.mark.parametrize(
+    "name", ["status a group", "axes attribute", "status code 7", "coexistence NaN", "starts"]
+)
+def test_opening_a_damaged_atlas_is_an_atlas_error(name, tmp_path, reference):
+    """Atlas(...) and a query of it: AttributeError ('Group' object has no attribute
+    'shape'), TypeError (json.loads of an int), KeyError 7 from value(), ValueError (int(NaN)),
+    or a zip() ValueError, where an AtlasError naming the file and the problem is promised."""
+    damage, what = DAMAGED_ATLASES[name]
+    out = damaged_copy(tmp_path, reference, damage)
+    with pytest.raises(AtlasError, match=rf"a\.h5 is damaged or incomplete: {what}"):
+        with pydrill.Atlas(out) as atlas:
+            atlas.value(wob=100.0, torque=8.3)
+
+
+@pytest.mark.xfail(strict=True, reason=ATLAS_PY)
+@pytest.mark.parametrize("name", ["status code 7", "title", "no eigenvalue scale"])
+def test_cli_on_a_damaged_atlas_prints_an_error_not_a_traceback(name, tmp_path, reference):
+    """'pydrill atlas query' on status 7 raised AttributeError in cli_atlas ('int' object has
+    no attribute 'replace', a KeyError(7)'s argument); 'atlas export x.nc' with an attribute
+    that is not text a TypeError from xarray's netCDF writer; a deleted dimension scale a
+    KeyError from h5py's dimension lists."""
+    damage, _ = DAMAGED_ATLASES[name]
+    out = damaged_copy(tmp_path, reference, damage)
+    query = ["atlas", "query", str(out), "--wob", "100", "--torque", "8.3"]
+    assert cli.main(query) == 2
+    assert cli.main(["atlas", "export", str(out), "--out", str(tmp_path / "x.nc")]) == 2
