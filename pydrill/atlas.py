@@ -21,7 +21,14 @@ import numpy as np
 from . import atlas_format as fmt
 from .atlas_grid import coordinate, distinct, near_enough, on_grid
 from .atlas_lock import snapshot
-from .journal import JOURNAL_SUFFIX, AtlasError, journal_hint, journaled
+from .journal import (
+    JOURNAL_SUFFIX,
+    AtlasError,
+    code_problem,
+    journal_hint,
+    journaled,
+    layout_problem,
+)
 from .spec import SpecError, parse_spec
 
 if TYPE_CHECKING:
@@ -49,6 +56,7 @@ class Atlas:
         self._image = snapshot(self.path)
         try:
             self._f = h5py.File(self._source(), "r")
+            self._objects = _Objects(self._f)
         except OSError as exc:
             raise AtlasError(
                 f"{self.path} is not a readable HDF5 atlas (truncated or corrupt?): {exc}"
@@ -72,22 +80,31 @@ class Atlas:
                     f"pydrill {__version__}: {exc}. The data are intact: read them with "
                     f"xarray.open_dataset({str(self.path)!r}, engine='h5netcdf') or h5py"
                 ) from None
-            self.axes = {name: self._f[name][...] for name in json.loads(self._f.attrs["axes"])}
+            # The file's structure against its spec's (shapes, types, axes, starts, attributes):
+            # a damaged file is refused here, naming what is wrong, not met as a TypeError or
+            # AttributeError from deep inside a query. The codes are checked where they are
+            # read (``check``): reading them all here would cost a point query 30 ms at 10^6.
+            problem = layout_problem(self._objects, self.spec, codes=False)
+            if problem:
+                raise ValueError(problem)
+            named = json.loads(self._f.attrs["axes"])
+            self.axes = {name: self._objects[name][...] for name in named}
             self.initials = [
-                s.decode() if isinstance(s, bytes) else s for s in self._f["initial"][...]
+                s.decode() if isinstance(s, bytes) else s for s in self._objects["initial"][...]
             ]
             self.version = str(self._f.attrs.get("pydrill_version", "?"))
             # Every dataset a query reads, up front: a missing one is a damaged atlas here,
             # not a KeyError from deep inside info, plot or value later.
-            lost = [name for name in _DATASETS if name not in self._f]
+            lost = [name for name in _DATASETS if name not in self._objects]
             if lost:
                 raise KeyError(f"no dataset {', '.join(lost)}")
             for name in ("status", "regime", "bit_mean"):
-                self._f[name].shape  # noqa: B018 - touch: a damaged file fails here, not later
+                self._objects[name].shape  # noqa: B018 - touch: a damaged file fails here, not later
         except AtlasError:
             self._f.close()
             raise
-        except (KeyError, OSError, ValueError) as exc:  # ValueError: bad JSON
+        # RuntimeError: h5py's, for a damaged B-tree or checksum
+        except (KeyError, OSError, ValueError, TypeError, AttributeError, RuntimeError) as exc:
             self._f.close()
             raise AtlasError(f"{self.path} is damaged or incomplete: {exc}") from None
 
@@ -114,14 +131,15 @@ class Atlas:
         """True once :meth:`close` (or the end of ``with``) has closed the file."""
         return not self._f
 
-    def _file(self) -> h5py.File:
-        """The open HDF5 file; AtlasError once closed (h5py's own error names no atlas)."""
+    def _file(self) -> _Objects:
+        """The open HDF5 file's objects; AtlasError once closed (h5py's own error names no
+        atlas)."""
         if self.closed:
             raise AtlasError(
                 f"{self.path}: this Atlas is closed; read it inside its `with` block, or open "
                 "it again with pydrill.Atlas(path)"
             )
-        return self._f
+        return self._objects
 
     def __reduce__(self) -> tuple[type[Atlas], tuple[str]]:
         # h5py files cannot be pickled: an Atlas travels as its path and opens it again.
@@ -179,7 +197,7 @@ class Atlas:
         """
         f = self._file()
         idx = self.index(method, **coords)
-        status = {v: k for k, v in fmt.STATUS.items()}[int(f["status"][idx])]
+        status = self._name(fmt.STATUS, "status", f["status"][idx])
         out: dict[str, Any] = {
             "coords": {
                 # an int on a size axis (dof, pipes), else a float
@@ -193,7 +211,8 @@ class Atlas:
             out["message"] = msg.decode() if isinstance(msg, bytes) else str(msg)
         regimes = f["regime"][idx]
         out["regime"] = {
-            init: fmt.REGIME_NAMES[int(r)] for init, r in zip(self.initials, regimes, strict=True)
+            init: self._name(fmt.REGIMES, "regime", r)
+            for init, r in zip(self.initials, regimes, strict=True)
         }
         metrics = {}
         for name in fmt.RUN_FIELDS:
@@ -209,20 +228,37 @@ class Atlas:
         ]
         n = sum(1 for w in eq["omega_eq"] if w is not None)
         out["stability"] = {k: v[:n] for k, v in eq.items()}
-        co = int(f["coexistence"][idx])
-        out["coexistence"] = None if co < 0 else bool(co)
+        co = self._name(_COEXISTENCE, "coexistence", f["coexistence"][idx])
+        out["coexistence"] = None if co == "unknown" else co == "yes"
         # Older atlases have no caveats: None, as for a run without one.
         notes = f["caveat"][idx] if "caveat" in f else [0] * len(self.initials)
         out["caveat"] = {
-            init: fmt.CAVEAT_NAMES.get(int(c)) or None
+            init: self._name(fmt.CAVEATS, "caveat", c) or None
             for init, c in zip(self.initials, notes, strict=True)
         }
         return out
+
+    def _name(self, known: dict[str, int], dataset: str, code: Any) -> str:
+        """The name of ``code`` read from ``dataset``; a code that is none of ``known`` is a
+        damaged atlas (status 7 was a KeyError from here)."""
+        for name, value in known.items():
+            if code == value:
+                return name
+        raise AtlasError(f"{self.path} is damaged or incomplete: {code_problem(dataset, known)}")
+
+    def check(self) -> None:
+        """Raise AtlasError if any status, regime, caveat or coexistence code in the atlas is
+        none that pydrill writes (what opening it leaves out, to keep point queries fast);
+        ``summary``, ``to_xarray`` and the atlas commands that read it whole call it."""
+        problem = layout_problem(self._file(), self.spec)
+        if problem:
+            raise AtlasError(f"{self.path} is damaged or incomplete: {problem}")
 
     def regimes(self, initial: str | None = None) -> np.ndarray:
         """Regime names on the whole grid for one initial condition."""
         f = self._file()
         j = self._initial_index(initial)
+        self.check()
         codes = f["regime"][..., j]
         names = np.array([fmt.REGIME_NAMES[c] for c in sorted(fmt.REGIME_NAMES)], dtype=object)
         return names[np.searchsorted(sorted(fmt.REGIME_NAMES), codes)]
@@ -254,6 +290,7 @@ class Atlas:
         """What ``pydrill atlas info`` prints, as data: axes, point status, regime counts per
         start, safe and coexistence points, version and spec digest."""
         f = self._file()
+        self.check()
         status = f["status"][...]
         codes = f["regime"][...]
         journal = self.path.with_name(self.path.name + JOURNAL_SUFFIX)
@@ -406,6 +443,35 @@ COUNT_FIELDS = tuple(
     for name, (dtype, fill, *_) in {**fmt.RUN_FIELDS, **fmt.EQ_FIELDS}.items()
     if dtype.startswith("i") and fill == -1
 )
+
+
+class _Objects:
+    """An open atlas file's datasets, each looked up once: h5py opens an object anew each time
+    it is named (0.2 ms on a 10^6-point atlas), and a point query names some 30, which opening
+    the atlas has named already to check them (6 ms, then 6 ms again, per query)."""
+
+    def __init__(self, f: h5py.File) -> None:
+        self.attrs = f.attrs
+        self._f = f
+        self._seen: dict[str, Any] = {}
+
+    def get(self, name: str) -> Any:
+        if name not in self._seen:
+            self._seen[name] = self._f.get(name)
+        return self._seen[name]
+
+    def __getitem__(self, name: str) -> Any:
+        found = self.get(name)
+        if found is None:
+            raise KeyError(f"no dataset {name}")
+        return found
+
+    def __contains__(self, name: str) -> bool:
+        return self.get(name) is not None
+
+
+#: coexistence codes, by what they say (as the CSV export names them)
+_COEXISTENCE = {"unknown": -1, "no": 0, "yes": 1}
 
 # What the queries read: a file without one of these is damaged, whatever else it holds.
 _DATASETS = (

@@ -411,6 +411,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
     if out.resolve() == Path(args.atlas).resolve():
         raise ValueError(f"--out {args.out} is the atlas itself; give another file")
     with Atlas(args.atlas) as atlas:
+        atlas.check()  # it is read whole: no code that is none may pass into the export
         ds = atlas.to_xarray()
         if out.suffix.lower() == ".nc":
             with warnings.catch_warnings():

@@ -306,14 +306,11 @@ def test_an_atlas_whose_spec_is_no_text_is_refused_on_opening(tmp_path, referenc
     assert "not TOML text" in capsys.readouterr().err
 
 
-# What pydrill.Atlas (atlas.py) and 'pydrill atlas ...' (cli_atlas.py) still let through: their
-# fix is atlas.py's, being split this session (see the fuzzing report): Atlas.__init__ to call
-# journal.layout_problem(self._f, self.spec) after reading the spec, raising AtlasError with
-# what it returns, and to catch TypeError, AttributeError and RuntimeError with the others.
-ATLAS_PY = "atlas.py: Atlas.__init__ checks no layout; fix described in the fuzzing report"
+# pydrill.Atlas and 'pydrill atlas ...' on the same damage: Atlas() checks the file's
+# structure (journal.layout_problem without the codes), a query the codes it reads, and
+# summary (atlas info) and atlas export every code (Atlas.check).
 
 
-@pytest.mark.xfail(strict=True, reason=ATLAS_PY)
 @pytest.mark.parametrize(
     "name", ["status a group", "axes attribute", "status code 7", "coexistence NaN", "starts"]
 )
@@ -328,7 +325,6 @@ def test_opening_a_damaged_atlas_is_an_atlas_error(name, tmp_path, reference):
             atlas.value(wob=100.0, torque=8.3)
 
 
-@pytest.mark.xfail(strict=True, reason=ATLAS_PY)
 @pytest.mark.parametrize("name", ["status code 7", "title", "no eigenvalue scale"])
 def test_cli_on_a_damaged_atlas_prints_an_error_not_a_traceback(name, tmp_path, reference):
     """'pydrill atlas query' on status 7 raised AttributeError in cli_atlas ('int' object has
