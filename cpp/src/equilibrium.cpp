@@ -62,21 +62,27 @@ std::vector<double> equilibrium_velocities(const Params& params, double wob, dou
   if (g.C <= 0.0) {
     omega_min = std::numeric_limits<double>::infinity();
   } else if (slope0 > g.C) {
-    omega_min = std::log(slope0 / g.C) / g.f.decay;
+    // log(δ(0)/C) as a sum of logs: δ(0) = W R (μ_s − μ_c) γ/v_f itself overflows for an
+    // extreme friction (μ_s = 1e308), and Ω_m came out inf, as if there were no damping.
+    const double log_ratio = std::log(g.f.scale) + std::log(g.f.mu_s - g.f.mu_c) +
+                             std::log(g.f.decay) - std::log(g.C);
+    omega_min = log_ratio / g.f.decay;
   }
 
   if (std::isinf(omega_min)) {
     // No damping: g falls from T_s towards the Coulomb level W R μ_c.
     if (torque < ts && torque > g.f.scale * g.f.mu_c) {
       double hi = 1.0;
-      while (g(hi) > torque) hi *= 2.0;
-      roots.push_back(bisect(g, torque, 0.0, hi));
+      // Bounded by the doubles' range: a curve that never comes down to the torque there has
+      // no steady state a double can hold (the search used to double hi to inf for ever).
+      while (g(hi) > torque && std::isfinite(hi)) hi *= 2.0;
+      if (std::isfinite(hi)) roots.push_back(bisect(g, torque, 0.0, hi));
     }
     return roots;
   }
   auto right_root = [&](double lo) {
     double hi = std::max(1.0, 2.0 * lo);
-    while (g(hi) <= torque) {
+    while (g(hi) <= torque && std::isfinite(hi)) {  // g grows at least like C·Ω: ends
       lo = hi;
       hi *= 2.0;
     }

@@ -363,3 +363,25 @@ TEST_CASE("a preset of an absurd size is refused before it is allocated", "[para
   CHECK_THROWS_WITH(preset("reduced-scale", 1'000'000'000), Catch::Contains("at most 100000"));
   CHECK(preset("reduced-scale", 100'000).dof() == 100'000);
 }
+
+TEST_CASE("an extreme static friction ends: the bit stays stuck", "[simulator][equilibrium]") {
+  // μ_s = 1e308 overflowed δ(0) = W R (μ_s − μ_c) γ/v_f to inf: equilibrium_velocities took the
+  // string for an undamped one and doubled its search bound to inf for ever (found by fuzzing;
+  // every method hung in the run's summary).
+  Params p = preset("reduced-scale", 4);
+  p.mu_static = 1e308;
+  p.top_damping = 0.0;
+  // Below T_s = 5e306 N·m the falling branch crosses u = 8.3 where the friction has decayed
+  // to the Coulomb level: two steady states, each balancing the torque.
+  for (double w : equilibrium_velocities(p, 0.5, 8.3)) {
+    CHECK(equilibrium_torque(p, 0.5, w) == Approx(8.3).epsilon(1e-9));
+  }
+  SimulationOptions o;
+  o.t_end = 1.0;
+  o.method = Method::DOP853;
+  CHECK(simulate(p, 0.5, 8.3, o).summary.regime == Regime::Stuck);  // from rest: held
+  // Far above the Coulomb level too.
+  const auto roots = equilibrium_velocities(p, 0.5, 1e300);
+  CHECK(roots.size() == 2);
+  for (double w : roots) CHECK(equilibrium_torque(p, 0.5, w) == Approx(1e300).epsilon(1e-9));
+}
