@@ -19,16 +19,10 @@ import h5py
 import numpy as np
 
 from . import atlas_format as fmt
+from .atlas_check import code_problem, layout_problem
 from .atlas_grid import coordinate, distinct, near_enough, on_grid
 from .atlas_lock import snapshot
-from .journal import (
-    JOURNAL_SUFFIX,
-    AtlasError,
-    code_problem,
-    journal_hint,
-    journaled,
-    layout_problem,
-)
+from .journal import JOURNAL_SUFFIX, AtlasError, journal_hint, journaled
 from .spec import SpecError, parse_spec
 
 if TYPE_CHECKING:

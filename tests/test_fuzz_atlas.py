@@ -307,7 +307,7 @@ def test_an_atlas_whose_spec_is_no_text_is_refused_on_opening(tmp_path, referenc
 
 
 # pydrill.Atlas and 'pydrill atlas ...' on the same damage: Atlas() checks the file's
-# structure (journal.layout_problem without the codes), a query the codes it reads, and
+# structure (atlas_check.layout_problem without the codes), a query the codes it reads, and
 # summary (atlas info) and atlas export every code (Atlas.check).
 
 
