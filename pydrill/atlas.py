@@ -22,6 +22,8 @@ from . import atlas_format as fmt
 from .atlas_check import code_problem, layout_problem
 from .atlas_grid import coordinate, distinct, near_enough, on_grid
 from .atlas_lock import snapshot
+from .atlas_xarray import COUNT_FIELDS, with_regime_names  # noqa: F401 (pydrill.atlas.*)
+from .atlas_xarray import to_xarray as _to_xarray
 from .journal import JOURNAL_SUFFIX, AtlasError, journal_hint, journaled
 from .spec import SpecError, parse_spec
 
@@ -405,38 +407,8 @@ class Atlas:
         """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates, read
         lazily. ``regime`` is an integer code; its CF attributes ``flag_values`` and
         ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable)."""
-        import xarray as xr
-
         self._file()  # closed: refused like every other read
-        ds = xr.open_dataset(self._source(), engine="h5netcdf")
-        if "message" in ds and ds["message"].dims != tuple(self.axes):
-            # Atlases written before ``message`` had its dimension scales: xarray guessed its
-            # dimensions from their lengths.
-            ds = ds.assign(message=(tuple(self.axes), ds["message"].values, ds["message"].attrs))
-        for name in self.axes:
-            if ds[name].attrs.get("units") == "SI":  # atlases written before axis_units
-                ds[name].attrs["units"] = fmt.axis_units(name)
-        if "regime" in ds:  # as the atlas names them (older atlases: without a long_name)
-            ds["regime"].attrs.update(fmt.regime_attrs())
-        for name, attrs in fmt.index_attrs().items():  # (older atlases: without some)
-            if name in ds:
-                ds[name].attrs.update(attrs)
-        for name in COUNT_FIELDS:
-            # A count's fill (-1: failed, missing, no such steady state) is not a count: read
-            # as NaN, as xarray reads any CF _FillValue, so that means and exports skip it.
-            if name in ds and "_FillValue" not in ds[name].encoding:
-                count = ds[name]
-                ds[name] = count.where(count != -1)
-                ds[name].encoding.update(dtype=count.dtype, _FillValue=count.dtype.type(-1))
-        return ds
-
-
-#: integer fields whose fill, -1, marks "not measured" (not a regime code: those have names)
-COUNT_FIELDS = tuple(
-    name
-    for name, (dtype, fill, *_) in {**fmt.RUN_FIELDS, **fmt.EQ_FIELDS}.items()
-    if dtype.startswith("i") and fill == -1
-)
+        return _to_xarray(self._source(), self.axes)
 
 
 class _Objects:
@@ -492,15 +464,6 @@ def _on_grid(name: str, values: np.ndarray, value: Any) -> float:
             f"{name} = {shown} is not on the grid (nearest {near}); use method='nearest'"
         )
     return values[i].item()
-
-
-def with_regime_names(ds):
-    """``ds`` with a ``regime_name`` variable: the regime codes as their names."""
-    if "regime" not in ds:
-        return ds
-    names = {c: n for n, c in fmt.REGIMES.items()}
-    values = np.vectorize(lambda c: names.get(int(c), "?"), otypes=[object])(ds["regime"].values)
-    return ds.assign(regime_name=(ds["regime"].dims, values))
 
 
 def _clean(v: Any) -> Any:

@@ -1,0 +1,56 @@
+"""An atlas as an ``xarray.Dataset``: through h5netcdf, with what older atlases lack added
+(units, long names, flags) and each count's fill read as missing."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import atlas_format as fmt
+
+#: integer fields whose fill, -1, marks "not measured" (not a regime code: those have names)
+COUNT_FIELDS = tuple(
+    name
+    for name, (dtype, fill, *_) in {**fmt.RUN_FIELDS, **fmt.EQ_FIELDS}.items()
+    if dtype.startswith("i") and fill == -1
+)
+
+
+def to_xarray(source: Path | io.BytesIO, axes: dict[str, Any]) -> Any:
+    """``Atlas.to_xarray`` of the atlas in ``source`` (a file or the copy taken while a sweep
+    writes it), whose sweep's axes are ``axes``."""
+    import xarray as xr
+
+    ds = xr.open_dataset(source, engine="h5netcdf")
+    if "message" in ds and ds["message"].dims != tuple(axes):
+        # Atlases written before ``message`` had its dimension scales: xarray guessed its
+        # dimensions from their lengths.
+        ds = ds.assign(message=(tuple(axes), ds["message"].values, ds["message"].attrs))
+    for name in axes:
+        if ds[name].attrs.get("units") == "SI":  # atlases written before axis_units
+            ds[name].attrs["units"] = fmt.axis_units(name)
+    if "regime" in ds:  # as the atlas names them (older atlases: without a long_name)
+        ds["regime"].attrs.update(fmt.regime_attrs())
+    for name, attrs in fmt.index_attrs().items():  # (older atlases: without some)
+        if name in ds:
+            ds[name].attrs.update(attrs)
+    for name in COUNT_FIELDS:
+        # A count's fill (-1: failed, missing, no such steady state) is not a count: read
+        # as NaN, as xarray reads any CF _FillValue, so that means and exports skip it.
+        if name in ds and "_FillValue" not in ds[name].encoding:
+            count = ds[name]
+            ds[name] = count.where(count != -1)
+            ds[name].encoding.update(dtype=count.dtype, _FillValue=count.dtype.type(-1))
+    return ds
+
+
+def with_regime_names(ds):
+    """``ds`` with a ``regime_name`` variable: the regime codes as their names."""
+    if "regime" not in ds:
+        return ds
+    names = {c: n for n, c in fmt.REGIMES.items()}
+    values = np.vectorize(lambda c: names.get(int(c), "?"), otypes=[object])(ds["regime"].values)
+    return ds.assign(regime_name=(ds["regime"].dims, values))
