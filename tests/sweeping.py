@@ -2,6 +2,8 @@
 
 Not a test module: imported by them (``pythonpath = ["tests"]`` in pyproject.toml)."""
 
+import json
+import math
 import os
 import signal
 import socket
@@ -139,3 +141,29 @@ def interrupt_mid_sweep(tmp_path, sig, *extra):
     os.killpg(proc.pid, sig)
     stdout, err = proc.communicate(timeout=60)
     return proc.returncode, stdout, err, out
+
+
+def toml_value(v) -> str:
+    if isinstance(v, float) and not math.isfinite(v):
+        return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
+    if isinstance(v, dict):  # an inline table
+        return "{" + ", ".join(f"{json.dumps(k)} = {toml_value(x)}" for k, x in v.items()) + "}"
+    if isinstance(v, list):
+        return "[" + ", ".join(toml_value(x) for x in v) + "]"
+    return json.dumps(v, ensure_ascii=False)  # JSON strings, numbers and bools are TOML
+
+
+def toml(doc: dict) -> str:
+    """``doc`` as TOML, any value the tests make (NaN, inf, unicode keys) included: top-level
+    values first, then tables and arrays of tables."""
+    head, body = [], []
+    for key, value in doc.items():
+        if isinstance(value, dict):
+            body += [f"[{key}]", *(f"{json.dumps(k)} = {toml_value(v)}" for k, v in value.items())]
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            for item in value:
+                body += [f"[[{key}]]"]
+                body += [f"{json.dumps(k)} = {toml_value(v)}" for k, v in item.items()]
+        else:
+            head.append(f"{key} = {toml_value(value)}")
+    return "\n".join(head + body) + "\n"

@@ -11,6 +11,7 @@ import json
 import h5py
 import numpy as np
 import pytest
+from sweeping import SMALL
 
 import pydrill
 from pydrill import cli
@@ -19,17 +20,7 @@ from pydrill.sweep import run_sweep
 from pydrill.sweep_plan import plan_sweep
 from pydrill.sweep_points import evaluate_point
 
-SPEC = """
-[model]
-preset = "reduced-scale"
-dof = 4
-[axes]
-wob = [40.0, 100.0, 160.0]
-torque = [6.0, 8.3]
-[simulation]
-t_end = 50.0
-initial = ["rest", "equilibrium"]
-"""
+SPEC = SMALL.replace("t_end = 200.0", "t_end = 50.0")
 
 
 @pytest.fixture(scope="module")

@@ -3,7 +3,6 @@ a spec whose every point can be built; never another exception, a RuntimeWarning
 The regressions below are what a randomized search (seeded; some 76000 mutated specs and 36000
 spec + tally pairs, by hand) found; the property test is its quick, derandomized version."""
 
-import json
 import math
 import os
 from pathlib import Path
@@ -11,6 +10,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from sweeping import toml
 
 from pydrill import cli, spec_rules
 from pydrill.spec import SpecError, load_spec, parse_spec
@@ -102,23 +102,6 @@ VALUE = st.recursive(
     ),
     max_leaves=6,
 )
-
-
-def _value(v) -> str:
-    if isinstance(v, float) and not math.isfinite(v):
-        return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{json.dumps(k)} = {_value(x)}" for k, x in v.items()) + "}"
-    if isinstance(v, list):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    return json.dumps(v, ensure_ascii=False)  # JSON strings, numbers and bools are TOML
-
-
-def toml(doc: dict) -> str:
-    lines = []
-    for table, keys in doc.items():
-        lines += [f"[{table}]", *(f"{json.dumps(k)} = {_value(v)}" for k, v in keys.items())]
-    return "\n".join(lines) + "\n"
 
 
 @settings(

@@ -5,12 +5,12 @@ randomized search (seeded, some 45000 tallies by hand) found; the property test 
 derandomized version."""
 
 import copy
-import json
 import math
 
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from sweeping import toml
 
 from pydrill import cli
 from pydrill.spec import SpecError, parse_spec
@@ -28,29 +28,6 @@ BASE = {
     ],
 }
 SPEC = '[model]\ntally = "t.toml"\ntorque = 9000.0\n[axes]\nwob = [1e5]\n'
-
-
-def _value(v) -> str:
-    if isinstance(v, float) and not math.isfinite(v):
-        return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{json.dumps(k)} = {_value(x)}" for k, x in v.items()) + "}"
-    if isinstance(v, list):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    return json.dumps(v, ensure_ascii=False)  # JSON strings, numbers and bools are TOML
-
-
-def toml(doc: dict) -> str:
-    head, body = [], []
-    for key, value in doc.items():
-        if isinstance(value, dict):
-            body += [f"[{key}]", *(f"{json.dumps(k)} = {_value(v)}" for k, v in value.items())]
-        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
-            for item in value:
-                body += [f"[[{key}]]", *(f"{json.dumps(k)} = {_value(v)}" for k, v in item.items())]
-        else:
-            head.append(f"{key} = {_value(value)}")
-    return "\n".join(head + body) + "\n"
 
 
 def with_(**changes) -> dict:

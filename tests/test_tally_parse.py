@@ -2,13 +2,13 @@
 its key (the CLI: exit 2, one line, no traceback); depths and string sizes are bounded."""
 
 import copy
-import json
 import math
 import re
 import subprocess
 import sys
 
 import pytest
+from sweeping import toml, toml_value
 
 from pydrill import spec
 from pydrill import tally as tally_module
@@ -26,28 +26,6 @@ BASE = {
         {"kind": "drill-collar", "count": 2, "length": "18.6 m", "od": "6.5 in", "id": "2.8 in"},
     ],
 }
-
-
-def _value(v) -> str:
-    if isinstance(v, float) and not math.isfinite(v):
-        return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
-    if isinstance(v, dict):  # an inline table
-        return "{" + ", ".join(f"{k} = {_value(x)}" for k, x in v.items()) + "}"
-    return json.dumps(v, ensure_ascii=False)  # JSON strings, numbers and arrays are TOML
-
-
-def toml(doc: dict) -> str:
-    """``doc`` as TOML: top-level values first, then tables and arrays of tables."""
-    head, body = [], []
-    for key, value in doc.items():
-        if isinstance(value, dict):
-            body += [f"[{key}]", *(f"{k} = {_value(v)}" for k, v in value.items())]
-        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
-            for item in value:
-                body += [f"[[{key}]]", *(f"{k} = {_value(v)}" for k, v in item.items())]
-        else:
-            head.append(f"{key} = {_value(value)}")
-    return "\n".join(head + body) + "\n"
 
 
 def changed(path: str, value) -> str:
@@ -153,7 +131,7 @@ def test_an_unknown_key_in_a_table_is_refused(path, allowed):
 )
 def test_an_unphysical_value_is_refused_naming_the_key(path, value, message):
     if isinstance(value, float) and not math.isfinite(value):
-        value = _value(value)  # the TOML spelling: shown as the string the tally gave
+        value = toml_value(value)  # the TOML spelling: shown as the string the tally gave
         text = changed(path, 0.125).replace("= 0.125", f"= {value}")
         message = message.replace(f"'{value}'", repr(float(value)))
     else:
