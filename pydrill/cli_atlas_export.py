@@ -1,0 +1,91 @@
+"""``pydrill atlas export``: an atlas as a netCDF file every netCDF-4 reader takes, or as a
+CSV table with each code's name beside it."""
+
+from __future__ import annotations
+
+import argparse
+import warnings
+from pathlib import Path
+from typing import Any
+
+from .cli_options import writable_place
+
+
+def export_path(text: str) -> str:
+    """An argparse type for ``atlas export --out``: the format is the suffix."""
+    if Path(text).suffix.lower() not in (".nc", ".csv"):
+        raise argparse.ArgumentTypeError(f"{text!r}: the suffix must be .nc (netCDF) or .csv")
+    writable_place(text)
+    return text
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    from .atlas import COUNT_FIELDS, Atlas
+
+    out = Path(args.out)
+    if out.resolve() == Path(args.atlas).resolve():
+        raise ValueError(f"--out {args.out} is the atlas itself; give another file")
+    with Atlas(args.atlas) as atlas:
+        atlas.check()  # it is read whole: no code that is none may pass into the export
+        ds = atlas.to_xarray()
+        if out.suffix.lower() == ".nc":
+            with warnings.catch_warnings():
+                # h5netcdf warns that an enum variable's default fill (0) is a regime's code
+                # (steady): it masks nothing here, every element is written and no _FillValue
+                # attribute is (netCDF-C's ncdump, netCDF4 and xarray read 0 as steady).
+                warnings.filterwarnings("ignore", "Creating variable with default fill_value 0")
+                ds.load().to_netcdf(out, engine="h5netcdf", encoding=_netcdf_encoding(ds))
+        else:  # .csv, as export_path allows
+            ds = ds.load()
+            keep = [
+                v
+                for v in ds.data_vars
+                if "eigenvalue" not in ds[v].dims
+                and "equilibrium" not in ds[v].dims
+                and (ds[v].dtype.kind != "O" or v == "message")
+            ]
+            table = ds[keep].to_dataframe()
+            for name in COUNT_FIELDS:  # counts as integers, an empty cell where not measured
+                if name in table:
+                    table[name] = table[name].astype("Int64")
+            _name_codes(table)
+            table.to_csv(out)
+        ds.close()
+    print(f"wrote {out}")
+    return 0
+
+
+def _netcdf_encoding(ds) -> dict[str, dict[str, Any]]:
+    """How the .nc export stores what xarray would store otherwise: ``regime`` as a named
+    netCDF enum type, ``regime_t`` (netCDF-C before 4.9.2 cannot read a variable whose enum
+    type has no name, as in the atlas: Debian 12's ncdump left ``regime`` out), and the
+    coordinates without a ``_FillValue`` (xarray gives float ones NaN; CF coordinates have no
+    missing values)."""
+    import numpy as np
+
+    from . import atlas_format as fmt
+
+    encoding: dict[str, dict[str, Any]] = {name: {"_FillValue": None} for name in ds.coords}
+    if "regime" in ds:
+        enum = {"enum": dict(fmt.REGIMES), "enum_name": "regime_t"}
+        encoding["regime"] = {"dtype": np.dtype("i1", metadata=enum)}
+    return encoding
+
+
+def _name_codes(table) -> None:
+    """Put beside each coded column of an exported table (a DataFrame) its names: regime_name,
+    caveat_name ("none" without one), status_name and coexistence_name ("unknown" with one
+    start or a point not done), each right after its codes."""
+    from . import atlas_format as fmt
+
+    names = {
+        "regime": fmt.REGIME_NAMES,
+        "caveat": {c: n or "none" for c, n in fmt.CAVEAT_NAMES.items()},
+        "status": {c: n for n, c in fmt.STATUS.items()},
+        "coexistence": {c: n for n, c in fmt.COEXISTENCE.items()},  # its flag_meanings
+    }
+    for column, meaning in names.items():
+        if column not in table:
+            continue
+        named = table[column].map(lambda c, meaning=meaning: meaning.get(int(c), "?"))
+        table.insert(table.columns.get_loc(column) + 1, f"{column}_name", named)
