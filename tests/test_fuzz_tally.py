@@ -10,23 +10,13 @@ import math
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from sweeping import TALLY_TABLES as BASE
 from sweeping import toml
 
 from pydrill import cli
 from pydrill.spec import SpecError, parse_spec
 from pydrill.tally import TallyError, parse_tally
 
-BASE = {
-    "name": "t",
-    "top_drive": {"inertia": 2122.0, "damping": 425.0},
-    "bit": {"diameter": "12.25 in", "damping": 50.0, "mu_coulomb": 0.5, "mu_static": 0.8},
-    "damping": {"model": "stiffness-proportional", "beta": 0.2},
-    "steel": {"shear_modulus": "79.3 GPa", "density": "7850 kg/m3"},
-    "section": [
-        {"kind": "drill-pipe", "count": 100, "length": "9 m", "od": "5 in", "id": "4.408 in"},
-        {"kind": "drill-collar", "count": 2, "length": "18.6 m", "od": "6.5 in", "id": "2.8 in"},
-    ],
-}
 SPEC = '[model]\ntally = "t.toml"\ntorque = 9000.0\n[axes]\nwob = [1e5]\n'
 
 

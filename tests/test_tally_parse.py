@@ -8,24 +8,12 @@ import subprocess
 import sys
 
 import pytest
+from sweeping import TALLY_TABLES as BASE
 from sweeping import toml, toml_value
 
 from pydrill import spec
 from pydrill import tally as tally_module
 from pydrill.tally import TallyError, parse_tally
-
-# The paper's design (examples/tallies/paper-eq53.toml), as the tables a tally holds.
-BASE = {
-    "name": "t",
-    "top_drive": {"inertia": 2122.0, "damping": 425.0},
-    "bit": {"diameter": "12.25 in", "damping": 50.0, "mu_coulomb": 0.5, "mu_static": 0.8},
-    "damping": {"model": "stiffness-proportional", "beta": 0.2},
-    "steel": {"shear_modulus": "79.3 GPa", "density": "7850 kg/m3"},
-    "section": [
-        {"kind": "drill-pipe", "count": 100, "length": "9 m", "od": "5 in", "id": "4.408 in"},
-        {"kind": "drill-collar", "count": 2, "length": "18.6 m", "od": "6.5 in", "id": "2.8 in"},
-    ],
-}
 
 
 def changed(path: str, value) -> str:
