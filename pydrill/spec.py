@@ -57,6 +57,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     _simulation,
     _table,
     in_si,
+    printable,
     read_text,
 )
 
@@ -206,7 +207,8 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     unknown = set(doc) - {"model", "axes", "simulation", "record"}
     if unknown:
         raise _fail(
-            sorted(unknown)[0], "unknown section; allowed: [model], [axes], [simulation], [record]"
+            printable(sorted(unknown)[0]),
+            "unknown section; allowed: [model], [axes], [simulation], [record]",
         )
     model = _table(doc, "model")
     axes_doc, sim_doc, rec_doc = (_table(doc, k) for k in ("axes", "simulation", "record"))
@@ -221,12 +223,13 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
             if not beside.exists() and not Path(tally_path).exists():
                 raise _fail(
                     "model.tally",
-                    f"cannot read {tally_path}: there is no file {beside.absolute()}"
+                    f"cannot read {printable(tally_path)}: there is no file "
+                    f"{printable(beside.absolute())}"
                     + (
                         ""
                         if Path(tally_path).is_absolute()
                         else f" (a relative path is resolved against the spec file's folder, "
-                        f"{base.absolute()})"
+                        f"{printable(base.absolute())})"
                     ),
                 )
         tally_text = _read_tally(tally_path, base)
@@ -255,7 +258,9 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
                 "swept with dof or pipes",
             )
         if key not in allowed_axes:
-            raise _fail(f"axes.{key}", "cannot be swept; allowed: " + ", ".join(allowed_axes))
+            raise _fail(
+                f"axes.{printable(key)}", "cannot be swept; allowed: " + ", ".join(allowed_axes)
+            )
         axes[key] = _axis(key, value)
     _check_grid(axes)
     _check_axes(axes, model, dof, fixed, tally_text)
@@ -317,12 +322,13 @@ def load_spec(path: str | Path) -> SweepSpec:
     resolved next to it. Raises :class:`SpecError` naming the key at fault, before anything
     runs."""
     path = Path(path)
+    shown = printable(path)
     try:
         text = read_text(path)
     except UnicodeDecodeError:
-        raise SpecError(f"cannot read the spec {path}: not UTF-8 text") from None
+        raise SpecError(f"cannot read the spec {shown}: not UTF-8 text") from None
     except OSError as exc:
-        raise SpecError(f"cannot read the spec {path}: {exc.strerror}") from None
+        raise SpecError(f"cannot read the spec {shown}: {exc.strerror}") from None
     except TextTooLong as exc:
-        raise SpecError(f"cannot read the spec {path}: {exc}") from None
+        raise SpecError(f"cannot read the spec {shown}: {exc}") from None
     return parse_spec(text, base=path.parent)

@@ -71,6 +71,14 @@ def _fail(key: str, problem: str) -> SpecError:
     return SpecError(f"{key}: {problem}")
 
 
+def printable(text: str | Path) -> str:
+    """A path or a key the user gave, as a message shows it: as it is, or, if it holds a
+    character a terminal does not print as itself (a NUL, an escape sequence, a newline), its
+    repr: quoted, with those characters escaped (``'a\\x00b.toml'``)."""
+    text = str(text)
+    return text if text.isprintable() else repr(text)
+
+
 def in_si(key: str, name: str, value: Any) -> Any:
     """``value`` of the quantity ``name`` in SI if it is a string with a unit (refused, naming
     ``key``, if that unit does not measure it); anything else as it is, for the checks."""
@@ -216,16 +224,17 @@ def _read_tally(tally_path: Any, base: Path | None) -> str:
     path = Path(tally_path)
     if not path.is_absolute() and base is not None and (base / path).exists():
         path = base / path
+    shown = printable(tally_path)
     try:
         return read_text(path)
     except UnicodeDecodeError:
-        raise _fail("model.tally", f"cannot read {tally_path}: not UTF-8 text") from None
+        raise _fail("model.tally", f"cannot read {shown}: not UTF-8 text") from None
     except OSError as exc:
-        raise _fail("model.tally", f"cannot read {tally_path}: {exc.strerror}") from None
+        raise _fail("model.tally", f"cannot read {shown}: {exc.strerror}") from None
     except TextTooLong as exc:
-        raise _fail("model.tally", f"cannot read {tally_path}: {exc}") from None
+        raise _fail("model.tally", f"cannot read {shown}: {exc}") from None
     except ValueError as exc:  # a NUL in the name
-        raise _fail("model.tally", f"cannot read {tally_path!r}: {exc}") from None
+        raise _fail("model.tally", f"cannot read {shown}: {exc}") from None
 
 
 def _check_tally(tally_text: str) -> None:
@@ -265,7 +274,7 @@ def _check_parameters(model: dict[str, Any]) -> None:
     for key, value in model.items():
         if key not in _LISTS + _SCALARS:
             raise _fail(
-                f"model.{key}",
+                f"model.{printable(key)}",
                 "unknown parameter; allowed: preset, dof, pipes, tally, lump, wob, "
                 "torque, " + ", ".join(_LISTS + _SCALARS),
             )
@@ -367,7 +376,9 @@ def _with_defaults(doc: dict[str, Any], section: str, defaults: dict[str, Any]) 
     """A table's values over its defaults; a key it does not know is refused."""
     unknown = [key for key in doc if key not in defaults]
     if unknown:
-        raise _fail(f"{section}.{unknown[0]}", "unknown; allowed: " + ", ".join(defaults))
+        raise _fail(
+            f"{section}.{printable(unknown[0])}", "unknown; allowed: " + ", ".join(defaults)
+        )
     return {**defaults, **doc}
 
 

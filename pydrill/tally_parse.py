@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from . import units
-from .spec_rules import TextTooLong, read_text
+from .spec_rules import TextTooLong, printable, read_text
 from .tally import (
     _DEEPEST,
     KINDS,
@@ -51,7 +51,7 @@ def _table(doc: dict, key: str, allowed: tuple[str, ...]) -> dict:
 def _known(table: dict, where: str, allowed: tuple[str, ...]) -> None:
     unknown = sorted(set(table) - set(allowed))
     if unknown:
-        raise TallyError(f"{where}.{unknown[0]}: unknown; allowed: {', '.join(allowed)}")
+        raise TallyError(f"{where}.{printable(unknown[0])}: unknown; allowed: {', '.join(allowed)}")
 
 
 def _get(
@@ -143,7 +143,7 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
     unknown = set(doc) - {"top_drive", "bit", "damping", "steel", "section", "name"}
     if unknown:
         raise TallyError(
-            f"{sorted(unknown)[0]}: unknown; allowed: [top_drive], [bit], "
+            f"{printable(sorted(unknown)[0])}: unknown; allowed: [top_drive], [bit], "
             "[damping], [steel], [[section]]"
         )
     steel = _table(doc, "steel", STEEL_KEYS)
@@ -240,12 +240,13 @@ def load_tally(path: str | Path) -> Tally:
     Raises :class:`TallyError` (a ``ValueError``) naming the key at fault.
     """
     path = Path(path)
+    shown = printable(path)
     try:
         text = read_text(path)
     except UnicodeDecodeError:
-        raise TallyError(f"cannot read the tally {path}: not UTF-8 text") from None
+        raise TallyError(f"cannot read the tally {shown}: not UTF-8 text") from None
     except OSError as exc:
-        raise TallyError(f"cannot read the tally {path}: {exc.strerror}") from None
+        raise TallyError(f"cannot read the tally {shown}: {exc.strerror}") from None
     except TextTooLong as exc:
-        raise TallyError(f"cannot read the tally {path}: {exc}") from None
+        raise TallyError(f"cannot read the tally {shown}: {exc}") from None
     return parse_tally(text, name=path.stem)

@@ -14,7 +14,7 @@ from sweeping import toml
 
 from pydrill import cli, spec_rules
 from pydrill.spec import SpecError, load_spec, parse_spec
-from pydrill.tally import TallyError, load_tally
+from pydrill.tally import TallyError, load_tally, parse_tally
 
 TALLY = Path(__file__).parents[1] / "examples" / "tallies" / "paper-eq53.toml"
 
@@ -66,6 +66,86 @@ def test_a_tally_that_is_not_utf8_is_refused_naming_the_file(tmp_path, capsys):
         load_tally(bad)
     assert cli.main(["simulate", "--tally", str(bad), "--wob", "1", "--torque", "1"]) == 2
     assert f"cannot read the tally {bad}: not UTF-8 text" in capsys.readouterr().err
+
+
+def _raw_control(text: str) -> list[str]:
+    """The characters of ``text`` a terminal does not print as themselves."""
+    return [c for c in text if not c.isprintable()]
+
+
+def test_a_tally_path_with_a_nul_is_shown_escaped_not_raw(tmp_path, capsys):
+    """A tally path holding a NUL ('tally = "a\u0000b.toml"') was echoed with the raw NUL byte:
+    'pydrill sweep: error: model.tally: cannot read a<NUL>b.toml: there is no file ...'. The
+    path is now shown as its repr, the NUL as \x00; a path without one stays unquoted."""
+    spec = tmp_path / "s.toml"
+    spec.write_text(
+        '[model]\npreset = "reduced-scale"\ndof = 4\ntally = "a\\u0000b.toml"\n'
+        "[axes]\nwob = [100.0]\n[simulation]\nt_end = 10.0\n"
+    )
+    assert cli.main(["sweep", str(spec), "--out", str(tmp_path / "a.h5")]) == 2
+    err = capsys.readouterr().err
+    assert _raw_control(err.rstrip("\n")) == []
+    assert (
+        f"model.tally: cannot read 'a\\x00b.toml': there is no file '{tmp_path}/a\\x00b.toml' "
+        f"(a relative path is resolved against the spec file's folder, {tmp_path})" in err
+    )
+    assert not (tmp_path / "a.h5").exists()
+    with pytest.raises(SpecError, match=r"^model\.tally: cannot read 'a\\x00b\.toml': embedded"):
+        parse_spec('[model]\ntally = "a\\u0000b.toml"\ntorque = 1.0\n[axes]\nwob = [1.0]\n')
+
+
+_AXES = "[axes]\nwob = [1.0]\ntorque = [1.0]\n"
+
+
+@pytest.mark.parametrize(
+    ("text", "shown"),
+    [
+        ('["x\\u001b[2J"]\n' + _AXES, r"'x\x1b[2J': unknown section"),
+        ('[model]\n"x\\u0007" = 1\n' + _AXES, r"model.'x\x07': unknown parameter"),
+        (_AXES + '"q\\u0000" = [1.0]\n', r"axes.'q\x00': cannot be swept"),
+        (_AXES + '[simulation]\n"z\\n" = 1\n', r"simulation.'z\n': unknown; allowed: t_end"),
+        (_AXES + '[record]\n"r\\r" = 1\n', r"record.'r\r': unknown; allowed: stability"),
+        (
+            '[model]\ntally = "t\\u001b[31m.toml"\n' + _AXES,
+            r"model.tally: cannot read 't\x1b[31m.toml': there is no file ",
+        ),
+    ],
+)
+def test_a_key_or_path_with_control_characters_is_shown_escaped(text, shown, tmp_path):
+    """Unknown keys and tally paths were echoed raw in the refusal: an escape sequence in a
+    key ('"x\u001b[2J" = 1') cleared the terminal that printed the message."""
+    with pytest.raises(SpecError) as info:
+        parse_spec(text, base=tmp_path)
+    assert str(info.value).startswith(shown)
+    assert _raw_control(str(info.value)) == []
+
+
+@pytest.mark.parametrize(
+    ("text", "shown"),
+    [
+        ('"x\\u0000" = 1\n', r"'x\x00': unknown; allowed: [top_drive]"),
+        ('[bit]\n"y\\u001b" = 1\n', r"bit.'y\x1b': unknown; allowed: diameter"),
+    ],
+)
+def test_a_tally_key_with_control_characters_is_shown_escaped(text, shown):
+    with pytest.raises(TallyError) as info:
+        parse_tally(text)
+    assert str(info.value).startswith(shown)
+    assert _raw_control(str(info.value)) == []
+
+
+def test_a_spec_or_tally_file_name_with_control_characters_is_shown_escaped(tmp_path, capsys):
+    """load_spec and load_tally echoed the file's name raw: a newline in it split the message,
+    an escape sequence reached the terminal."""
+    name = tmp_path / "x\x1b[31m\n.toml"
+    with pytest.raises(SpecError) as info:
+        load_spec(name)
+    assert str(info.value) == f"cannot read the spec {str(name)!r}: No such file or directory"
+    with pytest.raises(TallyError) as info:
+        load_tally(name)
+    assert str(info.value) == f"cannot read the tally {str(name)!r}: No such file or directory"
+    assert cli.main(["sweep", str(name), "--dry-run"]) == 2
+    assert _raw_control(capsys.readouterr().err.rstrip("\n")) == []
 
 
 # -- the property test: any value at any key of a valid spec --------------------------------
