@@ -21,10 +21,14 @@ import numpy as np
 from . import atlas_format as fmt
 from .atlas_check import code_problem, layout_problem
 from .atlas_grid import coordinate, distinct, near_enough, on_grid
+from .atlas_grid import grid_value as _on_grid
 from .atlas_lock import snapshot
+from .atlas_objects import DATASETS as _DATASETS
+from .atlas_objects import Objects as _Objects
+from .atlas_summary import summary as _summary
 from .atlas_xarray import COUNT_FIELDS, with_regime_names  # noqa: F401 (pydrill.atlas.*)
 from .atlas_xarray import to_xarray as _to_xarray
-from .journal import JOURNAL_SUFFIX, AtlasError, journal_hint, journaled
+from .journal import AtlasError, journal_hint
 from .spec import SpecError, parse_spec
 
 if TYPE_CHECKING:
@@ -285,61 +289,7 @@ class Atlas:
     def summary(self) -> dict[str, Any]:
         """What ``pydrill atlas info`` prints, as data: axes, point status, regime counts per
         start, safe and coexistence points, version and spec digest."""
-        f = self._file()
-        self.check()
-        status = f["status"][...]
-        codes = f["regime"][...]
-        journal = self.path.with_name(self.path.name + JOURNAL_SUFFIX)
-        regimes = {}
-        for j, init in enumerate(self.initials):
-            regimes[init] = {
-                name: int(np.sum(codes[..., j] == code))
-                for name, code in fmt.REGIMES.items()
-                if np.any(codes[..., j] == code)
-            }
-        caveats = {}
-        if "caveat" in f:
-            notes = f["caveat"][...]
-            for j, init in enumerate(self.initials):
-                counts = {
-                    name: int(np.sum(notes[..., j] == code))
-                    for name, code in fmt.CAVEATS.items()
-                    if code and np.any(notes[..., j] == code)
-                }
-                if counts:
-                    caveats[init] = counts
-        return {
-            "path": str(self.path),
-            "pydrill_version": self.version,
-            "spec_digest": self.spec.digest,
-            "points": int(np.prod(self.shape)),
-            "axes": {
-                name: {"size": len(v), "min": v.min().item(), "max": v.max().item()}
-                for name, v in self.axes.items()
-            },
-            "initial": self.initials,
-            "status": {name: int(np.sum(status == code)) for name, code in fmt.STATUS.items()},
-            "regimes": regimes,
-            # None when stability was not recorded (see safe_region)
-            "safe_points": (
-                int(np.sum(self.safe_region())) if self.spec.record["stability"] else None
-            ),
-            "coexistence_points": int(np.sum(f["coexistence"][...] == 1)),
-            # Judgements that carry a note, by start and kind (runs to simulate longer)
-            "caveats": caveats,
-            # A journal beside the atlas: a sweep is running, or was stopped; what it holds
-            # but the atlas does not yet is completed by --resume.
-            "journal": str(journal) if journal.exists() else None,
-            "journal_points": self._journal_only(status),
-        }
-
-    def _journal_only(self, status: np.ndarray) -> int:
-        """Points the journal holds and the atlas does not yet: a running sweep's progress
-        since its last flush, or what --resume takes back after a kill."""
-        indices = journaled(self.path)
-        indices = indices[(indices >= 0) & (indices < status.size)]
-        missing = status.ravel()[indices] == fmt.STATUS["missing"]
-        return len(np.unique(indices[missing]))
+        return _summary(self)
 
     def sel(self, method: str | None = None, **coords: ArrayLike):
         """A slice of the atlas as an ``xarray.Dataset``: fix some axes (or ``initial``),
@@ -411,59 +361,8 @@ class Atlas:
         return _to_xarray(self._source(), self.axes)
 
 
-class _Objects:
-    """An open atlas file's datasets, each looked up once: h5py opens an object anew each time
-    it is named (0.2 ms on a 10^6-point atlas), and a point query names some 30, which opening
-    the atlas has named already to check them (6 ms, then 6 ms again, per query)."""
-
-    def __init__(self, f: h5py.File) -> None:
-        self.attrs = f.attrs
-        self._f = f
-        self._seen: dict[str, Any] = {}
-
-    def get(self, name: str) -> Any:
-        if name not in self._seen:
-            self._seen[name] = self._f.get(name)
-        return self._seen[name]
-
-    def __getitem__(self, name: str) -> Any:
-        found = self.get(name)
-        if found is None:
-            raise KeyError(f"no dataset {name}")
-        return found
-
-    def __contains__(self, name: str) -> bool:
-        return self.get(name) is not None
-
-
 #: coexistence codes, by what they say (as the CSV export names them)
 _COEXISTENCE = {"unknown": -1, "no": 0, "yes": 1}
-
-# What the queries read: a file without one of these is damaged, whatever else it holds.
-_DATASETS = (
-    "initial",
-    "status",
-    "message",
-    "regime",
-    *(name for name in fmt.RUN_FIELDS if name not in fmt.ADDED_RUN_FIELDS),
-    *fmt.EQ_FIELDS,
-    "eigenvalues_real",
-    "eigenvalues_imag",
-    "coexistence",
-)
-
-
-def _on_grid(name: str, values: np.ndarray, value: Any) -> float:
-    """The grid value of axis ``name`` that ``value`` names exactly (as ``Atlas.index`` takes
-    it: float32's 8.3 is 8.3); a KeyError, worded as index()'s, if it names none."""
-    v = coordinate(name, value)
-    i = int(np.argmin(np.abs(values - v)))
-    if not on_grid(values, i, v):
-        shown, near = distinct(v, values[i], name)
-        raise KeyError(
-            f"{name} = {shown} is not on the grid (nearest {near}); use method='nearest'"
-        )
-    return values[i].item()
 
 
 def _clean(v: Any) -> Any:

@@ -21,6 +21,19 @@ def on_grid(values: np.ndarray, i: int, v: float) -> bool:
     return abs(v - g) <= tol
 
 
+def grid_value(name: str, values: np.ndarray, value: Any) -> float:
+    """The grid value of axis ``name`` that ``value`` names exactly (as ``Atlas.index`` takes
+    it: float32's 8.3 is 8.3); a KeyError, worded as index()'s, if it names none."""
+    v = coordinate(name, value)
+    i = int(np.argmin(np.abs(values - v)))
+    if not on_grid(values, i, v):
+        shown, near = distinct(v, values[i], name)
+        raise KeyError(
+            f"{name} = {shown} is not on the grid (nearest {near}); use method='nearest'"
+        )
+    return values[i].item()
+
+
 def axis_unit(name: str) -> str:
     """The SI unit of a sweep axis's values ("1": a count or a plain number)."""
     from .model import _UNITS

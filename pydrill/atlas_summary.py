@@ -1,0 +1,77 @@
+"""An atlas whole, counted: what ``pydrill.Atlas.summary`` returns and ``pydrill atlas info``
+prints (points by status, regime and caveat, safe and coexistence points, and what a journal
+beside the atlas holds that the atlas does not yet). Apart from atlas.py, whose queries read
+points and slices, because only this reads every dataset through and the journal too."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from . import atlas_format as fmt
+from .journal import JOURNAL_SUFFIX, journaled
+
+if TYPE_CHECKING:
+    from .atlas import Atlas
+
+
+def summary(atlas: Atlas) -> dict[str, Any]:
+    """``atlas.summary()``: see there."""
+    f = atlas._file()
+    atlas.check()
+    status = f["status"][...]
+    codes = f["regime"][...]
+    journal = atlas.path.with_name(atlas.path.name + JOURNAL_SUFFIX)
+    regimes = {}
+    for j, init in enumerate(atlas.initials):
+        regimes[init] = {
+            name: int(np.sum(codes[..., j] == code))
+            for name, code in fmt.REGIMES.items()
+            if np.any(codes[..., j] == code)
+        }
+    caveats = {}
+    if "caveat" in f:
+        notes = f["caveat"][...]
+        for j, init in enumerate(atlas.initials):
+            counts = {
+                name: int(np.sum(notes[..., j] == code))
+                for name, code in fmt.CAVEATS.items()
+                if code and np.any(notes[..., j] == code)
+            }
+            if counts:
+                caveats[init] = counts
+    return {
+        "path": str(atlas.path),
+        "pydrill_version": atlas.version,
+        "spec_digest": atlas.spec.digest,
+        "points": int(np.prod(atlas.shape)),
+        "axes": {
+            name: {"size": len(v), "min": v.min().item(), "max": v.max().item()}
+            for name, v in atlas.axes.items()
+        },
+        "initial": atlas.initials,
+        "status": {name: int(np.sum(status == code)) for name, code in fmt.STATUS.items()},
+        "regimes": regimes,
+        # None when stability was not recorded (see safe_region)
+        "safe_points": (
+            int(np.sum(atlas.safe_region())) if atlas.spec.record["stability"] else None
+        ),
+        "coexistence_points": int(np.sum(f["coexistence"][...] == 1)),
+        # Judgements that carry a note, by start and kind (runs to simulate longer)
+        "caveats": caveats,
+        # A journal beside the atlas: a sweep is running, or was stopped; what it holds
+        # but the atlas does not yet is completed by --resume.
+        "journal": str(journal) if journal.exists() else None,
+        "journal_points": journal_only(atlas.path, status),
+    }
+
+
+def journal_only(path: Path, status: np.ndarray) -> int:
+    """Points the journal of the atlas at ``path`` holds and the atlas does not yet: a running
+    sweep's progress since its last flush, or what --resume takes back after a kill."""
+    indices = journaled(path)
+    indices = indices[(indices >= 0) & (indices < status.size)]
+    missing = status.ravel()[indices] == fmt.STATUS["missing"]
+    return len(np.unique(indices[missing]))
