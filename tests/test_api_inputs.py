@@ -386,7 +386,11 @@ def test_a_weight_near_the_largest_float_is_refused_by_name(wob):
 @pytest.mark.parametrize(
     ("key", "value", "allowed"),
     [
-        ("torque", 1e300, "torque = 1e+300 is not allowed in a simulation: need |torque| <= 1e15 N·m"),
+        (
+            "torque",
+            1e300,
+            "torque = 1e+300 is not allowed in a simulation: need |torque| <= 1e15 N·m",
+        ),
         ("torque", -1e16, "torque = -1e+16 is not allowed in a simulation"),
         ("wob", 1e300, "wob = 1e+300 is not allowed in a simulation: must be <= 1e15 N"),
     ],

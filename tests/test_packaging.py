@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import importlib.metadata
+import importlib.util
 import inspect
 import re
 import shutil
@@ -218,6 +219,22 @@ def test_package_passes_mypy():
         timeout=300,
     )
     assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_code_passes_ruff():
+    # The lint rules and the format are pyproject.toml's [tool.ruff]: every Python file in the
+    # checkout (package, tests, benchmarks, tools) is checked, as a commit should leave it.
+    if importlib.util.find_spec("ruff") is None:
+        pytest.skip("ruff is not installed (tools/setup.sh installs it; pip install ruff)")
+    for args in (["check", "--no-cache", "."], ["format", "--check", "--no-cache", "."]):
+        run = subprocess.run(
+            [sys.executable, "-m", "ruff", *args],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert run.returncode == 0, f"ruff {args[0]}:\n" + run.stdout + run.stderr
 
 
 def test_versions_agree():
