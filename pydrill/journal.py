@@ -236,7 +236,7 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
                         f"{out} holds a different sweep ({_what_differs(spec, *theirs, digest)})"
                         "; choose another --out or remove it"
                     )
-                problem = layout_problem(f, spec)
+                problem = layout_problem(f, spec) or _spec_problem(spec, *theirs)
                 if problem:
                     raise _Damaged(problem)
             table = fmt.read_table(out, spec)
@@ -275,6 +275,24 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
 
 class _Damaged(ValueError):
     """An atlas whose layout is not the one its spec makes (:func:`layout_problem`)."""
+
+
+def _spec_problem(spec: SweepSpec, text: str, tally: str | None) -> str | None:
+    """What is wrong with the spec attribute (``text``, and its ``tally``) of an atlas whose
+    spec_digest is ``spec``'s, or None: a text that is not the sweep of that digest was put
+    there after pydrill wrote both (its points were computed for the digest's sweep, and a
+    reader of the atlas would take them for the text's)."""
+    from .spec import SpecError, parse_spec
+
+    try:
+        if parse_spec(text, tally_text=tally).digest == spec.digest:
+            return None  # (the same sweep, perhaps formatted otherwise)
+    except SpecError:
+        pass
+    return (
+        f"its spec attribute was changed after pydrill wrote it: its spec_digest is this "
+        f"spec's, {spec.digest}, but the spec it holds differs: {_what_differs(spec, text, tally)}"
+    )
 
 
 def _is_text(value: Any, text: str) -> bool:

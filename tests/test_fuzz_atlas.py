@@ -218,6 +218,15 @@ def _attr(name, value):
     return damage
 
 
+def _edit_spec(edit):
+    """The spec attribute rewritten by ``edit(text)``; its spec_digest left as it is."""
+
+    def damage(f):
+        f.attrs["spec"] = edit(f.attrs["spec"])
+
+    return damage
+
+
 DAMAGED_ATLASES = {
     # name: (damage, what the refusal names)
     "status of another shape": (_replace("status", np.ones((2, 2), "u1")), r"status has shape"),
@@ -236,6 +245,16 @@ DAMAGED_ATLASES = {
     "format_version": (_attr("format_version", np.void(b"\x00")), r"attribute format_version = np"),
     "title": (_attr("title", np.arange(3)), r"attribute title = array\(\[0, 1, 2\]\) is not text"),
     "no eigenvalue scale": (lambda f: f.__delitem__("eigenvalue"), r"no dataset eigenvalue"),
+    "spec edited": (
+        _edit_spec(lambda text: text.replace("t_end = 50.0", "t_end = 300.0")),
+        r"its spec attribute was changed after pydrill wrote it: its spec_digest is this spec's, "
+        r"\w{16}, but the spec it holds differs: simulation\.t_end: 50\.0 in this spec, 300\.0 in "
+        r"the atlas",
+    ),
+    "spec no TOML": (
+        _attr("spec", "[model"),
+        r"its spec attribute was changed .* differs: its spec cannot be read here",
+    ),
 }
 
 
@@ -263,7 +282,9 @@ def test_resume_refuses_a_damaged_atlas_without_journal(name, tmp_path, spec, re
     assert out.read_bytes() == before
 
 
-@pytest.mark.parametrize("name", ["status of another shape", "regime code 99", "wob values"])
+@pytest.mark.parametrize(
+    "name", ["status of another shape", "regime code 99", "wob values", "spec edited"]
+)
 def test_resume_rebuilds_a_damaged_atlas_from_its_journal(name, tmp_path, spec, records, reference):
     damage, _ = DAMAGED_ATLASES[name]
     out = damaged_copy(tmp_path, reference, damage)
@@ -277,6 +298,7 @@ def test_resume_rebuilds_a_damaged_atlas_from_its_journal(name, tmp_path, spec, 
             np.testing.assert_array_equal(
                 np.nan_to_num(f[ds][...], nan=-7), np.nan_to_num(g[ds][...], nan=-7)
             )
+        assert (f.attrs["spec"], f.attrs["spec_digest"]) == (spec.text, spec.digest)
 
 
 def test_an_atlas_whose_spec_digest_was_changed_says_so(tmp_path, spec, reference):
@@ -285,6 +307,42 @@ def test_an_atlas_whose_spec_digest_was_changed_says_so(tmp_path, spec, referenc
     out = damaged_copy(tmp_path, reference, _attr("spec_digest", "0" * 16))
     with pytest.raises(AtlasError, match=r"its spec is this one, but its spec_digest '0000"):
         run_sweep(spec, out, resume=True, serial=True)
+
+
+def test_an_atlas_whose_spec_was_edited_is_not_resumed_as_this_sweep(
+    tmp_path, spec, records, reference, capsys
+):
+    """An atlas whose spec attribute was rewritten (t_end = 300) but whose spec_digest was left
+    was resumed as this sweep's: 'pydrill sweep --resume' said '6 of 6 points are done' and
+    left an atlas whose spec (t_end = 300, digest ...) disagreed with its spec_digest, its
+    points those of t_end = 50. Now it is damaged: refused without a journal (the file left
+    as it is), and with one rebuilt, its spec the sweep's again."""
+    damage, _ = DAMAGED_ATLASES["spec edited"]
+    out = damaged_copy(tmp_path, reference, damage)
+    before = out.read_bytes()
+    (tmp_path / "s.toml").write_text(SPEC)
+    assert cli.main(["sweep", str(tmp_path / "s.toml"), "--out", str(out), "--resume"]) == 2
+    assert (
+        "a.h5 is damaged (its spec attribute was changed after pydrill wrote it: its spec_digest "
+        f"is this spec's, {spec.digest}, but the spec it holds differs: simulation.t_end: 50.0 "
+        "in this spec, 300.0 in the atlas) and has no journal to rebuild it from"
+    ) in capsys.readouterr().err
+    assert out.read_bytes() == before
+    (tmp_path / "a.h5.journal").write_text(
+        "".join(json.dumps(x) + "\n" for x in [{"spec_digest": spec.digest}, *records])
+    )
+    run_sweep(spec, out, resume=True, serial=True)
+    with h5py.File(out) as f:
+        assert f.attrs["spec"] == spec.text
+        assert pydrill.parse_spec(f.attrs["spec"]).digest == f.attrs["spec_digest"] == spec.digest
+
+
+def test_an_atlas_whose_spec_was_only_reformatted_is_still_resumed(tmp_path, spec, reference):
+    """The check compares sweeps, not texts: a comment added to the spec attribute is the
+    same sweep (the same digest), and the atlas is resumed as before."""
+    out = damaged_copy(tmp_path, reference, _edit_spec(lambda text: "# a note\n" + text))
+    report = run_sweep(spec, out, resume=True, serial=True)
+    assert (report.computed, report.resumed) == (0, spec.size)
 
 
 def test_an_atlas_whose_spec_is_no_text_is_refused_on_opening(tmp_path, reference, capsys):
