@@ -4,6 +4,8 @@ CSV table with each code's name beside it."""
 from __future__ import annotations
 
 import argparse
+import os
+import secrets
 import warnings
 from pathlib import Path
 from typing import Any
@@ -25,34 +27,65 @@ def cmd_export(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.resolve() == Path(args.atlas).resolve():
         raise ValueError(f"--out {args.out} is the atlas itself; give another file")
+    # The export is made in memory, the atlas closed (its xarray view too, whatever fails),
+    # and only then written out, whole or not at all (_write_whole). h5netcdf writing the file
+    # itself left a half-written one under --out when a write failed (a full disk), and
+    # closing it after the failure crashed Python (a segmentation fault in h5py).
     with Atlas(args.atlas) as atlas:
         atlas.check()  # it is read whole: no code that is none may pass into the export
         ds = atlas.to_xarray()
-        if out.suffix.lower() == ".nc":
-            with warnings.catch_warnings():
-                # h5netcdf warns that an enum variable's default fill (0) is a regime's code
-                # (steady): it masks nothing here, every element is written and no _FillValue
-                # attribute is (netCDF-C's ncdump, netCDF4 and xarray read 0 as steady).
-                warnings.filterwarnings("ignore", "Creating variable with default fill_value 0")
-                ds.load().to_netcdf(out, engine="h5netcdf", encoding=_netcdf_encoding(ds))
-        else:  # .csv, as export_path allows
-            ds = ds.load()
-            keep = [
-                v
-                for v in ds.data_vars
-                if "eigenvalue" not in ds[v].dims
-                and "equilibrium" not in ds[v].dims
-                and (ds[v].dtype.kind != "O" or v == "message")
-            ]
-            table = ds[keep].to_dataframe()
-            for name in COUNT_FIELDS:  # counts as integers, an empty cell where not measured
-                if name in table:
-                    table[name] = table[name].astype("Int64")
-            _name_codes(table)
-            table.to_csv(out)
-        ds.close()
+        try:
+            if out.suffix.lower() == ".nc":
+                with warnings.catch_warnings():
+                    # h5netcdf warns that an enum variable's default fill (0) is a regime's
+                    # code (steady): it masks nothing here, every element is written and no
+                    # _FillValue attribute is (netCDF-C's ncdump, netCDF4 and xarray read 0 as
+                    # steady).
+                    warnings.filterwarnings("ignore", "Creating variable with default fill_value 0")
+                    data = ds.load().to_netcdf(
+                        None, engine="h5netcdf", encoding=_netcdf_encoding(ds)
+                    )
+            else:  # .csv, as export_path allows
+                ds.load()
+                keep = [
+                    v
+                    for v in ds.data_vars
+                    if "eigenvalue" not in ds[v].dims
+                    and "equilibrium" not in ds[v].dims
+                    and (ds[v].dtype.kind != "O" or v == "message")
+                ]
+                table = ds[keep].to_dataframe()
+                for name in COUNT_FIELDS:  # counts as integers, an empty cell where not measured
+                    if name in table:
+                        table[name] = table[name].astype("Int64")
+                _name_codes(table)
+                data = table.to_csv().encode()
+        finally:
+            ds.close()
+    _write_whole(out, data)
     print(f"wrote {out}")
     return 0
+
+
+def _write_whole(out: Path, data: bytes | memoryview) -> None:
+    """Write ``data`` to ``out`` whole or not at all: into a new file beside it, put in its
+    place once complete. On a failure that file is removed and ``out`` (if there was one)
+    left as it was; the OSError names ``out``."""
+    part = out.with_name(f".{out.name}.{secrets.token_hex(4)}.part")
+    try:
+        # 0o666 as open() makes a file (less the umask); mkstemp's 0o600 would be kept
+        fd = os.open(part, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        try:
+            with open(fd, "wb") as fh:
+                fh.write(data)
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.replace(part, out)
+        except BaseException:
+            part.unlink(missing_ok=True)
+            raise
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror or str(exc), str(out)) from None
 
 
 def _netcdf_encoding(ds) -> dict[str, dict[str, Any]]:

@@ -3,6 +3,7 @@
 import csv
 import json
 import subprocess
+import sys
 from pathlib import Path
 
 import h5py
@@ -234,6 +235,69 @@ def test_export_to_an_unknown_format_is_refused_before_the_atlas_is_read(tmp_pat
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert "argument --out" in proc.stderr and ".nc (netCDF) or .csv" in proc.stderr
     assert not out.exists()
+
+
+def _limit_file_size():
+    """In the child: files of at most 1 KiB, a write beyond fails (EFBIG; Python ignores
+    SIGXFSZ), as on a full disk."""
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_FSIZE, (1024, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="RLIMIT_FSIZE is POSIX")
+@pytest.mark.parametrize("suffix", [".nc", ".csv"])
+@pytest.mark.parametrize("before", [None, b"an earlier export\n"])
+def test_an_export_that_fails_midway_leaves_no_half_written_file(
+    small_atlas, tmp_path, suffix, before
+):
+    """A write that failed midway (here a file size limit; a full disk alike) left the part
+    written under --out, over an earlier export if there was one; the .nc export then crashed
+    Python with a segmentation fault (h5netcdf closing the file whose write had failed). Now
+    the export is written beside --out and put in its place once whole: the failure is an
+    error naming --out, and --out is as it was (absent, or the earlier file)."""
+    out = tmp_path / f"small{suffix}"
+    if before is not None:
+        out.write_bytes(before)
+    proc = subprocess.run(
+        [*CMD, "atlas", "export", str(small_atlas), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        preexec_fn=_limit_file_size,
+        timeout=120,
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr == f"pydrill atlas export: error: --out {out}: File too large\n"
+    assert sorted(tmp_path.iterdir()) == ([] if before is None else [out])
+    assert before is None or out.read_bytes() == before
+
+
+def test_an_export_that_fails_leaves_the_atlas_closed(small_atlas, tmp_path, monkeypatch):
+    """An error from the netCDF writer skipped the close of the atlas's xarray view: the
+    atlas stayed open for as long as the error was held (a caller's except block, a
+    notebook's last traceback). Now it is closed whatever fails."""
+    import errno
+
+    import psutil
+    import xarray as xr
+
+    from pydrill import cli
+
+    def no_space(self, *args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device", str(tmp_path / "small.nc"))
+
+    def open_atlases():
+        return [f for f in psutil.Process().open_files() if Path(f.path) == small_atlas]
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", no_space)
+    assert open_atlases() == []
+    args = cli.build_parser().parse_args(
+        ["atlas", "export", str(small_atlas), "--out", str(tmp_path / "small.nc")]
+    )
+    with pytest.raises(OSError, match="No space left on device") as held:
+        args.handler(args)
+    assert held.value is not None and open_atlases() == []
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_a_metric_map_shows_the_values_the_atlas_holds(small_atlas, tmp_path):
