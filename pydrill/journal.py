@@ -236,7 +236,7 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
                         f"{out} holds a different sweep ({_what_differs(spec, *theirs, digest)})"
                         "; choose another --out or remove it"
                     )
-                problem = layout_problem(f, spec) or _spec_problem(spec, *theirs)
+                problem = damage(f, spec)
                 if problem:
                     raise _Damaged(problem)
             table = fmt.read_table(out, spec)
@@ -275,6 +275,15 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
 
 class _Damaged(ValueError):
     """An atlas whose layout is not the one its spec makes (:func:`layout_problem`)."""
+
+
+def damage(f: Any, spec: SweepSpec) -> str | None:
+    """What is wrong with the open atlas ``f`` (an ``h5py.File`` whose spec_digest is
+    ``spec``'s), or None: a layout that is not the one ``spec`` makes, or a spec attribute
+    that is not that sweep's."""
+    return layout_problem(f, spec) or _spec_problem(
+        spec, f.attrs.get("spec"), f.attrs.get("tally") or None
+    )
 
 
 def _spec_problem(spec: SweepSpec, text: str, tally: str | None) -> str | None:

@@ -282,6 +282,29 @@ def test_resume_refuses_a_damaged_atlas_without_journal(name, tmp_path, spec, re
     assert out.read_bytes() == before
 
 
+@pytest.mark.parametrize("name", ["status of another shape", "regime code 99", "spec edited"])
+def test_the_command_says_resuming_only_what_it_resumes(
+    name, tmp_path, spec, records, reference, capsys
+):
+    """'pydrill sweep --resume' said 'resuming a.h5: 6 of 6 points are done' of a damaged atlas
+    it then refused, for want of a journal; of one it rebuilds, the journal's points are those
+    done."""
+    damage, _ = DAMAGED_ATLASES[name]
+    out = damaged_copy(tmp_path, reference, damage)
+    (tmp_path / "s.toml").write_text(SPEC)
+    args = ["sweep", str(tmp_path / "s.toml"), "--out", str(out), "--resume", "--serial"]
+    assert cli.main(args) == 2
+    err = capsys.readouterr().err
+    assert "is damaged" in err and "sweep: resuming" not in err
+    (tmp_path / "a.h5.journal").write_text(
+        "".join(json.dumps(x) + "\n" for x in [{"spec_digest": spec.digest}, *records[:4]])
+    )
+    assert cli.main(args) == 0
+    assert f"resuming {out}: 4 of {spec.size} points are done, {spec.size - 4} to compute" in (
+        capsys.readouterr().err
+    )
+
+
 @pytest.mark.parametrize(
     "name", ["status of another shape", "regime code 99", "wob values", "spec edited"]
 )
