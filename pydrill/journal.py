@@ -233,7 +233,8 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
                 theirs = (f.attrs.get("spec"), f.attrs.get("tally") or None)
                 if not _is_text(digest, spec.digest):
                     raise AtlasError(
-                        f"{out} holds a different sweep ({_what_differs(spec, *theirs, digest)})"
+                        f"{out} holds a different sweep "
+                        f"({_what_differs(spec, *theirs, digest, f.attrs.get('pydrill_version'))})"
                         "; choose another --out or remove it"
                     )
                 problem = damage(f, spec)
@@ -318,9 +319,12 @@ def _journal_digest(jp: Path) -> str | None:
         return None
 
 
-def _what_differs(spec: SweepSpec, text: Any, tally: Any, digest: Any = None) -> str:
+def _what_differs(
+    spec: SweepSpec, text: Any, tally: Any, digest: Any = None, version: Any = None
+) -> str:
     """How the atlas's sweep (its spec ``text``) differs from ``spec``, key by key; its digest
-    when its spec cannot be read; that its ``digest`` is not its spec's if they are the same."""
+    when its spec cannot be read; that its ``digest`` is not its spec's if they are the same
+    (the atlas written by pydrill ``version``)."""
     from .spec import parse_spec
 
     try:
@@ -331,9 +335,14 @@ def _what_differs(spec: SweepSpec, text: Any, tally: Any, digest: Any = None) ->
                for c in spec.differences(stored)]  # fmt: skip
     shown = "; ".join(changes[:4]) + (f"; and {len(changes) - 4} more" if len(changes) > 4 else "")
     if not shown and stored.digest == spec.digest:
+        # Either the attribute was edited, or the pydrill that wrote it built another model
+        # from the same text: a digest covers the model a spec makes, and the rules that make
+        # it (how a tally is reduced to dof inertias, say) can change between versions.
         return (
-            f"its spec is this one, but its spec_digest {_show(digest)} is not that spec's: the "
-            "file was changed after pydrill wrote it"
+            f"its spec is this one, but its spec_digest {_show(digest)} is not that spec's "
+            f"({spec.digest}): the file was changed after pydrill wrote it, or the pydrill that "
+            f"wrote it (version {_show(version)}) made another model of this spec; sweep again "
+            "into another --out"
         )
     return shown or f"spec digest {stored.digest}, this spec {spec.digest}"
 

@@ -326,10 +326,20 @@ def test_resume_rebuilds_a_damaged_atlas_from_its_journal(name, tmp_path, spec, 
 
 def test_an_atlas_whose_spec_digest_was_changed_says_so(tmp_path, spec, reference):
     """The refusal read 'holds a different sweep (spec digest dd1f..., this spec dd1f...)':
-    the same digest twice."""
+    the same digest twice. An edit is one cause; a pydrill that made another model of the same
+    text (the rules of a tally's reduction changed in 0.2.0's life) is the other, and the
+    version that wrote the atlas is named."""
     out = damaged_copy(tmp_path, reference, _attr("spec_digest", "0" * 16))
-    with pytest.raises(AtlasError, match=r"its spec is this one, but its spec_digest '0000"):
+    with h5py.File(out, "r+") as f:
+        f.attrs["pydrill_version"] = "0.1.7"
+    with pytest.raises(AtlasError) as err:
         run_sweep(spec, out, resume=True, serial=True)
+    assert (
+        f"its spec is this one, but its spec_digest '{'0' * 16}' is not that spec's "
+        f"({spec.digest}): the file was changed after pydrill wrote it, or the pydrill that "
+        "wrote it (version '0.1.7') made another model of this spec; sweep again into another "
+        "--out"
+    ) in str(err.value)
 
 
 def test_an_atlas_whose_spec_was_edited_is_not_resumed_as_this_sweep(
