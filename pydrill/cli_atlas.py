@@ -180,7 +180,9 @@ def register_atlas(sub) -> None:
         "(what the run's judgement notes), the status, a failed point's message and whether "
         "rest and equilibrium starts disagree (coexistence); each coded column is followed by "
         "its names (regime_name, caveat_name, status_name, coexistence_name). No steady "
-        "states or eigenvalues (they are netCDF's). An existing file at --out is replaced.",
+        "states or eigenvalues (they are netCDF's). The file is written whole or not at all: "
+        "an existing file at --out is replaced once the new one is complete, and kept as it "
+        "was if writing fails (a full disk).",
     )
     export.add_argument("atlas", metavar="ATLAS.h5")
     export.add_argument(
