@@ -45,7 +45,12 @@ def summary(atlas: Atlas) -> dict[str, Any]:
     return {
         "path": str(atlas.path),
         "pydrill_version": atlas.version,
-        "spec_digest": atlas.spec.digest,
+        # The digest the writer stored, which a --resume compares with its spec's; and the
+        # digest this pydrill makes of the spec stored beside it. They differ when the file
+        # was edited, or when the pydrill that wrote it made another model of that spec (the
+        # points are that model's): info says so.
+        "spec_digest": str(f.attrs["spec_digest"]),
+        "spec_digest_here": atlas.spec.digest,
         "points": int(np.prod(atlas.shape)),
         "axes": {
             name: {"size": len(v), "min": v.min().item(), "max": v.max().item()}

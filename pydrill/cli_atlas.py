@@ -52,11 +52,11 @@ def register_atlas(sub) -> None:
             "stopped."
         ),
         formatter_class=raw,
-        epilog="JSON fields: path, pydrill_version, spec_digest, points, axes {NAME: {size, "
-        "min, max}},\n  initial, status {missing, done, failed}, regimes {INITIAL: {REGIME: "
-        "count}},\n  safe_points (null: stability not recorded), coexistence_points,\n"
-        "  journal (its path, or null),"
-        " journal_points (in the journal, not yet in the atlas)",
+        epilog="JSON fields: path, pydrill_version, spec_digest (as written), spec_digest_here\n"
+        "  (this pydrill's, of the same spec), points, axes {NAME: {size, min, max}}, initial,\n"
+        "  status {missing, done, failed}, regimes {INITIAL: {REGIME: count}},\n"
+        "  safe_points (null: stability not recorded), coexistence_points,\n"
+        "  journal (its path, or null), journal_points (in the journal, not yet in the atlas)",
     )
     info.add_argument("atlas", metavar="ATLAS.h5")
     info.add_argument("--json", action="store_true", help="print one JSON object for scripts")
@@ -221,6 +221,13 @@ def _cmd_info(args: argparse.Namespace) -> int:
         f"{s['path']}: {s['points']} points, pydrill {s['pydrill_version']}, "
         f"spec {s['spec_digest']}"
     )
+    if s["spec_digest_here"] != s["spec_digest"]:
+        note = (
+            f"note: its spec makes digest {s['spec_digest_here']} here: the file was changed "
+            f"after pydrill wrote it, or pydrill {s['pydrill_version']} made another model of "
+            "this spec (its points are of that model; --resume refuses the atlas)"
+        )
+        print(textwrap.fill(note, 79, initial_indent="  ", subsequent_indent="        "))
     for name, ax in s["axes"].items():
         print(axis_line(name, ax["size"], ax["min"], ax["max"], max(map(len, s["axes"]))))
     print("  status  " + ", ".join(f"{k} {v}" for k, v in s["status"].items()))

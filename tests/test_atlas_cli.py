@@ -187,6 +187,38 @@ def test_info_json_counts_what_the_file_holds(small_atlas):
         found, counts = np.unique(names[..., j], return_counts=True)
         assert info["regimes"][init] == dict(zip(found.tolist(), counts.tolist(), strict=True))
     assert info["journal"] is None
+    with h5py.File(small_atlas, "r") as f:
+        written = f.attrs["spec_digest"]
+    assert info["spec_digest"] == info["spec_digest_here"] == written == parse_spec(SMALL).digest
+    assert (
+        "note:"
+        not in subprocess.run(
+            [*CMD, "atlas", "info", str(small_atlas)], capture_output=True, text=True, check=True
+        ).stdout
+    )
+
+
+def test_info_says_when_the_written_digest_is_not_its_specs(small_atlas, tmp_path):
+    """An atlas whose spec_digest is not the one this pydrill makes of its spec (edited, or
+    written by a pydrill that modelled the spec otherwise): info printed the digest made here,
+    not the one a --resume compares, and said nothing of the difference."""
+    out = tmp_path / "a.h5"
+    out.write_bytes(small_atlas.read_bytes())
+    with h5py.File(out, "r+") as f:
+        f.attrs["spec_digest"] = "0123456789abcdef"
+        f.attrs["pydrill_version"] = "0.1.7"
+    here = parse_spec(SMALL).digest
+    info = json.loads(
+        subprocess.run(
+            [*CMD, "atlas", "info", str(out), "--json"], capture_output=True, text=True, check=True
+        ).stdout
+    )
+    assert (info["spec_digest"], info["spec_digest_here"]) == ("0123456789abcdef", here)
+    text = subprocess.run(
+        [*CMD, "atlas", "info", str(out)], capture_output=True, text=True, check=True
+    ).stdout
+    assert "spec 0123456789abcdef\n  note: its spec makes digest " + here in text
+    assert "or pydrill 0.1.7 made another model of" in " ".join(text.split())
 
 
 def test_export_writes_netcdf_and_csv_with_what_the_atlas_holds(small_atlas, tmp_path):
