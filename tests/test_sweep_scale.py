@@ -140,3 +140,45 @@ def test_a_journal_replayed_in_blocks_equals_its_records_applied_one_by_one():
             np.testing.assert_array_equal(a, b, err_msg=name)  # NaN where NaN
         else:
             assert a.tolist() == b.tolist(), name
+
+
+def _chunk_layouts(path):
+    """(name, shape, chunks, bytes of a chunk) of every chunked dataset of an atlas."""
+    import h5py
+
+    found = []
+    with h5py.File(path, "r") as f:
+        for name, ds in f.items():
+            if isinstance(ds, h5py.Dataset) and ds.chunks:
+                found.append((name, ds.shape, ds.chunks, ds.dtype.itemsize * np.prod(ds.chunks)))
+    return found
+
+
+def test_a_point_query_inflates_small_chunks_however_large_the_atlas(tmp_path):
+    """A point query reads one chunk of each of some 25 datasets. Chunks of 64 x 64 grid
+    points (64 kB to 512 kB) took 9 ms a query (13 ms at the 95th percentile) on a 10^6-point
+    atlas of smooth data: now each chunk holds about fmt.CHUNK_BYTES of points, whatever the
+    grid, with the starts, steady states and eigenvalues of a point whole in it, and the
+    chunks along an axis of nearly equal length (no last chunk of a few values)."""
+    for text in (
+        SMALL.replace(
+            "wob = [40.0, 100.0, 160.0]", "wob = { start = 1, stop = 300, num = 1000 }"
+        ).replace("torque = [6.0, 8.3]", "torque = { start = 0.1, stop = 30, num = 1000 }"),
+        WIDE,
+        WIDE.replace("[axes]", "[axes]\nmu_coulomb = [0.4, 0.5, 0.6]"),
+    ):
+        spec = parse_spec(text)
+        out = tmp_path / f"{spec.digest}.h5"
+        fmt.create(out, spec, "{}", "test")
+        layouts = _chunk_layouts(out)
+        assert len(layouts) >= 20
+        grid = len(spec.shape)
+        for name, shape, chunks, size in layouts:
+            assert shape[:grid] == spec.shape, name
+            assert chunks[grid:] == shape[grid:], name  # a point's values whole
+            assert size <= fmt.CHUNK_BYTES, (name, chunks)
+            whole = chunks[:grid] == shape[:grid]
+            assert whole or size >= fmt.CHUNK_BYTES / 8, (name, chunks)
+            for n, c in zip(shape[:grid], chunks[:grid], strict=True):
+                pieces = -(-n // c)
+                assert pieces * c - n < pieces, (name, shape, chunks)  # equal lengths
