@@ -6,7 +6,7 @@ numpy right-hand side, its fastest method). Both run in this process at the same
 (rtol = atol = 1e-8); the baseline's answer is checked against the core's before its time is
 used. Every ratio is measured in the same run, so a busy machine shifts both sides alike.
 
-    python benchmarks/bench_core_vs_scipy.py            # the table (a few minutes)
+    python benchmarks/bench_core_vs_scipy.py            # the table (a few seconds)
     python benchmarks/bench_core_vs_scipy.py --quick    # fewer repeats
 
 Goals (issue 2): (a) ≥ 100× on dof 4, W_ob 100 N, u 8.3 N·m, 100 s; (b) ≥ 10× for 10 … 500

@@ -82,8 +82,9 @@ LIBVER = ("v108", "v110")
 
 #: Bytes of a chunk before compression. A point query reads (and inflates) one chunk of each
 #: of some 25 datasets: with 64 x 64 grid points a chunk, 64 kB to 512 kB each, that took
-#: 13 ms on a 10^6-point atlas of real data (0.4 ms on an empty one, whose chunks are all
-#: fill). 16 kB chunks keep it near 1 ms and compress nearly as well.
+#: 9-13 ms on a 10^6-point atlas of smooth or random data (0.4 ms on an empty one, whose
+#: chunks are all fill). 16 kB chunks take 2.5-3.5 ms and compress as well; 8 kB ones 1.6 ms,
+#: but read whole (a resume, a plot, xarray) more slowly.
 CHUNK_BYTES = 16 * 1024
 
 
@@ -123,8 +124,25 @@ def create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
         _create(path, spec, params_json, version)
 
 
+def _blank(spec: SweepSpec) -> AtlasTable:
+    """A table of ``spec`` with every point missing, as read-only views of one point's values
+    (the shapes, types and fill values that ``create`` makes datasets of): a whole table is
+    some 400 bytes a point, 0.4 GB held for nothing at 10^6 points."""
+    table = AtlasTable(spec, points=1)
+
+    def grid(a: np.ndarray) -> np.ndarray:
+        return np.broadcast_to(a, (*spec.shape, *a.shape[1:]))
+
+    table.status, table.message = grid(table.status), grid(table.message)
+    table.regime, table.caveat = grid(table.regime), grid(table.caveat)
+    table.runs = {name: grid(a) for name, a in table.runs.items()}
+    table.eqs = {name: grid(a) for name, a in table.eqs.items()}
+    table.eig, table.coexistence = grid(table.eig), grid(table.coexistence)
+    return table
+
+
 def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None:
-    table = AtlasTable(spec)
+    table = _blank(spec)
     # Objects in creation order, the regime's named type first: netCDF-C reads them in that
     # order, and before 4.9.2 (Debian 12's 4.9.0) it dropped a variable whose enum type has
     # no name, or whose type it met only after it (in alphabetical order, "regime" < "regime_t").
@@ -176,7 +194,7 @@ def _create(path: Path, spec: SweepSpec, params_json: str, version: str) -> None
 
         def make(name, data, extra, **attrs):
             # A fresh table holds one value everywhere: made the fill value, no chunk is
-            # written until a point is (a 10^6-point atlas: 0.56 s and 1.8 MB, was 2.5 s
+            # written until a point is (a 10^6-point atlas: 0.03 s and 0.05 MB, was 2.5 s
             # and 33 MB).
             ds = f.create_dataset(
                 name,
@@ -315,7 +333,10 @@ def read_table(path: Path, spec: SweepSpec) -> AtlasTable:
                 table.runs[name] = f[name][...]
         for name in EQ_FIELDS:
             table.eqs[name] = f[name][...]
-        table.eig = f["eigenvalues_real"][...] + 1j * f["eigenvalues_imag"][...]
+        # Into the table's own array: real + 1j * imag made four temporaries of up to its
+        # size (the eigenvalues are a third of the table: 0.4 GB more at 10^6 points).
+        table.eig.real[...] = f["eigenvalues_real"][...]
+        table.eig.imag[...] = f["eigenvalues_imag"][...]
         table.coexistence = f["coexistence"][...]
         if "caveat" in f:  # atlases written before it: no caveats recorded
             table.caveat = f["caveat"][...]

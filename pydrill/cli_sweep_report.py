@@ -22,7 +22,7 @@ class LogProgress:
         self.total, self.every, self.done = total, every, 0
         self.last = time.monotonic()
         # A resumed sweep counts its rate from its first batch back: before it comes the
-        # journal's replay (40 s for a million points), which made a sweep of 2000 points left
+        # journal's replay (a minute for a million points), which made a sweep of 2000 points left
         # say "7 points/s, about 4 min 05 s left" when it had seconds to go.
         self.resumed = resumed
         self.first: tuple[float, int] | None = None if resumed else (self.last, 0)

@@ -148,8 +148,8 @@ def plan_sweep(
         if len(times) >= least and time.perf_counter() - start > budget:
             break
     # A worker also encodes what it computed (the atlas's columns, the journal's lines) before
-    # it hands a batch back: 40 us a point, an eighth of a cheap dof-4 point's 0.3 ms, which
-    # the estimate left out. Timed on the sample's records together, as a batch does it.
+    # it hands a batch back: some 80 us a point, a twentieth of a dof-4 point's 1.2-1.7 ms,
+    # which the estimate left out. Timed on the sample's records together, as a batch does it.
     if records:
         t0 = time.perf_counter()
         encode_batch(spec, records)
@@ -179,7 +179,9 @@ def plan_sweep(
 
 
 #: the table's size, times this, is what the sweep's process holds at its peak (measured: 3.8 GB
-#: for a 10^7-point sweep whose table is 2.9 GB; writing the atlas copies a column at a time)
+#: for a 10^7-point sweep whose table is 2.9 GB; writing the atlas copies a column at a time).
+#: At 10^6 points (a 394 MB table): 1.25x for a new sweep, 1.28x resuming an atlas; a journal's
+#: replay holds some 50 MB of records more, whatever its length (atlas_table.REPLAY_CHUNK).
 MEMORY_FACTOR = 1.3
 
 

@@ -182,3 +182,31 @@ def test_a_point_query_inflates_small_chunks_however_large_the_atlas(tmp_path):
             for n, c in zip(shape[:grid], chunks[:grid], strict=True):
                 pieces = -(-n // c)
                 assert pieces * c - n < pieces, (name, shape, chunks)  # equal lengths
+
+
+def test_an_atlas_is_made_and_read_back_without_a_second_table(tmp_path):
+    """Making an atlas built a whole table only for its fill values (0.4 GB at 10^6 points), and
+    reading one back made four temporaries of the eigenvalues' size (real + 1j * imag): a
+    resume held 1.8 times the table at its peak, more than the memory check counts
+    (sweep_plan.MEMORY_FACTOR). Now making holds a few MB, reading the table and a column."""
+    text = SMALL.replace(
+        "wob = [40.0, 100.0, 160.0]", "wob = { start = 1, stop = 300, num = 500 }"
+    ).replace("torque = [6.0, 8.3]", "torque = { start = 0.1, stop = 30, num = 400 }")
+    spec = parse_spec(text)
+    out = tmp_path / "a.h5"
+    table_bytes = sum(a.nbytes for a in fmt.AtlasTable(spec).columns().values())
+    tracemalloc.start()
+    try:
+        fmt.create(out, spec, "{}", "test")
+        made = tracemalloc.get_traced_memory()[1]
+        tracemalloc.reset_peak()
+        start = tracemalloc.get_traced_memory()[0]
+        table = fmt.read_table(out, spec)
+        read = tracemalloc.get_traced_memory()[1] - start
+    finally:
+        tracemalloc.stop()
+    assert made < 0.05 * table_bytes, (made, table_bytes)
+    from pydrill.sweep_plan import MEMORY_FACTOR
+
+    assert read < MEMORY_FACTOR * table_bytes, (read, table_bytes)
+    assert np.isnan(table.eig).all() and np.all(table.status == fmt.STATUS["missing"])
