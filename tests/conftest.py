@@ -1,4 +1,5 @@
 import os
+import signal
 import sys
 
 import matplotlib
@@ -9,6 +10,13 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 # A tester's own cluster (sweeps go where DASK_SCHEDULER_ADDRESS points, as any Dask client's
 # work does) is not the one these tests start; the tests that want it set it themselves.
 os.environ.pop("DASK_SCHEDULER_ADDRESS", None)
+# Started in the background by a shell without job control (`bash tools/test.sh &` in a script,
+# nohup), the suite inherits SIGINT ignored, and so would every process it starts: the tests
+# that press Ctrl-C on a run in a subprocess then saw it run to the end. A terminal's Ctrl-C is
+# what they test, so the suite takes SIGINT as Python does by default, and its children start
+# with it at the default (a handler is reset by exec, an ignored signal is not).
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture(autouse=True)
