@@ -4,8 +4,10 @@ CSV table with each code's name beside it."""
 from __future__ import annotations
 
 import argparse
+import errno
 import os
 import secrets
+import stat
 import warnings
 from pathlib import Path
 from typing import Any
@@ -70,17 +72,25 @@ def cmd_export(args: argparse.Namespace) -> int:
 def _write_whole(out: Path, data: bytes | memoryview) -> None:
     """Write ``data`` to ``out`` whole or not at all: into a new file beside it, put in its
     place once complete. On a failure that file is removed and ``out`` (if there was one)
-    left as it was; the OSError names ``out``."""
-    part = out.with_name(f".{out.name}.{secrets.token_hex(4)}.part")
+    left as it was; the OSError names ``out``. As writing into it would: a symlink at ``out``
+    is followed (the file it names is replaced, the link kept), and a file there keeps its
+    permissions."""
+    target = out.resolve() if out.is_symlink() else out
+    part = target.with_name(f".{target.name}.{secrets.token_hex(4)}.part")
     try:
+        mode = stat.S_IMODE(target.stat().st_mode) if target.exists() else None
+        if mode is not None and not os.access(target, os.W_OK):  # what writing into it met
+            raise PermissionError(errno.EACCES, os.strerror(errno.EACCES))
         # 0o666 as open() makes a file (less the umask); mkstemp's 0o600 would be kept
         fd = os.open(part, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
         try:
             with open(fd, "wb") as fh:
+                if mode is not None:
+                    os.chmod(fh.fileno(), mode)
                 fh.write(data)
                 fh.flush()
                 os.fsync(fh.fileno())
-            os.replace(part, out)
+            os.replace(part, target)
         except BaseException:
             part.unlink(missing_ok=True)
             raise

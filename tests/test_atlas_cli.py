@@ -2,6 +2,7 @@
 
 import csv
 import json
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -330,6 +331,29 @@ def test_an_export_that_fails_leaves_the_atlas_closed(small_atlas, tmp_path, mon
         args.handler(args)
     assert held.value is not None and open_atlases() == []
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_export_over_a_link_or_a_file_writes_as_writing_into_it_would(small_atlas, tmp_path):
+    """Put in place whole (da79aa1), the export replaced a symlink at --out by a file, and a
+    file there by one of the default permissions. Now the link is followed, the file it names
+    replaced and the link kept; a file keeps its permissions."""
+    target = tmp_path / "runs" / "2026-12-01.csv"
+    target.parent.mkdir()
+    target.write_text("old\n")
+    target.chmod(0o640)
+    link = tmp_path / "latest.csv"
+    link.symlink_to(target)
+    for out in (link, target):
+        proc = subprocess.run(
+            [*CMD, "atlas", "export", str(small_atlas), "--out", str(out)],
+            capture_output=True,
+            text=True,
+        )
+        assert proc.returncode == 0, proc.stderr
+        assert link.is_symlink() and link.resolve() == target
+        assert target.read_text().startswith("wob,torque,initial,")
+        assert stat.S_IMODE(target.stat().st_mode) == 0o640
+        assert sorted(p.name for p in target.parent.iterdir()) == [target.name]
 
 
 def test_a_metric_map_shows_the_values_the_atlas_holds(small_atlas, tmp_path):
