@@ -173,7 +173,7 @@ class Atlas:
             v = coordinate(name, coords[name])
             i = int(np.argmin(np.abs(values - v)))
             if method == "exact" and not on_grid(values, i, v):
-                shown, near = distinct(v, values[i], name)
+                shown, near = distinct(v, values[i], name, values)
                 raise KeyError(
                     f"{name} = {shown} is not on the grid (nearest {near}); "
                     "use method='nearest' (--nearest)"
@@ -287,8 +287,9 @@ class Atlas:
         return steady & stable
 
     def summary(self) -> dict[str, Any]:
-        """What ``pydrill atlas info`` prints, as data: axes, point status, regime counts per
-        start, safe and coexistence points, version and spec digest."""
+        """What ``pydrill atlas info`` prints, as data: the model (the string's name, its
+        inertias, what is held fixed, ``t_end``), axes, point status, regime counts per start,
+        safe and coexistence points, version and spec digest."""
         return _summary(self)
 
     def sel(self, method: str | None = None, **coords: ArrayLike):

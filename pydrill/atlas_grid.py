@@ -27,7 +27,7 @@ def grid_value(name: str, values: np.ndarray, value: Any) -> float:
     v = coordinate(name, value)
     i = int(np.argmin(np.abs(values - v)))
     if not on_grid(values, i, v):
-        shown, near = distinct(v, values[i], name)
+        shown, near = distinct(v, values[i], name, values)
         raise KeyError(
             f"{name} = {shown} is not on the grid (nearest {near}); use method='nearest'"
         )
@@ -52,6 +52,13 @@ def shown_unit(name: str, *values: float) -> tuple[str, float]:
     return unit, 1.0
 
 
+def grid_unit(name: str, values: Any) -> tuple[str, float]:
+    """The unit a whole axis reads in (``shown_unit`` of its extremes): a value on it is printed
+    in that unit too, so that 9 kN·m on an axis of 6 ... 12 kN·m does not read 9000 N·m."""
+    values = np.asarray(values, dtype=float)
+    return shown_unit(name, float(np.min(values)), float(np.max(values)))
+
+
 def with_unit(name: str, value: float, unit: tuple[str, float] | None = None) -> str:
     """A sweep axis's SI value as text with its unit ("80 N", "120 kN", "4" for a count)."""
     text, factor = unit or shown_unit(name, value)
@@ -59,11 +66,14 @@ def with_unit(name: str, value: float, unit: tuple[str, float] | None = None) ->
     return number if text == "1" else f"{number} {text}"
 
 
-def distinct(a: float, b: Any, name: str | None = None) -> tuple[str, str]:
+def distinct(a: float, b: Any, name: str | None = None, axis: Any = None) -> tuple[str, str]:
     """``a`` and ``b`` printed briefly (``:g``), or in full when that shows them equal; with
-    the unit of axis ``name`` when it is given, the one its grid value ``b`` reads in (both in
-    it: 70 kN, 60 kN)."""
-    text, factor = shown_unit(name, b) if name else ("1", 1.0)
+    the unit of axis ``name`` when it is given, the one its grid values ``axis`` read in (else
+    its grid value ``b``), both in it: 70 kN, 60 kN."""
+    if not name:
+        text, factor = "1", 1.0
+    else:
+        text, factor = grid_unit(name, [b] if axis is None else axis)
     x, y = float(a) / factor, float(b) / factor
     short = f"{x:g}", f"{y:g}"
     pair = short if short[0] != short[1] else (repr(x), repr(y))
@@ -75,7 +85,7 @@ def near_enough(name: str, values: np.ndarray, v: float) -> None:
     never went: beyond half a grid step past either end, or off a one-value axis."""
     if len(values) == 1:
         if not on_grid(values, 0, v):
-            shown, only = distinct(v, values[0], name)
+            shown, only = distinct(v, values[0], name, values)
             raise KeyError(f"{name} = {shown} is outside the atlas (only {only})")
         return
     ends = np.sort(values)

@@ -15,6 +15,7 @@ from .journal import JOURNAL_SUFFIX, journaled
 
 if TYPE_CHECKING:
     from .atlas import Atlas
+    from .spec import SweepSpec
 
 
 def summary(atlas: Atlas) -> dict[str, Any]:
@@ -45,6 +46,7 @@ def summary(atlas: Atlas) -> dict[str, Any]:
     return {
         "path": str(atlas.path),
         "pydrill_version": atlas.version,
+        "model": model(atlas.spec),
         # The digest the writer stored, which a --resume compares with its spec's; and the
         # digest this pydrill makes of the spec stored beside it. They differ when the file
         # was edited, or when the pydrill that wrote it made another model of that spec (the
@@ -70,6 +72,27 @@ def summary(atlas: Atlas) -> dict[str, Any]:
         # but the atlas does not yet is completed by --resume.
         "journal": str(journal) if journal.exists() else None,
         "journal_points": journal_only(atlas.path, status),
+    }
+
+
+def model(spec: SweepSpec) -> dict[str, Any]:
+    """What string the atlas is of, held how: its name (a preset's, or the tally's), where it
+    comes from, its inertias (None where a size or depth axis changes them), the model
+    parameters and operating values held fixed (SI), and how long each start was simulated."""
+    if spec.tally_text is not None:
+        from .tally import parse_tally
+
+        name, source = parse_tally(spec.tally_text).name, "tally"
+    else:
+        name, source = spec.preset, "preset"
+    resized = {"dof", "pipes"} & set(spec.axes) or ("depth" in spec.axes and spec.dof is None)
+    held = {k: v for k, v in spec.overrides.items() if k not in ("tally", "lump")}
+    return {
+        "string": name,
+        "from": source,
+        "inertias": None if resized else spec.params_at(spec.coords(0)).dof,
+        "held": {**spec.fixed, **held},  # the operating values first
+        "t_end": float(spec.simulation["t_end"]),
     }
 
 

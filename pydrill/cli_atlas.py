@@ -7,8 +7,9 @@ import sys
 import textwrap
 from typing import Any
 
-from .atlas_grid import axis_unit, shown_unit, with_unit
+from .atlas_grid import axis_unit, grid_unit, shown_unit, with_unit
 from .cli_atlas_export import cmd_export, export_path
+from .cli_atlas_query import axis_values, cmd_query, set_texts
 from .cli_options import figure_path, json_document, print_json
 
 
@@ -23,6 +24,34 @@ def axis_line(name: str, size: int, low: float, high: float, width: int = 12) ->
         f"  axis {name} {size:6d} values, {with_unit(name.strip(), low, unit)} ... "
         f"{with_unit(name.strip(), high, unit)}"
     )
+
+
+def model_line(m: dict[str, Any]) -> str:
+    """The string an atlas is of, as ``atlas info`` shows it: ``model   string paper-eq53
+    (tally), 105 inertias, torque 9 kN·m; 100 s from each start``."""
+    from .plot_atlas import shown_unit as parameter_unit
+
+    what = f"string {m['string']} (tally)" if m["from"] == "tally" else f"preset {m['string']}"
+    parts = [what + ("" if m["inertias"] is None else f", {m['inertias']} inertias")]
+    for name, v in m["held"].items():
+        if isinstance(v, list | tuple):  # a value per element
+            parts.append(f"{name} ({len(v)} values)")
+        elif name in ("wob", "torque"):  # 9 kN·m as the spec likely gave it, 8 N·m as is
+            unit = axis_unit(name)
+            parts.append(
+                f"{name} " + (f"{v / 1e3:g} k{unit}" if abs(v) >= 1e3 else f"{v:g} {unit}")
+            )
+        else:
+            parts.append(f"{name} {v:.4g} {parameter_unit(name)}".rstrip())
+    parts[-1] += f"; {m['t_end']:g} s from each start"
+    lines = ["  model   " + parts[0]]
+    for part in parts[1:]:  # wrapped at 79 between parts, never inside "60 N·m·s/rad"
+        if len(lines[-1]) + 2 + len(part) > 79:
+            lines[-1] += ","
+            lines.append(" " * 10 + part)
+        else:
+            lines[-1] += ", " + part
+    return "\n".join(lines)
 
 
 def register_atlas(sub) -> None:
@@ -103,7 +132,7 @@ def register_atlas(sub) -> None:
     )
     query.add_argument("--nearest", action="store_true", help="nearest grid point, not exact")
     query.add_argument("--json", action="store_true", help="print one JSON object for scripts")
-    query.set_defaults(handler=_cmd_query)
+    query.set_defaults(handler=cmd_query)
     plot = asub.add_parser(
         "plot",
         help="regime map on two axes with the analytic boundaries (one axis: a profile)",
@@ -228,6 +257,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
             "this spec (its points are of that model; --resume refuses the atlas)"
         )
         print(textwrap.fill(note, 79, initial_indent="  ", subsequent_indent="        "))
+    print(model_line(s["model"]))
     for name, ax in s["axes"].items():
         print(axis_line(name, ax["size"], ax["min"], ax["max"], max(map(len, s["axes"]))))
     print("  status  " + ", ".join(f"{k} {v}" for k, v in s["status"].items()))
@@ -253,117 +283,6 @@ def _cmd_info(args: argparse.Namespace) -> int:
     return 0
 
 
-def _json_unit(unit: str) -> str:
-    """A unit of the atlas table as the other ``--json`` documents write it ("N·m·s/rad")."""
-    return unit.replace(" ", "·")
-
-
-def _typed(name: str, value: float) -> float | int:
-    """A value asked for on a count axis (dof, pipes) as the integer ``coords`` gives."""
-    return int(value) if name in ("dof", "pipes") and float(value).is_integer() else value
-
-
-def _axis_values(items: list[str]) -> dict[str, float]:
-    """``--set AXIS=VALUE`` options as a dict of SI values: a VALUE may carry a unit, as the
-    spec and ``--wob``, ``--depth`` take it (``torque=8 kN·m``, ``depth=3000ft``)."""
-    from .atlas_grid import coordinate
-
-    out = {}
-    for item in items:
-        name, equals, value = (part.strip() for part in item.partition("="))
-        if not (name and equals and value):
-            raise ValueError(
-                f"--set {item!r}: expected AXIS=VALUE (a number, or with a unit: depth=3000ft)"
-            )
-        try:
-            out[name] = coordinate(name, value)
-        except ValueError as exc:  # "wob = '80 m': unit 'm' is not a force unit; ..."
-            raise ValueError(f"--set {item!r}: {exc}") from None
-    return out
-
-
-def _set_texts(items: list[str]) -> dict[str, str]:
-    """What each ``--set AXIS=VALUE`` gave, as typed (``3000ft``): for its messages."""
-    return {name.strip(): value.strip() for name, _, value in (i.partition("=") for i in items)}
-
-
-def _cmd_query(args: argparse.Namespace) -> int:
-    from . import atlas_format as fmt
-    from .atlas import Atlas
-
-    coords = {
-        k: getattr(args, k)
-        for k in ("wob", "torque", "depth", "dof", "pipes")
-        if getattr(args, k) is not None
-    }
-    for name, value in _axis_values(args.set).items():
-        if name in coords:  # --wob 80 --set wob=120: which one was meant?
-            raise ValueError(
-                f"{name} is given twice (--{name} {coords[name]:g} and --set {name}={value:g}); "
-                "give it once"
-            )
-        coords[name] = value
-    with Atlas(args.atlas) as atlas:
-        try:
-            v = atlas.value("nearest" if args.nearest else "exact", **coords)
-        except KeyError as exc:  # worded for the Python API: say the option instead
-            message = exc.args[0].replace("method='nearest' (--nearest)", "--nearest")
-            raise ValueError(message) from None
-        initials = atlas.initials
-    if args.json:
-        first = initials[0]
-        # asked: the values given; coords: the grid point's (the same unless --nearest)
-        inputs = {"atlas": args.atlas, "asked": {k: _typed(k, x) for k, x in coords.items()}}
-        flat = {"regime": v["regime"][first], "coords": v["coords"], "status": v["status"]}
-        if "message" in v:
-            flat["message"] = v["message"]
-        flat.update({k: m[first] for k, m in v["metrics"].items()})
-        flat["caveat"] = v["caveat"][first]
-        flat["by_initial"] = {"regime": v["regime"], "metrics": v["metrics"], "caveat": v["caveat"]}
-        flat["stability"] = v["stability"]
-        flat["coexistence"] = v["coexistence"]
-        # Every field's unit from the table the atlas's own "units" attributes come from
-        # (dimensionless ones too, so a script need not guess), and the axes'.
-        units: dict[str, Any] = {  # a unit each, and the axes' units as a dict (coords)
-            name: _json_unit(unit)
-            for name, (_, _, unit, _) in {**fmt.RUN_FIELDS, **fmt.EQ_FIELDS}.items()
-        }
-        units["eigenvalues"] = "1/s"
-        units["coords"] = {name: axis_unit(name) for name in v["coords"]}
-        print_json(json_document(inputs, flat, units))
-        return 0
-    print(
-        ", ".join(f"{k} = {with_unit(k, x)}" for k, x in v["coords"].items()) + f": {v['status']}"
-    )
-    moved = {k: x for k, x in coords.items() if f"{x:g}" != f"{v['coords'][k]:g}"}
-    if args.nearest and moved:  # say it: the point shown is not the one asked for
-        asked = ", ".join(f"{k} = {with_unit(k, x)}" for k, x in moved.items())
-        print(f"  (the grid point nearest {asked})")
-    if "message" in v:
-        print(f"  {v['message']}")
-    for init, regime in v["regime"].items():
-        m = v["metrics"]
-        period = m["period"][init]
-        mean, stuck = m["bit_mean"][init], m["stuck_fraction"][init]
-        print(
-            f"  from {init:12s} {regime:12s} bit mean "
-            + ("-" if mean is None else f"{mean:.4g} rad/s")
-            + ", stuck "
-            + ("-" if stuck is None else f"{100 * stuck:.1f} %")
-            + (f", period {period:.4g} s" if period else "")
-        )
-        caveat = v["caveat"][init]
-        if caveat:
-            print(f"    caveat: {caveat} ({fmt.CAVEAT_TEXT[caveat]})")
-    st = v["stability"]
-    for w, unstable in zip(st["omega_eq"], st["unstable"], strict=True):
-        print(
-            f"  steady state Omega = {w:.5g} rad/s: "
-            + ("stable" if unstable == 0 else f"unstable ({unstable})")
-        )
-    return 0
-
-
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .atlas import Atlas
     from .atlas_format import EQ_FIELDS
@@ -371,8 +290,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from .plot import save
     from .plot_atlas import NO_STABILITY, atlas_figure, nearest_index
 
-    at = _axis_values(args.set)
-    given = _set_texts(args.set)
+    at = axis_values(args.set)
+    given = set_texts(args.set)
     with Atlas(args.atlas) as atlas:
         if args.metric in EQ_FIELDS and not atlas.spec.record["stability"]:
             raise ValueError(f"--metric {args.metric}: {NO_STABILITY}")
@@ -387,7 +306,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             if not on_grid(atlas.axes[name], k, value):  # say so: the title shows the grid's
                 print(
                     f"pydrill atlas plot: note: --set {name}={given[name]} is not a grid value; "
-                    f"drawn at the nearest, {name} = {with_unit(name, grid)}",
+                    f"drawn at the nearest, {name} = "
+                    f"{with_unit(name, grid, grid_unit(name, atlas.axes[name]))}",
                     file=sys.stderr,
                 )
         fig = atlas_figure(

@@ -1,0 +1,134 @@
+"""What ``atlas info`` and ``atlas query`` print for a real string: every value in its axis's
+unit, the string the atlas is of, and why each steady state is stable or not."""
+
+import json
+import math
+import subprocess
+
+import h5py
+import pytest
+from sweeping import CMD, ROOT, SMALL
+
+from pydrill.spec import parse_spec
+from pydrill.sweep import run_sweep
+
+TALLY = (ROOT / "examples" / "tallies" / "paper-eq53.toml").read_text()
+
+# The paper's real string, lumped to 6 inertias, on a torque axis that reads in kN·m
+FIELD = """
+[model]
+tally = "paper-eq53.toml"
+dof = 6
+[axes]
+wob = ["40 kN", "80 kN"]
+torque = ["6 kN·m", "9 kN·m", "12 kN·m"]
+[simulation]
+t_end = 30.0
+initial = ["rest", "equilibrium"]
+"""
+
+# The same string held at one torque, with one parameter changed from the tally's
+HELD = """
+[model]
+tally = "paper-eq53.toml"
+dof = 6
+torque = "9 kN·m"
+bit_damping = 60.0
+[axes]
+wob = ["40 kN", "80 kN"]
+[simulation]
+t_end = 30.0
+initial = ["rest"]
+"""
+
+
+@pytest.fixture(scope="module")
+def field(tmp_path_factory):
+    out = tmp_path_factory.mktemp("field") / "field.h5"
+    run_sweep(parse_spec(FIELD, tally_text=TALLY), out, serial=True)
+    return out
+
+
+def _run(*args: str) -> str:
+    return subprocess.run([*CMD, *args], capture_output=True, text=True, check=True).stdout
+
+
+def test_a_point_reads_in_its_axis_unit(field):
+    """9000 N·m on an axis of 6 ... 12 kN·m was printed '9000 N·m' (its own size alone chose
+    the unit), beside '80 kN' and the axis line's kN·m."""
+    text = _run("atlas", "query", str(field), "--wob", "80kN", "--torque", "9 kN·m")
+    assert text.splitlines()[0] == "wob = 80 kN, torque = 9 kN·m: done"
+    info = _run("atlas", "info", str(field))
+    assert "axis torque            3 values, 6 kN·m ... 12 kN·m" in info
+    moved = _run("atlas", "query", str(field), "--wob", "80kN", "--torque", "9.4kN·m", "--nearest")
+    assert "(the grid point nearest torque = 9.4 kN·m)" in moved
+    off = subprocess.run(
+        [*CMD, "atlas", "query", str(field), "--wob", "80kN", "--torque", "9.4kN·m"],
+        capture_output=True,
+        text=True,
+    )
+    assert off.returncode == 2
+    assert "torque = 9.4 kN·m is not on the grid (nearest 9 kN·m)" in off.stderr
+
+
+def test_query_says_why_each_steady_state_is_stable_or_not(field):
+    """The text gave 'unstable (3)': now the count of eigenvalues with Re > 0, the spectral
+    abscissa and the Hopf margin, as the JSON holds them, and the speed in rpm too."""
+    seen_unstable = False
+    for wob in ("40kN", "80kN"):
+        for torque in ("6kN·m", "9kN·m", "12kN·m"):
+            args = ["atlas", "query", str(field), "--wob", wob, "--torque", torque]
+            text = _run(*args).splitlines()
+            st = json.loads(_run(*args, "--json"))["stability"]
+            lines = [n for n, line in enumerate(text) if "steady state Omega" in line]
+            assert len(lines) == len(st["omega_eq"])
+            for k, n in enumerate(lines):
+                omega, count = st["omega_eq"][k], st["unstable"][k]
+                head, why = text[n], text[n + 1]
+                rpm = float(head.split("(")[1].split(" rpm")[0])
+                assert rpm == pytest.approx(omega * 60 / (2 * math.pi), rel=1e-3)
+                # the leading eigenvalues kept (4 of them): as many with Re > 0 as it counts
+                right = sum(re > 0 for re, _ in st["eigenvalues"][k])
+                if count == 0:
+                    assert head.endswith(": stable") and right == 0
+                else:
+                    seen_unstable = True
+                    word = "eigenvalue" if count == 1 else "eigenvalues"
+                    assert head.endswith(f": unstable ({count} {word} with Re > 0)")
+                    assert right == min(count, len(st["eigenvalues"][k]))
+                shown = float(why.split("spectral abscissa ")[1].split(" ")[0])
+                assert shown == pytest.approx(st["spectral_abscissa"][k], rel=1e-3)
+                margin = float(why.split("Hopf margin ")[1].split(" ")[0])
+                assert margin == pytest.approx(st["hopf_margin"][k], rel=1e-3)
+                assert (margin > 0) == (count == 0)  # a negative margin: past a crossing
+    assert seen_unstable  # the slow steady state of a stick-slip point
+
+
+def test_info_names_the_string_its_inertias_and_what_is_held(field, tmp_path):
+    held = tmp_path / "held.h5"
+    run_sweep(parse_spec(HELD, tally_text=TALLY), held, serial=True)
+    for path, extra in ((field, ""), (held, ", torque 9 kN·m, bit_damping 60 N·m·s/rad")):
+        with h5py.File(path, "r") as f:  # the string the sweep computed with
+            inertias = len(json.loads(f.attrs["params"])["base"]["inertias"])
+        assert inertias == 6
+        line = f"model string paper-eq53 (tally), 6 inertias{extra}; 30 s from each start"
+        assert line in " ".join(_run("atlas", "info", str(path)).split())  # wrapped at 79
+        model = json.loads(_run("atlas", "info", str(path), "--json"))["model"]
+        assert model["string"] == "paper-eq53" and model["from"] == "tally"
+        assert model["inertias"] == 6 and model["t_end"] == 30.0
+    assert model["held"] == {"torque": 9000.0, "bit_damping": 60.0}
+
+
+def test_info_of_a_preset_atlas_and_of_a_size_axis(tmp_path):
+    small = tmp_path / "small.h5"
+    run_sweep(parse_spec(SMALL), small, serial=True)
+    line = "  model   preset reduced-scale, 4 inertias; 200 s from each start"
+    assert line in _run("atlas", "info", str(small)).splitlines()
+    sizes = SMALL.replace("dof = 4\n", "").replace("torque = [6.0, 8.3]", "dof = [3, 5]")
+    sizes = sizes.replace("[model]\n", "[model]\ntorque = 8.3\n")
+    out = tmp_path / "sizes.h5"
+    run_sweep(parse_spec(sizes), out, serial=True)
+    model = json.loads(_run("atlas", "info", str(out), "--json"))["model"]
+    assert model["inertias"] is None  # an axis sets them
+    line = "  model   preset reduced-scale, torque 8.3 N·m; 200 s from each start"
+    assert line in _run("atlas", "info", str(out)).splitlines()
