@@ -341,7 +341,8 @@ class Atlas:
         (default: the first two swept), any other held at its grid value nearest ``at[name]``
         (default: its first), from the start ``initial`` (default: the first). On (W_ob, u)
         the stuck boundary and the first Hopf curve are drawn on top. With ``profile`` (and
-        always for an atlas of one axis) a profile along ``x`` instead, the other axes held
+        always when one axis is left: an atlas of one axis, or every other held by ``at``) a
+        profile along ``x`` instead, the other axes held
         as for a map: bit velocities from each start (or ``metric``), the fastest steady
         state (dashed where unstable) and the regimes in a strip below."""
         from .plot_atlas import atlas_figure

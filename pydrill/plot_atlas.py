@@ -59,10 +59,10 @@ def atlas_figure(
     at those values are drawn on top (the paper's Figs. 6b and 12); on other axes, the stuck
     boundary found at the grid points and where the fastest steady state's recorded spectral
     abscissa changes sign (see ``plot_atlas_bounds``).
-    With ``profile`` (and always for an atlas of one axis, which has no map) the figure is a
-    profile along ``x`` instead, every other axis held as above: the bit velocity from each
-    start with the fastest steady state and its stability, or ``metric``, above a regime strip
-    per start (``plot_atlas_line``).
+    With ``profile`` (and always when one axis is left, of an atlas of one axis or all others
+    held by ``at``: no map there) the figure is a profile along ``x`` instead, every other
+    axis held as above: the bit velocity from each start with the fastest steady state and
+    its stability, or ``metric``, above a regime strip per start (``plot_atlas_line``).
 
     With ``metric`` (a name of ``METRICS``: ``severity``, ``stuck_fraction``, ``period``,
     ``spectral_abscissa``, ...) the map is coloured by that value instead, with a colour bar
@@ -99,6 +99,10 @@ def atlas_figure(
         raise ValueError(f"{sorted(set(at) & {x, y})[0]!r} is drawn; it cannot also be held")
     swept_first = sorted(order, key=lambda n: len(atlas.axes[n]) <= 1)
     free = [n for n in swept_first if n not in (x, y) and n not in at]
+    if y is None and len(free) + (x is not None) == 1:
+        # Every axis but one held (torque=8.3 on a (W_ob, u) atlas): a map has one axis left,
+        # and the figure asked for is the profile along it.
+        profile = True
     if len(free) < (x is None) + (y is None and not profile):
         raise ValueError(f"no axis left to draw: {', '.join(order)} are all given as x, y or held")
     xname = x or free.pop(0)

@@ -132,3 +132,27 @@ def test_info_of_a_preset_atlas_and_of_a_size_axis(tmp_path):
     assert model["inertias"] is None  # an axis sets them
     line = "  model   preset reduced-scale, torque 8.3 N·m; 200 s from each start"
     assert line in _run("atlas", "info", str(out)).splitlines()
+
+
+def test_holding_every_axis_but_one_draws_the_profile_along_it(field, tmp_path):
+    """'--set torque=9kN·m' on a (wob, torque) atlas was refused ("no axis left to draw"):
+    what it asks for is the profile along W_ob at that torque, as --profile draws it."""
+    import numpy as np
+
+    from pydrill.atlas import Atlas
+
+    with Atlas(field) as atlas:
+        fig = atlas.plot(at={"torque": 9e3})
+        ax = fig.axes[0]  # the velocities; the regime strip below carries the x label
+        assert "weight on bit $W_{ob}$ (kN)" in [a.get_xlabel() for a in fig.axes]
+        titles = [ax.get_title(), *(t.get_text() for t in fig.texts)]
+        assert any("torque = 9 kN·m" in t for t in titles), titles
+        mean = atlas.sel(torque=9e3, initial="rest").bit_mean.values
+        drawn = [line for line in ax.get_lines() if line.get_label().startswith("from rest")]
+        assert np.allclose(drawn[0].get_ydata(), mean)
+        # a map still needs two axes: with --y given, holding its only partner is refused
+        with pytest.raises(ValueError, match="no axis left"):
+            atlas.plot(y="wob", at={"torque": 9e3})
+    out = tmp_path / "profile.png"
+    text = _run("atlas", "plot", str(field), "--out", str(out), "--set", "torque=9kN·m")
+    assert text.strip() == f"figure: {out}" and out.stat().st_size > 10_000
