@@ -7,6 +7,7 @@
 // u = 8.3 N·m, which sticks and slips. Exit status 0, 2 for bad input, 3 when the integrator
 // fails, 4 when the time allowed runs out.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -41,11 +42,19 @@ int main(int argc, char** argv) {
     const double wob = argc > 1 ? number(argv[1], "W_ob") : 100.0;        // N
     const double torque = argc > 2 ? number(argv[2], "u") : 8.3;          // N·m
     const double dof_given = argc > 3 ? number(argv[3], "dof") : 4.0;
-    if (dof_given != static_cast<int>(dof_given)) {
+    if (!std::isfinite(dof_given) || dof_given != std::floor(dof_given)) {
       throw std::invalid_argument("dof = '" + std::string(argv[3]) + "' is not a whole number");
     }
-    const int dof = static_cast<int>(dof_given);
+    // Converting a double beyond int's range to int is undefined: refuse it first.
+    if (std::fabs(dof_given) > 1e9) {
+      throw std::invalid_argument("dof = '" + std::string(argv[3]) + "' is out of range");
+    }
+    const int dof = static_cast<int>(dof_given);  // preset() checks its range
     const double allowed = argc > 4 ? number(argv[4], "time allowed") : 60.0;  // s of wall time
+    if (!(allowed > 0) || !std::isfinite(allowed)) {  // nan or inf would never stop the run
+      throw std::invalid_argument("time allowed = '" + std::string(argv[4]) +
+                                  "' is not allowed: must be a finite number of seconds > 0");
+    }
 
     // Every call checks its input and throws std::invalid_argument naming what is wrong.
     const pydrill::Params params = pydrill::preset("reduced-scale", dof);
