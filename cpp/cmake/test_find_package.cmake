@@ -1,6 +1,8 @@
 # ctest driver: install the library into a scratch prefix, then configure,
-# build and run the example as an outside project would (find_package).
-foreach(var BUILD_DIR EXAMPLE_DIR WORK_DIR)
+# build and run the example as an outside project would (find_package); and check that
+# find_package(pydrill MAJOR.MINOR) takes the installed package and any other minor or major
+# version is refused (pydrillConfigVersion.cmake: SameMinorVersion, as the soname).
+foreach(var BUILD_DIR EXAMPLE_DIR WORK_DIR VERSION)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "${var} not set")
   endif()
@@ -30,3 +32,45 @@ endif()
 if(NOT out MATCHES "regime: stick-slip")
   message(FATAL_ERROR "the example did not report the paper's stick-slip regime")
 endif()
+
+# Versions asked of find_package, from the project's own VERSION: the same MAJOR.MINOR (and the
+# exact MAJOR.MINOR.PATCH) is found, a neighbouring minor or major version is not.
+string(REGEX MATCH "^([0-9]+)\\.([0-9]+)\\.([0-9]+)" parsed "${VERSION}")
+if(NOT parsed)
+  message(FATAL_ERROR "VERSION = '${VERSION}' is not MAJOR.MINOR.PATCH")
+endif()
+set(major ${CMAKE_MATCH_1})
+set(minor ${CMAKE_MATCH_2})
+math(EXPR next_minor "${minor} + 1")
+math(EXPR next_major "${major} + 1")
+string(REPLACE "." "\\." version_regex "${VERSION}")
+set(accepted "${major}.${minor}" "${VERSION}")
+set(refused "${major}.${next_minor}" "${next_major}.${minor}")
+if(minor GREATER 0)
+  math(EXPR previous_minor "${minor} - 1")
+  list(APPEND refused "${major}.${previous_minor}")
+endif()
+foreach(asked ${accepted} ${refused})
+  set(project ${WORK_DIR}/version_${asked})
+  file(WRITE ${project}/CMakeLists.txt "cmake_minimum_required(VERSION 3.18)
+project(version_check LANGUAGES CXX)
+find_package(pydrill ${asked} REQUIRED)
+message(STATUS \"found pydrill \${pydrill_VERSION}\")
+")
+  execute_process(COMMAND ${CMAKE_COMMAND} -S ${project} -B ${project}/build
+                          -DCMAKE_PREFIX_PATH=${prefix}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(asked IN_LIST accepted)
+    if(rc OR NOT out MATCHES "found pydrill ${VERSION}")
+      message(FATAL_ERROR "find_package(pydrill ${asked} REQUIRED) did not find ${VERSION}:\n${out}\n${err}")
+    endif()
+    message(STATUS "find_package(pydrill ${asked}): found ${VERSION}")
+  else()
+    # Refused for its version, not missed: CMake lists the config file it turned down with
+    # "version: <the installed one>" (wrapped anywhere but inside a word).
+    if(NOT rc OR NOT err MATCHES "version:[ \t\r\n]+${version_regex}")
+      message(FATAL_ERROR "find_package(pydrill ${asked} REQUIRED) accepted ${VERSION}:\n${out}\n${err}")
+    endif()
+    message(STATUS "find_package(pydrill ${asked}): refused, as it should be")
+  endif()
+endforeach()
