@@ -7,6 +7,7 @@ core (``pydrill._core``), which this package re-exports with documentation and p
 from . import _core, stability, units
 from ._core import SolverError
 from .atlas import Atlas
+from .atlas_safe import SafeRow
 from .model import PRESETS, Params, _number, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
 from .spec import SpecError, SweepSpec, load_spec, parse_spec
@@ -65,6 +66,7 @@ __all__ = [
     "AtlasError",
     "ClusterInfo",
     "Params",
+    "SafeRow",
     "SchedulerError",
     "SimulationResult",
     "SolverError",

@@ -34,6 +34,8 @@ from .spec import SpecError, parse_spec
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
+    from .atlas_safe import SafeRow
+
 
 class Atlas:
     """An atlas file, opened read-only. Use as a context manager or call :meth:`close`.
@@ -285,6 +287,18 @@ class Atlas:
         steady = np.all(codes == fmt.REGIMES["steady"], axis=-1)
         stable = f["unstable"][..., 0] == 0
         return steady & stable
+
+    def safe_windows(self, along: str | None = None, **at: Any) -> list[SafeRow]:
+        """The safe operating windows along axis ``along`` (default: ``wob`` if swept, else
+        the first axis): for every value of the other axes, or the grid value nearest each
+        given in ``at`` (numbers, or strings with a unit: ``torque="9 kN·m"``), the runs of
+        consecutive grid points of :meth:`safe_region` as (first, last) grid values, in SI.
+        The true edges lie within one grid step beyond them. Points not computed (missing,
+        failed) are not safe; each row counts them (``not_done``)."""
+        from .atlas_safe import safe_windows
+
+        coords = {name: coordinate(name, v) for name, v in at.items()}
+        return safe_windows(self, along, coords)
 
     def summary(self) -> dict[str, Any]:
         """What ``pydrill atlas info`` prints, as data: the model (the string's name, its

@@ -10,6 +10,7 @@ from typing import Any
 from .atlas_grid import axis_unit, grid_unit, shown_unit, with_unit
 from .cli_atlas_export import cmd_export, export_path
 from .cli_atlas_query import axis_values, cmd_query, set_texts
+from .cli_atlas_safe import register_safe
 from .cli_options import figure_path, json_document, print_json
 
 
@@ -57,13 +58,14 @@ def model_line(m: dict[str, Any]) -> str:
 def register_atlas(sub) -> None:
     at = sub.add_parser(
         "atlas",
-        help="inspect, query, plot or export an atlas",
+        help="inspect, query, plot or export an atlas, or find its safe windows",
         description="Work with an atlas written by 'pydrill sweep'.",
         epilog="examples:\n  pydrill atlas info paper.h5\n"
         "  pydrill atlas query paper.h5 --wob 100 --torque 8 --json\n"
         "  pydrill atlas query paper.h5 --wob 97 --torque 8.2 --nearest\n"
         "  pydrill atlas plot paper.h5 --out map.png --initial rest\n"
         "  pydrill atlas plot sizes.h5 --out map8.png --x wob --y torque --set dof=8\n"
+        "  pydrill atlas safe paper.h5 --set torque=8.5\n"
         "  pydrill atlas export paper.h5 --out paper.nc",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -81,9 +83,11 @@ def register_atlas(sub) -> None:
             "stopped."
         ),
         formatter_class=raw,
-        epilog="JSON fields: path, pydrill_version, spec_digest (as written), spec_digest_here\n"
-        "  (this pydrill's, of the same spec), points, axes {NAME: {size, min, max}}, initial,\n"
-        "  status {missing, done, failed}, regimes {INITIAL: {REGIME: count}},\n"
+        epilog="JSON fields: path, pydrill_version, model {string, from (preset or tally),\n"
+        "  inertias (null: an axis sets them), held {NAME: SI value}, t_end}, spec_digest\n"
+        "  (as written), spec_digest_here (this pydrill's, of the same spec), points,\n"
+        "  axes {NAME: {size, min, max}}, initial, status {missing, done, failed},\n"
+        "  regimes {INITIAL: {REGIME: count}},\n"
         "  safe_points (null: stability not recorded), coexistence_points,\n"
         "  journal (its path, or null), journal_points (in the journal, not yet in the atlas)",
     )
@@ -223,6 +227,7 @@ def register_atlas(sub) -> None:
         help="the file to write",
     )
     export.set_defaults(handler=cmd_export)
+    register_safe(asub, raw)
     at.set_defaults(handler=lambda args: _atlas_usage(at))
 
 

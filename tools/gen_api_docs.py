@@ -71,7 +71,7 @@ GROUPS: list[tuple[str, str, list[str]]] = [
     (
         "Atlases",
         "The guide: [Sweeps and atlases](guide/sweeps.md).",
-        ["Atlas", "AtlasError"],
+        ["Atlas", "SafeRow", "AtlasError"],
     ),
     (
         "Units",
@@ -234,6 +234,8 @@ def render_class(qual: str, cls: type, level: int) -> list[str]:
         for f in fields:
             ann = f.type if isinstance(f.type, str) else _annotation(f.type)
             note = _rst_to_md(comments.get(f.name, "")).replace("|", "\\|")
+            # GitHub's tables split a row at every "|", code spans too: `int \| None`
+            ann = ann.replace("|", "\\|")
             lines.append(f"| `{f.name}` | `{ann}` | {note} |")
         lines.append("")
     attributes = _attribute_comments(cls)
@@ -241,6 +243,7 @@ def render_class(qual: str, cls: type, level: int) -> list[str]:
         lines += ["| attribute | type | meaning |", "|---|---|---|"]
         for name, (ann, note) in attributes.items():
             note = _rst_to_md(note).replace("|", "\\|")
+            ann = ann.replace("|", "\\|")  # as the fields' above
             lines.append(f"| `{name}` | `{ann}` | {note} |")
         lines.append("")
     for name, member in _members(cls):

@@ -1,0 +1,124 @@
+"""``pydrill atlas safe``: the safe operating windows of an atlas along one axis, for each
+value of the others (``atlas_safe``), as text or JSON."""
+
+from __future__ import annotations
+
+import argparse
+import textwrap
+from typing import Any
+
+from .atlas_grid import axis_unit, grid_unit, with_unit
+from .cli_atlas_query import axis_values, set_texts
+from .cli_options import json_document, print_json
+
+DESCRIPTION = (
+    "The safe operating windows of an atlas: along one axis (W_ob unless --along says "
+    "another), the runs of grid points where the bit drills steadily from every start the "
+    "atlas holds and the fastest steady state is stable, for each value of the other axes "
+    "(or only at those given with --set). A window is given by its first and last safe grid "
+    "values: the true edges lie within one grid step beyond them. A point not computed "
+    "(missing, failed) is not safe and ends a window: a row counts them. Needs an atlas swept "
+    "with stability recorded."
+)
+
+
+def register_safe(asub, raw) -> None:
+    """Add ``atlas safe`` to the ``atlas`` subcommands ``asub``."""
+    safe = asub.add_parser(
+        "safe",
+        help="the safe windows along one axis (W_ob by default)",
+        description=textwrap.fill(DESCRIPTION, 79),
+        formatter_class=raw,
+        epilog="examples:\n  pydrill atlas safe paper.h5\n"
+        "  pydrill atlas safe paper.h5 --set torque=8.5\n"
+        "  pydrill atlas safe paper.h5 --along torque --set wob=100 --json\n"
+        "  pydrill atlas safe depth.h5 --set depth=3000m\n\n"
+        "JSON fields: along, criterion, rows [{at {AXIS: value}, windows [[first, last]],\n"
+        "  safe_points, points, not_done}], units {along, at {AXIS: unit}}; values in SI",
+    )
+    safe.add_argument("atlas", metavar="ATLAS.h5")
+    safe.add_argument(
+        "--along",
+        metavar="AXIS",
+        help="the axis the windows run along (default: wob if swept, else the first axis)",
+    )
+    safe.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="AXIS=VALUE",
+        help="only at the grid value of another axis nearest VALUE (SI, or with a unit: "
+        "torque=9kN·m); a VALUE beyond half a grid step past either end is refused",
+    )
+    safe.add_argument("--json", action="store_true", help="print one JSON object for scripts")
+    safe.set_defaults(handler=cmd_safe)
+
+
+def cmd_safe(args: argparse.Namespace) -> int:
+    from .atlas import Atlas
+    from .atlas_safe import criterion, default_along
+
+    at = axis_values(args.set)
+    given = set_texts(args.set)
+    with Atlas(args.atlas) as atlas:
+        along = args.along or default_along(atlas)
+        if along in at:
+            how = "--along" if args.along else "the default --along"
+            raise ValueError(
+                f"--set {along}={given[along]}: {along} is the axis the windows run along "
+                f"({how}); hold another axis, or give another with --along"
+            )
+        try:
+            rows = atlas.safe_windows(along, **at)
+        except KeyError as exc:  # worded for the Python API: name the option
+            name = exc.args[0].split(" ")[0]
+            option = f"--set {name}={given[name]}" if name in given else f"--along {along}"
+            raise ValueError(f"{option}: {exc.args[0]}") from None
+        axes = {name: values for name, values in atlas.axes.items()}
+        initials = atlas.initials
+    unit = {name: grid_unit(name, values) for name, values in axes.items()}
+    if args.json:
+        results = {
+            "along": along,
+            "criterion": criterion(initials),
+            "rows": [
+                {
+                    "at": row.at,
+                    "windows": [list(w) for w in row.windows],
+                    "safe_points": row.safe,
+                    "points": row.points,
+                    "not_done": row.not_done,
+                }
+                for row in rows
+            ],
+        }
+        units = {"along": axis_unit(along), "at": {n: axis_unit(n) for n in axes if n != along}}
+        print_json(json_document({"atlas": args.atlas}, results, units))
+        return 0
+    print(f"{args.atlas}: safe windows along {along}")
+    print(f"  safe: {criterion(initials)}")
+    labels = [
+        ", ".join(f"{n} = {with_unit(n, v, unit[n])}" for n, v in row.at.items()) for row in rows
+    ]
+    width = max(len(label) + 1 for label in labels)  # an atlas of one axis: no label
+    for label, row in zip(labels, rows, strict=True):
+        shown = _windows(row, along, unit[along])
+        print(f"  {label + ':':{width}s}  {shown}" if label else f"  {shown}")
+    if len(rows) > 1:
+        print(f"  {sum(1 for row in rows if row.windows)} of {len(rows)} have a safe window")
+    print("  (the true edges lie within a grid step beyond each window's ends)")
+    return 0
+
+
+def _windows(row: Any, along: str, unit: tuple[str, float]) -> str:
+    """``wob 20 kN ... 80 kN (4 of 10 points)``, ``none (0 of 10 points)``."""
+
+    def show(lo: float, hi: float) -> str:
+        first = with_unit(along, lo, unit)
+        return first if lo == hi else f"{first} ... {with_unit(along, hi, unit)}"
+
+    what = f"{along} " + ", ".join(show(*w) for w in row.windows) if row.windows else "none"
+    count = f"{row.safe} of {row.points} points"
+    if row.not_done:
+        count += f"; {row.not_done} not computed"
+    return f"{what} ({count})"

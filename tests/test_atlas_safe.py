@@ -1,0 +1,195 @@
+"""Safe operating windows (``Atlas.safe_windows``, ``pydrill atlas safe``) against a brute-force
+reading of the raw datasets: every window is a maximal run of safe grid points, and together
+they are exactly the safe points; points not computed are counted and never inside one."""
+
+import json
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+from sweeping import CMD
+
+from pydrill import atlas_format as fmt
+from pydrill.atlas import Atlas
+from pydrill.spec import parse_spec
+from pydrill.sweep import run_sweep
+
+# The 4-DOF laboratory string on a (W_ob, u) grid; W_ob given out of order on purpose
+GRID = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = [200.0, 20.0, 40.0, 60.0, 80.0, 100.0, 120.0, 140.0, 160.0, 180.0]
+torque = [6.0, 8.3, 10.0, 14.0]
+[simulation]
+t_end = 100.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+@pytest.fixture(scope="module")
+def grid(tmp_path_factory):
+    out = tmp_path_factory.mktemp("safe") / "grid.h5"
+    run_sweep(parse_spec(GRID), out, serial=True)
+    return out
+
+
+def _brute_safe(path):
+    """Safe points straight from the file: every start steady, fastest steady state with no
+    eigenvalue in the right half-plane."""
+    with h5py.File(path, "r") as f:
+        steady = np.all(f["regime"][...] == fmt.REGIMES["steady"], axis=-1)
+        stable = f["unstable"][..., 0] == 0
+        done = f["status"][...] == fmt.STATUS["done"]
+        axes = {n: f[n][...] for n in json.loads(f.attrs["axes"])}
+    return steady & stable, done, axes
+
+
+def _check_rows(rows, safe, done, wob, torque):
+    """Each row against the brute-force truth along W_ob at its torque."""
+    assert [row.at["torque"] for row in rows] == torque.tolist()
+    order = np.argsort(wob)
+    for j, row in enumerate(rows):
+        ok = safe[order, j]
+        values = wob[order]
+        covered = np.zeros(len(values), bool)
+        for lo, hi in row.windows:
+            inside = (values >= lo) & (values <= hi)
+            assert ok[inside].all()  # a window holds safe points only
+            covered |= inside
+            k_lo, k_hi = np.flatnonzero(inside)[[0, -1]]
+            # maximal: the grid points either side are not safe
+            assert k_lo == 0 or not ok[k_lo - 1]
+            assert k_hi == len(values) - 1 or not ok[k_hi + 1]
+        assert np.array_equal(covered, ok)  # and every safe point is in one
+        assert row.safe == ok.sum() and row.points == len(wob)
+        assert row.not_done == (~done[:, j]).sum()
+        starts = [lo for lo, _ in row.windows]
+        assert starts == sorted(starts)
+
+
+def test_windows_are_the_maximal_runs_of_safe_points(grid):
+    safe, done, axes = _brute_safe(grid)
+    assert 0 < safe.sum() < safe.size  # something to find, and something to leave out
+    with Atlas(grid) as atlas:
+        rows = atlas.safe_windows()
+        _check_rows(rows, safe, done, axes["wob"], axes["torque"])
+        # the paper's picture (Fig. 6b): at a fixed torque the bit drills steadily at light
+        # weights, and sticks and slips or stays stuck above; a window starts at the least W_ob
+        for row in rows:
+            if row.windows:
+                assert row.windows[0][0] == 20.0 and len(row.windows) == 1
+        # more torque never narrows the window (the stuck boundary u = mu_sb W R_b moves right)
+        tops = [row.windows[0][1] if row.windows else 0.0 for row in rows]
+        assert tops == sorted(tops) and tops[-1] > tops[0]
+        # held at one torque, with a unit; along the other axis
+        (one,) = atlas.safe_windows(torque="8.3 N·m")
+        assert one == rows[1]
+        across = atlas.safe_windows(along="torque", wob=40.0)
+        assert len(across) == 1 and across[0].at == {"wob": 40.0}
+        k = int(np.flatnonzero(axes["wob"] == 40.0)[0])
+        assert across[0].safe == safe[k].sum()
+        for bad, error in [
+            (dict(along="depth"), KeyError),
+            (dict(along="wob", wob=40.0), ValueError),
+            (dict(depth=3.0), KeyError),
+        ]:
+            with pytest.raises(error):
+                atlas.safe_windows(**bad)
+
+
+def test_points_not_computed_end_a_window_and_are_counted(tmp_path):
+    """A point whose solver gave up is not safe for want of a result; the row says so."""
+    out = tmp_path / "failing.h5"
+    spec = GRID.replace("t_end = 100.0", "t_end = 100.0\nmax_steps = 500")
+    report = run_sweep(parse_spec(spec), out, serial=True)
+    assert 0 < report.failed < report.points
+    safe, done, axes = _brute_safe(out)
+    assert not (safe & ~done).any()
+    with Atlas(out) as atlas:
+        rows = atlas.safe_windows()
+    _check_rows(rows, safe, done, axes["wob"], axes["torque"])
+    assert sum(row.not_done for row in rows) == report.failed
+
+
+def test_a_point_not_computed_inside_a_window_splits_it(grid, tmp_path):
+    """Solvers fail where the stick-slip is hardest, rarely amid steady points: so one safe
+    point in the middle of a window is marked failed by hand, as a failed point is stored."""
+    import shutil
+
+    out = tmp_path / "holed.h5"
+    shutil.copy(grid, out)
+    with Atlas(grid) as atlas:
+        (row,) = atlas.safe_windows(torque=14.0)
+    lo, hi = row.windows[0]
+    _, _, axes = _brute_safe(grid)
+    inner = sorted(w for w in axes["wob"] if lo < w < hi)
+    assert inner, "the window at u = 14 N·m needs a point inside it"
+    hole = inner[len(inner) // 2]
+    i = int(np.flatnonzero(axes["wob"] == hole)[0])
+    j = int(np.flatnonzero(axes["torque"] == 14.0)[0])
+    with h5py.File(out, "r+") as f:
+        f["status"][i, j] = fmt.STATUS["failed"]
+        f["regime"][i, j] = fmt.REGIMES["failed"]
+        f["message"][i, j] = "SolverError: marked failed by the test"
+    safe, done, axes = _brute_safe(out)
+    with Atlas(out) as atlas:
+        (split,) = atlas.safe_windows(torque=14.0)
+        _check_rows(atlas.safe_windows(), safe, done, axes["wob"], axes["torque"])
+    below = max(w for w in axes["wob"] if w < hole)
+    above = min(w for w in axes["wob"] if w > hole)
+    assert split.windows == [(lo, below), (above, hi)]
+    assert split.not_done == 1 and split.safe == row.safe - 1
+
+
+def test_the_command_prints_and_scripts_read_the_same_windows(grid):
+    text = subprocess.run(
+        [*CMD, "atlas", "safe", str(grid), "--set", "torque=8.3"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.splitlines()
+    with Atlas(grid) as atlas:
+        (row,) = atlas.safe_windows(torque=8.3)
+    assert text[0] == f"{grid}: safe windows along wob"
+    assert (
+        text[1]
+        == "  safe: steady from rest and from equilibrium, and the fastest steady state stable"
+    )
+    lo, hi = row.windows[0]
+    assert text[2] == f"  torque = 8.3 N·m:  wob {lo:g} N ... {hi:g} N ({row.safe} of 10 points)"
+    doc = json.loads(
+        subprocess.run(
+            [*CMD, "atlas", "safe", str(grid), "--json"], capture_output=True, text=True, check=True
+        ).stdout
+    )
+    safe, _, axes = _brute_safe(grid)
+    assert doc["along"] == "wob" and doc["units"] == {"along": "N", "at": {"torque": "N·m"}}
+    for j, r in enumerate(doc["rows"]):
+        assert r["safe_points"] == safe[:, j].sum() and r["points"] == 10
+        assert r["at"] == {"torque": axes["torque"][j]}
+        for lo, hi in r["windows"]:
+            inside = (axes["wob"] >= lo) & (axes["wob"] <= hi)
+            assert safe[inside, j].all()
+
+
+def test_the_command_refuses_what_it_cannot_answer(grid, tmp_path):
+    def refused(*args):
+        proc = subprocess.run([*CMD, "atlas", "safe", *args], capture_output=True, text=True)
+        assert proc.returncode == 2 and not proc.stdout
+        return proc.stderr
+
+    assert "--set wob=40: wob is the axis the windows run along" in refused(
+        str(grid), "--set", "wob=40"
+    )
+    assert "--set torque=30: torque = 30 N·m is outside the atlas (6 N·m ... 14 N·m)" in refused(
+        str(grid), "--set", "torque=30"
+    )
+    assert "--along depth: depth is not an axis of this atlas; axes: wob, torque" in refused(
+        str(grid), "--along", "depth"
+    )
+    blind = tmp_path / "blind.h5"
+    run_sweep(parse_spec(GRID + "[record]\nstability = false\n"), blind, serial=True)
+    assert "did not record stability" in refused(str(blind))
