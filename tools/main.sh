@@ -19,6 +19,10 @@ pydrill atlas plot out/paper-atlas.h5 --metric severity --out out/severity-rest.
 pydrill atlas plot out/paper-atlas.h5 --metric spectral_abscissa --out out/growth-rate.png
 pydrill atlas plot out/paper-atlas.h5 --profile --x torque --set wob=100 --out out/profile-torque.png
 pydrill atlas info out/paper-atlas.h5
+# The driller's answer from the atlas: at each surface torque, the weights on bit that drill
+# steadily from rest and from equilibrium with a stable steady state.
+pydrill atlas safe out/paper-atlas.h5 > out/safe-windows.txt
+pydrill atlas safe out/paper-atlas.h5 --set torque=8.5
 pydrill map --dof 4 --plot out/operating-map.png > /dev/null
 pydrill hopf --dof 4 --plot out/hopf-boundaries.png > /dev/null
 pydrill bifurcation --dof 2 --vary wob --torque 8.1 --plot out/bifurcation.png > /dev/null
@@ -29,6 +33,6 @@ pydrill simulate --preset reduced-scale --dof 4 --wob 100 --torque 8.3 --t-end 3
 # gives the time measured; less when out/paper/ already holds its atlases and analyses).
 pydrill reproduce --out out/paper --no-progress
 echo "wrote out/: paper-atlas.h5, regimes-rest.png, regimes-equilibrium.png, severity-rest.png,"
-echo "            growth-rate.png, profile-torque.png, operating-map.png,"
+echo "            growth-rate.png, profile-torque.png, safe-windows.txt, operating-map.png,"
 echo "            hopf-boundaries.png, bifurcation.png, stick-slip.png, stick-slip.json,"
 echo "            paper/report.md and its figures"
