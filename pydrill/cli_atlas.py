@@ -58,7 +58,7 @@ def model_line(m: dict[str, Any]) -> str:
 def register_atlas(sub) -> None:
     at = sub.add_parser(
         "atlas",
-        help="inspect, query, plot or export an atlas, or find its safe windows",
+        help="inspect, query, find safe windows in, plot or export an atlas",
         description="Work with an atlas written by 'pydrill sweep'.",
         epilog="examples:\n  pydrill atlas info paper.h5\n"
         "  pydrill atlas query paper.h5 --wob 100 --torque 8 --json\n"
@@ -137,6 +137,7 @@ def register_atlas(sub) -> None:
     query.add_argument("--nearest", action="store_true", help="nearest grid point, not exact")
     query.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     query.set_defaults(handler=cmd_query)
+    register_safe(asub, raw)
     plot = asub.add_parser(
         "plot",
         help="regime map on two axes with the analytic boundaries (one axis: a profile)",
@@ -227,7 +228,6 @@ def register_atlas(sub) -> None:
         help="the file to write",
     )
     export.set_defaults(handler=cmd_export)
-    register_safe(asub, raw)
     at.set_defaults(handler=lambda args: _atlas_usage(at))
 
 
