@@ -28,6 +28,10 @@ enum class Mode {
 // "slip+", "slip-", "stick", "band"; "?" for a value outside the enum.
 PYDRILL_API const char* mode_name(Mode m) noexcept;
 
+// One string at one operating point (W_ob, u). Every `y` below points to a state of size()
+// doubles in the layout above, `ydot` to size() doubles, `band` to 5·size(); units are SI
+// (rad/s, rad, N·m, W, J). It keeps a copy of the Params, so it may outlive the one it was
+// made from.
 class PYDRILL_API Chain {
  public:
   // Throws std::invalid_argument for invalid Params, a wob (N) not finite and > 0, or a

@@ -56,9 +56,13 @@ struct PYDRILL_API SimulationOptions {
   int n_out = 3001;                  // used when t_out is empty; 2 .. 1e8 (each keeps 2·dof + 4 doubles)
   Method method = Method::Auto;
   FrictionLaw friction = FrictionLaw::Exact;
+  // Rest: every velocity and twist 0. Equilibrium: the fastest steady state Ω of (wob, |torque|)
+  // (equilibrium.hpp; mirrored for torque < 0) with the bit nudged by `perturbation`; when
+  // there is none (the torque cannot balance the bit friction) simulate throws
+  // std::invalid_argument. State: `state` as given.
   Initial initial = Initial::Rest;
   std::vector<double> state;         // Initial::State: 2·dof − 1 finite numbers, layout of model.hpp
-  double perturbation = 1e-3;        // Initial::Equilibrium: ω_b = (1 + perturbation)·Ω
+  double perturbation = 1e-3;        // Initial::Equilibrium: ω_b = (1 + perturbation)·Ω; |.| < 1
   // Error tolerances per step. rtol: kMinRtol <= rtol < 1. atol: one scalar for every
   // state component (twists in rad, velocities in rad/s), finite and >= kMinAtol.
   double rtol = 1e-8;
@@ -88,14 +92,25 @@ struct Switch {
   double root_residual = 0;              // value of the triggering root function at t (≈ 0)
 };
 
+// Counts over the whole run, summed over its smooth pieces (the integrator restarts at each
+// switch). Those of the Newton iteration and its linear solves are BDF's (0 for the others);
+// Adams iterates to a fixed point (nonlin_iters, no Jacobian); DOP853 and ERK are explicit.
 struct SolverStats {
   Method method = Method::Auto;  // what actually ran: DOP853, BDF, Adams or ERK (never Auto)
-  std::string method_reason;     // why Method::Auto chose it
-  double stiffness_ratio = 0;  // estimate used by "auto"
-  long steps = 0, rhs_evals = 0, jac_evals = 0, lin_setups = 0, lin_solves = 0;
-  long nonlin_iters = 0, nonlin_conv_fails = 0, err_test_fails = 0, root_evals = 0;
-  long reinits = 0;
-  long switches = 0;
+  std::string method_reason;     // why Method::Auto chose it ("requested" when not Auto)
+  double stiffness_ratio = 0;  // stiffness_ratio(params), the estimate "auto" decides from
+  long steps = 0;              // internal steps taken (what max_steps bounds)
+  long rhs_evals = 0;          // right-hand side evaluations
+  long jac_evals = 0;          // BDF: banded Jacobians formed and factored (I − γJ)
+  long lin_setups = 0;         // BDF: CVODES's linear-solver setups; 0, as the chain solver
+                               // factors inside its solves when γ, the mode or the slope moved
+  long lin_solves = 0;         // BDF: banded solves
+  long nonlin_iters = 0, nonlin_conv_fails = 0;  // BDF's Newton or Adams's fixed-point iterations
+                                                 // and their convergence failures
+  long err_test_fails = 0;     // steps rejected by the error test
+  long root_evals = 0;         // evaluations of the switch (root) functions
+  long reinits = 0;            // integrator restarts (one per mode change)
+  long switches = 0;           // switches.size()
   double wall_time = 0;        // s spent in the core
 };
 
@@ -122,18 +137,19 @@ struct Summary {
 
 struct Result {
   int dof = 0;
-  double wob = 0, torque = 0;
-  std::vector<double> t;        // output times
-  std::vector<double> states;   // row-major (t.size(), 2·dof−1), twist coordinates
-  std::vector<double> top_angle;  // φ_0 at the output times (φ_0(0) = 0)
+  double wob = 0, torque = 0;   // the run's W_ob (N) and u (N·m)
+  std::vector<double> t;        // output times, s: options.t_out, or n_out uniform in [0, t_end]
+  std::vector<double> states;   // row-major (t.size(), 2·dof−1), twist coordinates (model.hpp)
+  std::vector<double> top_angle;  // φ_0 at the output times, rad (φ_0(0) = 0)
   // Energy ledger at the output times (J). The three integrals count from t = 0 (zero
   // there); the stored energy E is not zero at a start in motion (Initial::Equilibrium
-  // or a state). The balance to check is W_in − D_visc − D_fric = E(t) − E(0).
+  // or a state). The balance to check is W_in − D_visc − D_fric = E(t) − E(0), with
+  // E(0) = energy.front() when the outputs start at t = 0 (as the n_out grid does).
   std::vector<double> work_input;        // W_in = ∫ u ω_0 dt
   std::vector<double> viscous_loss;      // D_visc = ∫ viscous dissipation dt
   std::vector<double> friction_loss;     // D_fric = ∫ T_f ω_b dt
   std::vector<double> energy;            // E = kinetic + elastic at the output times
-  std::vector<int> modes;                // Mode at each output time
+  std::vector<int> modes;                // static_cast<int>(Mode) (model.hpp) at each output time
   std::vector<Switch> switches;
   SolverStats stats;
   Summary summary;
@@ -177,8 +193,9 @@ PYDRILL_API double stiffness_ratio(const Params& params);
 // What Method::Auto runs: DOP853, or BDF for a stiff string; `reason` (if given) says why.
 PYDRILL_API Method choose_method(const Params& params, std::string* reason = nullptr);
 
-// Runs one simulation at weight on bit `wob` (N, finite and > 0) and surface torque
-// `torque` (N·m, finite). Throws std::invalid_argument on bad input (nothing is
+// Runs one simulation at weight on bit `wob` (N, finite, 0 < wob <= 1e15) and surface torque
+// `torque` (N·m, finite, |torque| <= 1e15: beyond, the bit's speeds overflow a double) from
+// t = 0 to options.t_end. Throws std::invalid_argument on bad input (nothing is
 // computed), SolverError if the integrator fails, Interrupted if options.interrupt
 // says so, and whatever options.interrupt itself throws; std::bad_alloc if memory runs out.
 // Thread-safe: it keeps no state between calls, so any number of threads may simulate at once,
