@@ -24,6 +24,7 @@ from .cli_options import (
     as_options,
     figure_path,
     json_document,
+    kilo,
     os_error_message,
     print_json,
     string_json,
@@ -240,19 +241,29 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     if args.json:
         data = result.to_dict()
         inputs = {"inputs": data.pop("inputs"), **string_json(args)}
+        if args.tally is not None:  # as the text names it: the tally's name and length
+            inputs["string"] = result.params.name
         units = {**data.pop("units"), **string_units(args)}
         print_json(json_document(inputs, data, units, plot))
     else:
-        print(_describe(result, plot))
+        print(_describe(result, plot, tally=args.tally is not None))
     if unsaved is not None:
         raise unsaved
     return 0
 
 
-def _describe(result: Any, plot: str | None) -> str:
+def _describe(result: Any, plot: str | None, tally: bool = False) -> str:
     s = result.summary
     st = result.stats
-    lines = [
+    # A real string's torques in kN m, as its W_ob is in kN (was "T_s = 7468 N m (surface
+    # torque 9000)" for --wob 60kN --torque 9kN*m); a laboratory string's stay in N m.
+    big = kilo(result.wob, result.torque, s.static_torque)
+    scale, unit = (1e3, "kN m") if big else (1.0, "N m")
+    # A tally's string is named by its file and depth alone: say which string that made (a
+    # joint length typed "9 mm" for "9 m" made a 50 m string, silently).
+    string = result.params
+    lines = [f"string          {string.name}, {string.dof} inertias"] if tally else []
+    lines += [
         f"regime          {s.regime}",
         f"bit velocity    min {s.bit_min:.4g}  max {s.bit_max:.4g}  mean {s.bit_mean:.4g} rad/s"
         f"  (mean {s.bit_mean * 60 / (2 * math.pi):.4g} rpm)",
@@ -267,7 +278,8 @@ def _describe(result: Any, plot: str | None) -> str:
             if s.omega_equilibrium
             else "none (the torque cannot balance the bit friction)"
         ),
-        f"static torque   T_s = {s.static_torque:.4g} N m (surface torque {result.torque:g})",
+        f"static torque   T_s = {s.static_torque / scale:.4g} {unit} (surface torque "
+        f"{result.torque / scale:g})",
         f"solver          {st.method} ({st.method_reason}); {st.steps} steps, "
         f"{st.switches} switches, {1e3 * st.wall_time:.1f} ms in the core",
     ]

@@ -13,7 +13,9 @@ from .cli_options import (
     _string_options,
     figure_path,
     json_document,
+    kilo,
     print_json,
+    shown,
     string_json,
     string_params,
     string_units,
@@ -225,11 +227,13 @@ def _cmd_stability(args: argparse.Namespace) -> int:
 
     params = string_params(args)
     points = stability(params, args.wob, omega=args.omega, torque=args.torque)
+    big = kilo(args.wob)  # a real string's W_ob in kN and torques in kN m (were 200000 N)
+    given = f"u = {shown(args.torque or 0.0, 'N m', big)}"
+    at = f"W_ob = {shown(args.wob, 'N', big)}"
     if args.plot and not points:  # nothing to draw: say so rather than save empty axes
         raise ValueError(
-            f"no figure: u = {args.torque:g} N m has no steady rotation at W_ob = "
-            f"{args.wob:g} N, so there are no eigenvalues to draw (run without --plot for the "
-            "verdict)"
+            f"no figure: {given} has no steady rotation at {at}, so there are no eigenvalues "
+            "to draw (run without --plot for the verdict)"
         )
     if args.plot:
         from .plot import save
@@ -260,8 +264,8 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         return 0
     if not points:
         print(
-            f"no steady rotation: u = {args.torque:g} N m cannot balance the bit friction at "
-            f"W_ob = {args.wob:g} N (the bit sticks, or sticks and slips)"
+            f"no steady rotation: {given} cannot balance the bit friction at {at} (the bit "
+            "sticks, or sticks and slips)"
         )
         return 0
     for pt in points:
@@ -321,10 +325,13 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         }
         print_json(json_document(inputs, results, units, args.plot))
         return 0
-    fixed = f"u = {b.fixed:g} N m" if b.vary == "wob" else f"W_ob = {b.fixed:g} N"
+    # A real string's in kN and kN m, as on its figure (was "u = 12000 N m", W_ob 104333.9 N).
+    big = kilo(b.fixed, *(pt.wob for pt in b.points))
+    k, n, nm = (1e3, "kN", "kN m") if big else (1.0, "N", "N m")
+    fixed = f"u = {b.fixed / k:g} {nm}" if b.vary == "wob" else f"W_ob = {b.fixed / k:g} {n}"
     print(f"{params.name}, dof {params.dof}: steady states as {b.vary} varies at {fixed}")
     print(
-        f"{'point':5s} {'wob (N)':>12s} {'torque (N m)':>13s} {'omega (rad/s)':>14s} "
+        f"{'point':5s} {f'wob ({n})':>12s} {f'torque ({nm})':>13s} {'omega (rad/s)':>14s} "
         f"{'freq (rad/s)':>13s} {'lyapunov':>11s}  criticality"
     )
     for pt in b.points:
@@ -334,7 +341,7 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         n = pt.others_unstable
         others = f"({n} other eigenvalue{'s' if n > 1 else ''} unstable)" if n else ""
         print(
-            f"{pt.type:5s} {pt.wob:12.8g} {pt.torque:13.8g} {pt.omega:14.8g} {freq} {l1}  "
+            f"{pt.type:5s} {pt.wob / k:12.8g} {pt.torque / k:13.8g} {pt.omega:14.8g} {freq} {l1}  "
             + " ".join(x for x in (pt.criticality, others) if x)
         )
     if not b.points:
@@ -402,7 +409,11 @@ def _cmd_map(args: argparse.Namespace) -> int:
         }
         print_json(json_document(inputs, results, units, args.plot))
         return 0
-    print(f"{params.name}, dof {params.dof}: W_ob 0..{wob_max:g} N, u 0..{torque_max:g} N m")
+    big = kilo(wob_max)  # a real string's in kN and kN m (was "W_ob 0..200000 N")
+    print(
+        f"{params.name}, dof {params.dof}: W_ob 0..{shown(wob_max, 'N', big)}, "
+        f"u 0..{shown(torque_max, 'N m', big)}"
+    )
     for name, frac in omap.fractions().items():
         print(f"  {100 * frac:5.1f} %  {name}")
     if checks:

@@ -52,6 +52,24 @@ def _finite(name: str, kind: str | None = None):
     return parse
 
 
+#: above this many N (or N·m) a string is a real one: its forces in kN, its torques in kN·m, in
+#: text as on its figures (plot.py draws with this threshold too)
+KILO = 5000.0
+
+
+def kilo(*forces_and_torques: float) -> bool:
+    """Whether these are a real string's forces (N) and torques (N·m): any above ``KILO``. Then
+    the text gives all of them in kN and kN m (a driller's 60 kN beside 3.8 kN m, not 3800 N m),
+    and a laboratory string's stay in N and N m."""
+    return any(math.isfinite(v) and abs(v) > KILO for v in forces_and_torques)
+
+
+def shown(value: float, unit: str, big: bool, fmt: str = "g") -> str:
+    """``value`` in SI ``unit`` ("N", "N m"), in kilo-units if ``big`` (see :func:`kilo`):
+    ``shown(60000, "N", True)`` is "60 kN"."""
+    return f"{value / 1e3:{fmt}} k{unit}" if big else f"{value:{fmt}} {unit}"
+
+
 def _count(n: int) -> str:
     """A bound as a reader takes it in: 1e12, not 1000000000000."""
     digits = len(str(n)) - 1

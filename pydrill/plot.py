@@ -12,6 +12,10 @@ import matplotlib.pyplot as plt
 from matplotlib.patches import Patch
 from matplotlib.ticker import Formatter
 
+# Above KILO N (or N·m) a string is a real one: its forces in kN, torques in kN·m; one
+# threshold for the figures and the commands' text.
+from .cli_options import KILO
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -28,10 +32,6 @@ REGIME_COLORS = {
     "stuck": "#7f8c8d",
     "oscillation": "#8e44ad",
 }
-
-
-#: above this many N (or N·m) a string is a real one: its forces in kN (torques in kN·m)
-KILO = 5000.0
 
 
 def unit_scale(values, unit: str) -> tuple[float, str]:
@@ -124,7 +124,9 @@ def simulation_figure(result: SimulationResult) -> Figure:
     ax_t.axhline(result.torque, color="0.4", ls="-.", lw=1, label="surface torque $u$")
     if held.any():
         ax_t.plot(t[held], te[held], ".", color=STICK, ms=2, label="held by the rock")
-    scale, unit = unit_scale([result.torque, s.static_torque], "N·m")
+    # A real string's torques in kN·m, even a light one's 3.8 kN·m beside its W_ob = 30 kN
+    # (was "u = 3800 N·m" in the title beside "W_ob = 30 kN", and an axis in N·m).
+    scale, unit = unit_scale([result.wob, result.torque, s.static_torque], "N·m")
     scale_ticks(ax_t.yaxis, scale)
     ax_t.set_ylabel(f"torque at the bit ({unit})")
     ax_t.set_xlabel("time (s)")

@@ -180,7 +180,9 @@ def bifurcation_figure(params, branch) -> Figure:
 
     fig, ax = plt.subplots(figsize=(9, 5.8), layout="constrained")
     x = branch.wob if branch.vary == "wob" else branch.torque
-    scale, unit = unit_scale(x, "N" if branch.vary == "wob" else "N·m")
+    # kN and kN·m if either the branch or the value held is a real string's, as in the text
+    # (a light W_ob = 20 kN held beside torques in N·m, or the reverse, mixed the two).
+    scale, unit = unit_scale(np.append(x, branch.fixed), "N" if branch.vary == "wob" else "N·m")
     hb = sorted((pt for pt in branch.points if pt.type == "HB"), key=lambda pt: -pt.omega)
     few = len(hb) <= 4
     # (axes, text, (x, y), colour) of each label: placed once the figure is laid out
@@ -237,14 +239,14 @@ def bifurcation_figure(params, branch) -> Figure:
             if hb
             else ""
         )
-        ins.set_title(f"{len(hb)} Hopf points{first}", fontsize=8)
+        ins.set_title(f"{len(hb)} Hopf point{'s' if len(hb) != 1 else ''}{first}", fontsize=8)
         ax.indicate_inset_zoom(ins, edgecolor="0.4")
     if branch.vary == "wob":
         ax.set_xlabel(f"weight on bit $W_{{ob}}$ ({unit})")
-        fixed = f"$u$ = {quantity(branch.fixed, 'N·m')}"
+        fixed = f"$u$ = {quantity(branch.fixed, 'N·m', scale)}"
     else:
         ax.set_xlabel(f"surface torque $u$ ({unit})")
-        fixed = f"$W_{{ob}}$ = {quantity(branch.fixed, 'N')}"
+        fixed = f"$W_{{ob}}$ = {quantity(branch.fixed, 'N', scale)}"
     ax.set_ylabel("steady bit velocity $\\Omega$ (rad/s)")
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)

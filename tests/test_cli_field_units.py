@@ -1,0 +1,114 @@
+"""A drilling engineer's audit of the single-run commands on a real string: a string given in kN
+and kN·m is reported in kN and kN·m (not 9000 N·m beside 80 kN), and a tally's run says which
+string its file and depth made. Values are checked against the tally's own constants and the
+--json output, converted here."""
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from pydrill import cli, load_tally
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "examples" / "tallies" / "paper-eq53.toml"
+# paper-eq53.toml: mu_static = 0.8, a 12.25 in bit
+MU_S, R_B = 0.8, 12.25 * 0.0254 / 2
+
+
+def run(capsys, *args):
+    code = cli.main([str(a) for a in args])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    return out.out
+
+
+def field(text, name):
+    """The text after ``name`` on its line."""
+    (line,) = [x for x in text.splitlines() if x.startswith(name)]
+    return line[len(name) :].strip()
+
+
+def test_simulate_a_real_string_gives_torques_in_kilonewton_metres(capsys):
+    args = ["simulate", "--tally", PAPER, "--depth", "3000m", "--dof", "12"]
+    args += ["--wob", "30kN", "--torque", "3.8kN*m", "--t-end", "20"]
+    text = run(capsys, *args)
+    t_s = MU_S * 30e3 * R_B  # 3734 N·m: under 5000 N·m, yet beside 30 kN it is in kN·m
+    want = f"T_s = {t_s / 1e3:.4g} kN m (surface torque {3800 / 1e3:g})"
+    assert field(text, "static torque") == want
+    data = json.loads(run(capsys, *args, "--json"))
+    assert data["static_torque"] == pytest.approx(t_s)
+
+
+def test_simulate_a_laboratory_string_keeps_newton_metres(capsys):
+    text = run(capsys, "simulate", "--dof", "4", "--wob", "100", "--torque", "8.3", "--t-end", "20")
+    # the preset's bit: mu_s = 0.8, R_b = 0.1 m
+    assert field(text, "static torque") == f"T_s = {0.8 * 100 * 0.1:.4g} N m (surface torque 8.3)"
+
+
+def test_simulate_a_tally_names_the_string_its_file_and_depth_made(capsys, tmp_path):
+    args = ["--wob", "60kN", "--torque", "9kN*m", "--t-end", "20"]
+    text = run(capsys, "simulate", "--tally", PAPER, "--depth", "3000m", *args)
+    tally = load_tally(PAPER).at_depth(3000.0)
+    dof = len(tally.to_params().inertias)
+    assert field(text, "string") == f"{tally.name} at {tally.length:.1f} m, {dof} inertias"
+    data = json.loads(
+        run(capsys, "simulate", "--tally", PAPER, "--depth", "3000m", *args, "--json")
+    )
+    assert data["string"] == f"{tally.name} at {tally.length:.1f} m"
+    assert data["inputs"]["dof"] == dof
+    # a joint length typed "9 mm" for "9 m" makes a 50 m string: the first line says so
+    typo = tmp_path / "typo.toml"
+    typo.write_text(PAPER.read_text().replace('length = "9 m"', 'length = "9 mm"'))
+    text = run(capsys, "simulate", "--tally", typo, *args)
+    metres = float(re.search(r" at ([\d.]+) m,", field(text, "string")).group(1))
+    assert metres == pytest.approx(100 * 0.009 + load_tally(PAPER).bha_length, abs=0.05)
+
+
+def test_simulation_figure_of_a_real_string_has_one_torque_unit():
+    import pydrill
+    from pydrill.plot import simulation_figure
+
+    p = load_tally(PAPER).at_depth(3000.0).to_params(dof=12)
+    r = pydrill.simulate(p, wob=30e3, torque=3800.0, t_end=20.0)
+    fig = simulation_figure(r)
+    assert "$u$ = 3.8 kN·m" in fig._suptitle.get_text()  # was "u = 3800 N·m" beside 30 kN
+    assert fig.axes[1].get_ylabel() == "torque at the bit (kN·m)"
+
+
+def test_bifurcation_of_a_real_string_is_in_kilonewtons(capsys):
+    args = ["bifurcation", "--tally", PAPER, "--dof", "12", "--vary", "wob", "--torque", "12kN*m"]
+    text = run(capsys, *args)
+    data = json.loads(run(capsys, *args, "--json"))
+    lines = text.splitlines()
+    assert lines[0].endswith("steady states as wob varies at u = 12 kN m")
+    assert "wob (kN)" in lines[1] and "torque (kN m)" in lines[1]
+    rows = [x.split() for x in lines[2:] if x.split()[0] in ("HB", "LP")]
+    assert len(rows) == len(data["points"]) > 0
+    for row, pt in zip(rows, data["points"], strict=True):
+        assert float(row[1]) == pytest.approx(pt["wob"] / 1e3, rel=1e-7)
+        assert float(row[2]) == pytest.approx(pt["torque"] / 1e3, rel=1e-7)
+
+
+def test_map_and_stability_of_a_real_string_are_in_kilonewtons(capsys):
+    data = json.loads(run(capsys, "map", "--tally", PAPER, "--dof", "12", "--json"))
+    text = run(capsys, "map", "--tally", PAPER, "--dof", "12")
+    want = f"W_ob 0..{data['wob_max'] / 1e3:g} kN, u 0..{data['torque_max'] / 1e3:g} kN m"
+    assert text.splitlines()[0].endswith(want)
+    # 9 kN·m against T_s = mu_s W_ob R_b = 24.9 kN·m at 200 kN: no steady rotation
+    text = run(capsys, "stability", "--tally", PAPER, "--wob", "200kN", "--torque", "9kN*m")
+    assert text.startswith("no steady rotation: u = 9 kN m cannot balance the bit friction at "
+                           "W_ob = 200 kN")  # fmt: skip
+
+
+def test_bifurcation_figure_of_a_real_string_has_one_force_and_torque_scale():
+    from pydrill.bifurcation import branch
+    from pydrill.plot_analysis import bifurcation_figure
+
+    p = load_tally(PAPER).to_params(dof=12)
+    b = branch(p, vary="torque", wob=20e3, omega_max=1.2)  # torques of 2.4 ... 2.5 kN·m
+    assert max(b.torque) < 5000.0
+    ax = bifurcation_figure(p, b).axes[0]
+    assert ax.get_xlabel() == "surface torque $u$ (kN·m)"  # was N·m beside W_ob = 20 kN
+    assert ax.get_title().endswith("$W_{ob}$ = 20 kN")
