@@ -242,19 +242,53 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
     return group
 
 
+def load_tally_file(path: str):
+    """The tally at ``path``; a fault in it is said with the file's name (it said
+    "section[0].odd: unknown", which file left to guess)."""
+    from .tally import TallyError, load_tally
+
+    try:
+        return load_tally(path)
+    except TallyError as exc:
+        if path in str(exc):  # "cannot read the tally PATH: ..." names it already
+            raise
+        raise TallyError(f"{path}: {exc}") from None
+
+
+def for_option(exc: ValueError, option: str, api: str | None = None) -> ValueError:
+    """``exc`` (of its own type) saying which option it is about: the API's name that starts its
+    message replaced by the option ("dof = 1 is not allowed" -> "--dof = 1 is not allowed"),
+    else the option put in front ("--depth: '3000rpm': unit 'rpm' is not a length unit")."""
+    import re
+
+    message = str(exc)
+    if api is not None and re.match(rf"{api}\b", message):
+        return type(exc)(option + message[len(api) :])
+    return type(exc)(f"{option}: {message}")
+
+
 def tally_params(path: str, depth: str | None, lump: int | None, dof: int | None):
     """The tally at ``path`` (lengthened to ``depth``, e.g. ``"3000m"``), as a string of one
-    element per ``lump`` joints, reduced to ``dof`` inertias: ``(tally, params)``."""
+    element per ``lump`` joints, reduced to ``dof`` inertias: ``(tally, params)``. A bad value
+    is refused naming its option (--depth, --lump, --dof) and the tally's faults its file."""
     from . import units
-    from .tally import load_tally
 
-    tally = load_tally(path)
+    tally = load_tally_file(path)
     if depth is not None:
-        tally = tally.at_depth(units.parse(depth, "length"))
+        try:
+            tally = tally.at_depth(units.parse(depth, "length"))
+        except ValueError as exc:
+            raise for_option(exc, "--depth", "depth") from None
     lump = 1 if lump is None else lump
     if lump < 1:
         raise ValueError(f"--lump = {lump} is not allowed: >= 1")
-    return tally, tally.to_params(dof=dof, lump=lump)
+    try:
+        return tally, tally.to_params(dof=dof, lump=lump)
+    except ValueError as exc:
+        for api in ("dof", "lump"):
+            if str(exc).startswith(f"{api} "):
+                raise for_option(exc, f"--{api}", api) from None
+        raise
 
 
 def _no_tally_options(args: argparse.Namespace) -> None:

@@ -215,7 +215,10 @@ def _values(text: str, kind: str, option: str) -> list[float]:
         try:  # a bare number is kN, as on the chart (forces are the only kind asked here)
             number = float(v)
         except ValueError:
-            out.append(units.parse(v, kind))
+            try:
+                out.append(units.parse(v, kind))
+            except ValueError as exc:  # which option: there are two lists of values
+                raise ValueError(f"{option}: {exc}") from None
             continue
         out.append(_bare_kn(number, option))
     if not out or any(not v > 0 for v in out):
@@ -234,7 +237,10 @@ def _rpms(text: str) -> list[float]:
         try:
             out.append(float(v))
         except ValueError:
-            out.append(units.parse(v, "velocity") * 60 / (2 * 3.141592653589793))
+            try:
+                out.append(units.parse(v, "velocity") * 60 / (2 * 3.141592653589793))
+            except ValueError as exc:
+                raise ValueError(f"--at-rpm: {exc}") from None
     if not out or any(not r > 0 for r in out):
         raise ValueError(f"--at-rpm: give a comma-separated list of speeds > 0, got {text!r}")
     return out
@@ -243,8 +249,8 @@ def _rpms(text: str) -> list[float]:
 def _cmd_window(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from .cli_options import for_option, load_tally_file
     from .cli_window_report import print_window, window_json
-    from .tally import load_tally
     from .window import parse_depths, window_against_depth
 
     if args.lump < 1:
@@ -255,13 +261,25 @@ def _cmd_window(args: argparse.Namespace) -> int:
         for option, given in (("--check-dof", args.check_dof), ("--t-end", args.t_end_given)):
             if given is not None:
                 raise ValueError(f"{option} needs --check K: it sets how the check simulates")
-    tally = load_tally(args.tally)
-    depths = parse_depths(args.depth)
+    tally = load_tally_file(args.tally)
+    # Each refusal names its option ("depth 10 m is shallower than the BHA", "dof = 1 is not
+    # allowed" of --check-dof, "'3000rpm': unit 'rpm' is not a length unit" said none).
     at_rpm = np.array(_rpms(args.at_rpm))
     at_wob = np.array(_values(args.at_wob, "force", "--at-wob"))
-    dw = window_against_depth(tally, depths, at_rpm, at_wob, lump=args.lump)
+    try:
+        depths = parse_depths(args.depth)
+        dw = window_against_depth(tally, depths, at_rpm, at_wob, lump=args.lump)
+    except ValueError as exc:
+        if str(exc).startswith(("--", "lump ")):  # the option, or the lump that fits, named
+            raise
+        raise for_option(exc, "--depth", "depth") from None
     grid = _grid_windows(tally, depths, args)
-    checks = {d: _checks(tally, d, args) for d in depths} if args.check else {}
+    try:
+        checks = {d: _checks(tally, d, args) for d in depths} if args.check else {}
+    except ValueError as exc:
+        if not str(exc).startswith("dof "):
+            raise
+        raise for_option(exc, "--check-dof", "dof") from None
     if args.plot:
         from .plot import save
         from .plot_window import window_depth_figure, window_figure
