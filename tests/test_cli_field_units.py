@@ -112,3 +112,24 @@ def test_bifurcation_figure_of_a_real_string_has_one_force_and_torque_scale():
     ax = bifurcation_figure(p, b).axes[0]
     assert ax.get_xlabel() == "surface torque $u$ (kN·m)"  # was N·m beside W_ob = 20 kN
     assert ax.get_title().endswith("$W_{ob}$ = 20 kN")
+
+
+@pytest.mark.parametrize("regimes", [("steady", "stuck"), ("steady", "stick-slip")])
+def test_map_figure_title_fits_and_says_only_what_the_checks_found(regimes):
+    import numpy as np
+
+    from pydrill.operating import operating_map
+    from pydrill.plot_analysis import operating_figure
+    from pydrill.stability import critical_deltas
+
+    tally = load_tally(PAPER)
+    p = tally.to_params(dof=12).replace(name=f"{tally.name} at {tally.length:.1f} m")
+    wob, torque = np.linspace(1e3, 2e5, 40), np.linspace(1e2, 2e4, 40)
+    crossings = critical_deltas(p)
+    checks = [(1e5, 2e4, regimes[0]), (1e5, 5e3, regimes[1])]
+    fig = operating_figure(p, operating_map(p, wob, torque, crossings), crossings, checks)
+    fig.draw_without_rendering()
+    title = fig._suptitle
+    box, page = title.get_window_extent(), fig.bbox
+    assert page.x0 <= box.x0 and box.x1 <= page.x1  # it ran off the left edge
+    assert ("stick-slip still fills a band" in title.get_text()) == ("stick-slip" in regimes)
