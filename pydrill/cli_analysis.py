@@ -327,11 +327,13 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         return 0
     # A real string's in kN and kN m, as on its figure (was "u = 12000 N m", W_ob 104333.9 N).
     big = kilo(b.fixed, *(pt.wob for pt in b.points))
-    k, n, nm = (1e3, "kN", "kN m") if big else (1.0, "N", "N m")
-    fixed = f"u = {b.fixed / k:g} {nm}" if b.vary == "wob" else f"W_ob = {b.fixed / k:g} {n}"
+    k, force, torque = (1e3, "kN", "kN m") if big else (1.0, "N", "N m")
+    fixed = (
+        f"u = {b.fixed / k:g} {torque}" if b.vary == "wob" else f"W_ob = {b.fixed / k:g} {force}"
+    )
     print(f"{params.name}, dof {params.dof}: steady states as {b.vary} varies at {fixed}")
     print(
-        f"{'point':5s} {f'wob ({n})':>12s} {f'torque ({nm})':>13s} {'omega (rad/s)':>14s} "
+        f"{'point':5s} {f'wob ({force})':>12s} {f'torque ({torque})':>13s} {'omega (rad/s)':>14s} "
         f"{'freq (rad/s)':>13s} {'lyapunov':>11s}  criticality"
     )
     for pt in b.points:
