@@ -11,6 +11,7 @@ from .cli_options import (
     _integer,
     _positive,
     _string_options,
+    check_progress,
     figure_path,
     json_document,
     kilo,
@@ -373,10 +374,13 @@ def _cmd_map(args: argparse.Namespace) -> int:
     omap = operating_map(params, wob, torque, crossings)
     checks: list[tuple[float, float, str]] = []
     if args.check:
+        bar = check_progress(args.check**2, "map --check")
         for w in np.linspace(wob_max / args.check, wob_max, args.check):
             for u in np.linspace(torque_max / args.check, torque_max, args.check):
                 r = simulate(params, wob=w, torque=u, t_end=args.t_end or 300.0, n_out=301)
                 checks.append((float(w), float(u), r.regime))
+                bar.update()
+        bar.close()
     if args.plot:
         from .plot import save
         from .plot_analysis import operating_figure

@@ -380,6 +380,17 @@ def string_units(args: argparse.Namespace) -> dict[str, str]:
     return {} if args.tally is None else {"depth": "m"}
 
 
+def check_progress(total: int, what: str) -> Any:
+    """A progress bar on stderr for the ``total`` simulations of a --check, on a terminal only
+    (a log or a pipe gets none): 1200 checks of a 334-inertia string take minutes, and the
+    command said nothing until the end. Call ``update()`` after each; ``close()`` at the end."""
+    from tqdm import tqdm
+
+    return tqdm(
+        total=total, desc=what, unit="run", file=sys.stderr, disable=not sys.stderr.isatty()
+    )
+
+
 def print_json(data: Any) -> None:
     """Every command's --json output: one document (laid out by :func:`json_document`),
     indented, strict JSON (no NaN/Infinity, which many parsers refuse; values without a number

@@ -249,7 +249,7 @@ def _rpms(text: str) -> list[float]:
 def _cmd_window(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from .cli_options import for_option, load_tally_file
+    from .cli_options import check_progress, for_option, load_tally_file
     from .cli_window_report import print_window, window_json
     from .window import parse_depths, window_against_depth
 
@@ -274,12 +274,17 @@ def _cmd_window(args: argparse.Namespace) -> int:
             raise
         raise for_option(exc, "--depth", "depth") from None
     grid = _grid_windows(tally, depths, args)
-    try:
-        checks = {d: _checks(tally, d, args) for d in depths} if args.check else {}
-    except ValueError as exc:
-        if not str(exc).startswith("dof "):
-            raise
-        raise for_option(exc, "--check-dof", "dof") from None
+    checks = {}
+    if args.check:
+        bar = check_progress(args.check**2 * len(depths), "window --check")
+        try:
+            checks = {d: _checks(tally, d, args, bar) for d in depths}
+        except ValueError as exc:
+            if not str(exc).startswith("dof "):
+                raise
+            raise for_option(exc, "--check-dof", "dof") from None
+        finally:
+            bar.close()
     if args.plot:
         from .plot import save
         from .plot_window import window_depth_figure, window_figure
@@ -320,7 +325,7 @@ def _grid_windows(tally, depths, args):
     )
 
 
-def _checks(tally, depth, args):
+def _checks(tally, depth, args, bar):
     """(wob N, rpm, outcome, stable, cannot stay stuck, mean bit rpm) on a K x K sample; the
     verdict is the checking model's. The surface torque is held at the steady state's, so the
     bit may settle at another steady speed (past the fold, u(Ω) is not monotone): the outcome is
@@ -347,4 +352,5 @@ def _checks(tally, depth, args):
             if outcome == "steady" and abs(bit_rpm - r) > 0.01 * r:
                 outcome = "steady elsewhere"
             out.append((float(w), float(r), outcome, stable, unstuck, float(bit_rpm)))
+            bar.update()
     return out
