@@ -31,6 +31,9 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
     # Up to the boundary at Ω_max, but no more than four decades: beyond, no drill string goes.
     log_hi = math.log(3.0 * w0) + rate * omega_max
     w_hi = math.exp(min(max(log_hi, math.log(30.0 * w_lo)), math.log(1e4 * w_lo)))
+    # Nor past 2000 kN, which no bit takes: the paper's tally drew up to 19 400 kN, its
+    # 10 ... 300 kN a strip at the foot (a laboratory string's 1.3 kN is far below).
+    w_hi = min(w_hi, max(2e6, 30.0 * w_lo))
     # Where the first Hopf curve leaves the top of the map, every W_ob drawn has a smaller
     # slope than δ_1: the map is one colour from there on. Draw a little past it, not on to
     # an Ω_max thousands of times further (an empty map).
@@ -73,6 +76,10 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
     scale_ticks(ax.yaxis, scale)
     ax.set_xlabel("steady bit velocity $\\Omega$ (rad/s)")
     ax.set_ylabel(f"weight on bit $W_{{ob}}$ ({unit})")
+    rpm = ax.secondary_xaxis(
+        "top", functions=(lambda w: w * 30 / math.pi, lambda r: r * math.pi / 30)
+    )
+    rpm.set_xlabel("steady bit speed (rpm)", fontsize=9)  # what a driller sets and reads
     cbar = fig.colorbar(mesh, ax=ax, ticks=range(0, top + 1, max(1, top // 10)))
     cbar.set_label("unstable eigenvalues of the steady state")
     legend = [
@@ -91,7 +98,7 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
     n_hopf = sum(c.type == "hopf" for c in crossings)
     cut = (
         f"\nΩ up to {omega_shown:.3g} rad/s of the {omega_max:g} asked: further on, the first Hopf "
-        f"curve is above the largest $W_{{ob}}$ drawn, {w_hi / scale:.3g} {unit}"
+        f"curve is above the largest $W_{{ob}}$ drawn, {w_hi / scale:.4g} {unit}"
         if omega_shown < omega_max
         else ""
     )

@@ -133,3 +133,20 @@ def test_map_figure_title_fits_and_says_only_what_the_checks_found(regimes):
     box, page = title.get_window_extent(), fig.bbox
     assert page.x0 <= box.x0 and box.x1 <= page.x1  # it ran off the left edge
     assert ("stick-slip still fills a band" in title.get_text()) == ("stick-slip" in regimes)
+
+
+def test_hopf_figure_of_a_real_string_stays_within_bit_loads_and_reads_in_rpm():
+    import math
+
+    from pydrill.plot_analysis import hopf_figure
+    from pydrill.stability import critical_deltas
+
+    p = load_tally(PAPER).at_depth(3000.0).to_params()
+    fig = hopf_figure(p, critical_deltas(p))
+    fig.draw_without_rendering()
+    ax = fig.axes[0]
+    lo, hi = ax.get_ylim()
+    assert lo < 10e3 and 300e3 < hi <= 2000e3  # was up to 19 400 kN; no bit takes 2000 kN
+    (rpm,) = ax.child_axes  # the same Ω in rpm along the top: 2π rad/s is 60 rpm
+    assert rpm.get_xlabel() == "steady bit speed (rpm)"
+    assert rpm.get_xlim() == pytest.approx([x * 60 / (2 * math.pi) for x in ax.get_xlim()])
