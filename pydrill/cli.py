@@ -25,6 +25,7 @@ from .cli_options import (
     figure_path,
     json_document,
     kilo,
+    lab_notes,
     os_error_message,
     print_json,
     string_json,
@@ -210,6 +211,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         _no_tally_options(args)
         if args.preset == "real-string":
             unit_notes(args)
+        else:
+            lab_notes(args)
         string = {"preset": args.preset or "reduced-scale", "dof": args.dof, "pipes": args.pipes}
     try:
         result = simulate(

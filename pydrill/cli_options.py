@@ -309,6 +309,8 @@ def string_params(args: argparse.Namespace):
         _no_tally_options(args)
         if args.preset == "real-string":
             unit_notes(args)
+        else:
+            lab_notes(args)
         return preset(args.preset or "reduced-scale", dof=args.dof, pipes=args.pipes)
     if args.preset is not None:
         raise ValueError("give --preset or --tally, not both")
@@ -342,6 +344,20 @@ def unit_notes(args: argparse.Namespace) -> None:
         )
     for note in notes:
         print(f"pydrill: note: {note}", file=sys.stderr)
+
+
+def lab_notes(args: argparse.Namespace) -> None:
+    """A real string's W_ob on the laboratory string (the default preset, W_ob some 100 N) was
+    most likely meant for a real string, its --tally forgotten: --wob 60kN found a steady state
+    at 31579 rad/s and said nothing. Said on stderr; the command goes on."""
+    wob = getattr(args, "wob", None)
+    if wob is not None and wob > KILO:
+        print(
+            f"pydrill: note: --wob is {wob / 1e3:g} kN, on the reduced-scale laboratory string "
+            "(its W_ob is some 100 N); for a real string give --tally TALLY.toml or --preset "
+            "real-string",
+            file=sys.stderr,
+        )
 
 
 def string_json(args: argparse.Namespace) -> dict[str, Any]:

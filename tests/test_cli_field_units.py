@@ -150,3 +150,16 @@ def test_hopf_figure_of_a_real_string_stays_within_bit_loads_and_reads_in_rpm():
     (rpm,) = ax.child_axes  # the same Ω in rpm along the top: 2π rad/s is 60 rpm
     assert rpm.get_xlabel() == "steady bit speed (rpm)"
     assert rpm.get_xlim() == pytest.approx([x * 60 / (2 * math.pi) for x in ax.get_xlim()])
+
+
+@pytest.mark.parametrize("command", [["simulate", "--t-end", "20"], ["stability"]])
+def test_a_real_strings_weight_on_the_laboratory_string_is_noted(capsys, command):
+    code = cli.main([*command, "--wob", "60kN", "--torque", "9kN*m", "--json"])
+    out = capsys.readouterr()
+    assert code == 0
+    data = json.loads(out.out)  # the note is on stderr: the JSON stays whole
+    omega = data.get("omega_equilibrium") or [pt["omega"] for pt in data["equilibria"]]
+    assert min(omega) * 60 / (2 * 3.141592653589793) > 1e5  # an absurd 300 000 rpm, silently
+    assert "on the reduced-scale laboratory string" in out.err and "--tally" in out.err
+    assert cli.main([*command, "--wob", "100", "--torque", "8.3"]) == 0
+    assert capsys.readouterr().err == ""  # the laboratory's own weights: no note
