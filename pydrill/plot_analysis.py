@@ -76,8 +76,9 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
     scale_ticks(ax.yaxis, scale)
     ax.set_xlabel("steady bit velocity $\\Omega$ (rad/s)")
     ax.set_ylabel(f"weight on bit $W_{{ob}}$ ({unit})")
+    per_rpm = math.pi / 30  # rad/s
     rpm = ax.secondary_xaxis(
-        "top", functions=(lambda w: w * 30 / math.pi, lambda r: r * math.pi / 30)
+        "top", functions=(lambda w: np.divide(w, per_rpm), lambda r: np.multiply(r, per_rpm))
     )
     rpm.set_xlabel("steady bit speed (rpm)", fontsize=9)  # what a driller sets and reads
     cbar = fig.colorbar(mesh, ax=ax, ticks=range(0, top + 1, max(1, top // 10)))
