@@ -35,8 +35,10 @@ def model_line(m: dict[str, Any]) -> str:
     what = f"string {m['string']} (tally)" if m["from"] == "tally" else f"preset {m['string']}"
     parts = [what + ("" if m["inertias"] is None else f", {m['inertias']} inertias")]
     for name, v in m["held"].items():
-        if isinstance(v, list | tuple):  # a value per element
-            parts.append(f"{name} ({len(v)} values)")
+        if isinstance(v, list | tuple):  # a value per element: shown when few
+            shown = f"[{', '.join(f'{x:.4g}' for x in v)}]" if len(v) <= 4 else ""
+            unit = parameter_unit(name)
+            parts.append(f"{name} {shown} {unit}".rstrip() if shown else f"{name} as given")
         elif name in ("wob", "torque"):  # 9 kN·m as the spec likely gave it, 8 N·m as is
             unit = axis_unit(name)
             parts.append(

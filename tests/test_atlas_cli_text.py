@@ -156,3 +156,14 @@ def test_holding_every_axis_but_one_draws_the_profile_along_it(field, tmp_path):
     out = tmp_path / "profile.png"
     text = _run("atlas", "plot", str(field), "--out", str(out), "--set", "torque=9kN·m")
     assert text.strip() == f"figure: {out}" and out.stat().st_size > 10_000
+
+
+def test_info_shows_per_element_values_with_their_unit(tmp_path):
+    """A list given in [model] was shown as 'inertias (3 values)' beside '3 inertias'."""
+    spec = SMALL.replace("dof = 4\n", "dof = 3\ninertias = [0.5, 0.4, 0.3]\n")
+    out = tmp_path / "given.h5"
+    run_sweep(parse_spec(spec.replace("t_end = 200.0", "t_end = 20.0")), out, serial=True)
+    text = " ".join(_run("atlas", "info", str(out)).split())
+    assert "model preset reduced-scale, 3 inertias, inertias [0.5, 0.4, 0.3] kg·m²;" in text
+    model = json.loads(_run("atlas", "info", str(out), "--json"))["model"]
+    assert model["held"] == {"inertias": [0.5, 0.4, 0.3]} and model["inertias"] == 3
