@@ -354,7 +354,8 @@ class Atlas:
         ``pydrill.plot_atlas.METRICS``) with a colour bar, on the axes ``x`` and ``y``
         (default: the first two swept), any other held at its grid value nearest ``at[name]``
         (default: its first), from the start ``initial`` (default: the first). On (W_ob, u)
-        the stuck boundary and the first Hopf curve are drawn on top. With ``profile`` (and
+        the stuck boundary and the first Hopf curve are drawn on top, and on a regime map the
+        safe region (:meth:`safe_region`) is outlined in white. With ``profile`` (and
         always when one axis is left: an atlas of one axis, or every other held by ``at``) a
         profile along ``x`` instead, the other axes held
         as for a map: bit velocities from each start (or ``metric``), the fastest steady

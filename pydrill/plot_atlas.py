@@ -58,7 +58,8 @@ def atlas_figure(
     On (W_ob, u) the stuck boundary u = μ_sb W_ob R_b and the first Hopf curve of the string
     at those values are drawn on top (the paper's Figs. 6b and 12); on other axes, the stuck
     boundary found at the grid points and where the fastest steady state's recorded spectral
-    abscissa changes sign (see ``plot_atlas_bounds``).
+    abscissa changes sign (see ``plot_atlas_bounds``). A regime map of an atlas with stability
+    outlines its safe cells (``Atlas.safe_region``) in white.
     With ``profile`` (and always when one axis is left, of an atlas of one axis or all others
     held by ``at``: no map there) the figure is a profile along ``x`` instead, every other
     axis held as above: the bit velocity from each start with the fastest steady state and
@@ -149,6 +150,10 @@ def atlas_figure(
             if np.any(caveat):
                 label = "judged with a caveat: simulate longer"
                 handles.append(_hatch_cells(ax, mesh, caveat != 0, "..", label))
+        from .plot_atlas_bounds import safe_outline
+
+        swap = order.index(xname) > order.index(yname)
+        handles += safe_outline(atlas, ax, mesh, index, swap)
         what = f"regime from {init}"
     else:
         # A stuck bit has no velocity spread (severity 0, as steady drilling): hatch it.

@@ -135,3 +135,45 @@ def _stable_side(params, crossings, w, u, xname: str, xlim, ylim) -> str:
     if xname == "wob":  # torque vertical
         return "above" if higher else "below"
     return "to the right" if higher else "to the left"
+
+
+#: the safe region's outline: white, with a dark edge, to stand out on every regime's colour
+SAFE_LABEL = "safe: steady from {starts}, stable"
+
+
+def safe_outline(atlas, ax, mesh, index: list, swap: bool) -> list:
+    """Outline on a regime map the cells of ``atlas.safe_region()`` (every start steady, the
+    fastest steady state stable), along the cell edges the colour ``mesh`` draws: on the map
+    from equilibrium it marks the part of the steady region that a start from rest reaches
+    too. ``index``: the map's grid positions; ``swap``: the map's axes are in the atlas's
+    reverse order. Returns the legend handle, or none without stability or safe points."""
+    import numpy as np
+    from matplotlib import patheffects
+    from matplotlib.collections import LineCollection
+    from matplotlib.lines import Line2D
+
+    if not atlas.spec.record["stability"]:
+        return []
+    safe = atlas.safe_region()[tuple(index)]
+    safe = safe.T if swap else safe  # (x, y)
+    if not safe.any():
+        return []
+    edges = mesh.get_coordinates()  # (len(y) + 1, len(x) + 1, 2): cell corners
+    ex, ey = edges[0, :, 0], edges[:, 0, 1]
+    pad = np.zeros((safe.shape[0] + 2, safe.shape[1] + 2), bool)
+    pad[1:-1, 1:-1] = safe
+    segments = []
+    # Where a cell and its neighbour along x differ: the edge between them, at ex[i]
+    for i, j in zip(*np.nonzero(pad[:-1, 1:-1] != pad[1:, 1:-1]), strict=True):
+        segments.append([(ex[i], ey[j]), (ex[i], ey[j + 1])])
+    # and along y, at ey[j]
+    for i, j in zip(*np.nonzero(pad[1:-1, :-1] != pad[1:-1, 1:]), strict=True):
+        segments.append([(ex[i], ey[j]), (ex[i + 1], ey[j])])
+    halo = [patheffects.Stroke(linewidth=4, foreground="#1b2631"), patheffects.Normal()]
+    lines = LineCollection(segments, colors="white", linewidths=2, zorder=3.5)
+    lines.set_path_effects(halo)
+    ax.add_collection(lines)
+    starts = "both starts" if len(atlas.initials) == 2 else atlas.initials[0]
+    handle = Line2D([], [], color="white", lw=2, path_effects=halo)
+    handle.set_label(SAFE_LABEL.format(starts=starts))
+    return [handle]

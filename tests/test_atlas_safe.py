@@ -15,7 +15,7 @@ from pydrill.atlas import Atlas
 from pydrill.spec import parse_spec
 from pydrill.sweep import run_sweep
 
-# The 4-DOF laboratory string on a (W_ob, u) grid; W_ob given out of order on purpose
+# The 4-DOF laboratory string on a (W_ob, u) grid (W_ob out of order: the spec sorts each axis)
 GRID = """
 [model]
 preset = "reduced-scale"
@@ -193,3 +193,55 @@ def test_the_command_refuses_what_it_cannot_answer(grid, tmp_path):
     blind = tmp_path / "blind.h5"
     run_sweep(parse_spec(GRID + "[record]\nstability = false\n"), blind, serial=True)
     assert "did not record stability" in refused(str(blind))
+
+
+def _outline(fig):
+    """The safe outline's segments, as sets of cell-edge pieces, and the legend's labels."""
+    from matplotlib.collections import LineCollection
+
+    ax = fig.axes[0]
+    (lines,) = [c for c in ax.collections if isinstance(c, LineCollection)]
+    pieces = {tuple(map(tuple, np.round(s, 9))) for s in lines.get_segments()}
+    return pieces, [t.get_text() for t in ax.get_legend().get_texts()]
+
+
+@pytest.mark.parametrize("swap", [False, True])
+def test_regime_maps_outline_exactly_the_safe_cells(grid, swap):
+    """Every edge of the outline lies between a safe cell and one that is not (or the grid's
+    border), and every such edge is drawn: checked against the raw datasets, cell by cell,
+    with the map's axes either way round."""
+    from pydrill.plot_atlas import _edges
+
+    safe, _, axes = _brute_safe(grid)
+    x, y = ("torque", "wob") if swap else ("wob", "torque")
+    mask = safe.T if swap else safe  # (x, y)
+    order_x, order_y = np.argsort(axes[x]), np.argsort(axes[y])
+    mask = mask[order_x][:, order_y]  # the map's cells run over increasing values
+    ex, ey = _edges(np.sort(axes[x])), _edges(np.sort(axes[y]))
+    pad = np.pad(mask, 1)
+    want = set()
+    for i in range(len(ex)):
+        for j in range(len(ey) - 1):
+            if pad[i, j + 1] != pad[i + 1, j + 1]:
+                want.add(((ex[i], ey[j]), (ex[i], ey[j + 1])))
+    for i in range(len(ex) - 1):
+        for j in range(len(ey)):
+            if pad[i + 1, j] != pad[i + 1, j + 1]:
+                want.add(((ex[i], ey[j]), (ex[i + 1], ey[j])))
+    want = {tuple(tuple(np.round(p, 9)) for p in seg) for seg in want}
+    with Atlas(grid) as atlas:
+        for initial in ("rest", "equilibrium"):
+            pieces, labels = _outline(atlas.plot(x=x, y=y, initial=initial))
+            assert pieces == want
+            assert "safe: steady from both starts, stable" in labels
+
+
+def test_no_outline_without_stability(tmp_path):
+    from matplotlib.collections import LineCollection
+
+    blind = tmp_path / "blind.h5"
+    run_sweep(parse_spec(GRID + "[record]\nstability = false\n"), blind, serial=True)
+    with Atlas(blind) as atlas:
+        ax = atlas.plot().axes[0]
+    assert not [c for c in ax.collections if isinstance(c, LineCollection)]
+    assert not any(t.get_text().startswith("safe") for t in ax.get_legend().get_texts())
