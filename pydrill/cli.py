@@ -7,7 +7,6 @@ exit status 3. ``--json`` prints exactly one JSON object on stdout for scripts.
 from __future__ import annotations
 
 import argparse
-import math
 import re
 import sys
 from collections.abc import Sequence
@@ -256,6 +255,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def _describe(result: Any, plot: str | None, tally: bool = False) -> str:
+    from .cli_analysis import counted, rpm
+
     s = result.summary
     st = result.stats
     # A real string's torques in kN m, as its W_ob is in kN (was "T_s = 7468 N m (surface
@@ -269,22 +270,23 @@ def _describe(result: Any, plot: str | None, tally: bool = False) -> str:
     lines += [
         f"regime          {s.regime}",
         f"bit velocity    min {s.bit_min:.4g}  max {s.bit_max:.4g}  mean {s.bit_mean:.4g} rad/s"
-        f"  (mean {s.bit_mean * 60 / (2 * math.pi):.4g} rpm)",
-        f"top velocity    min {s.top_min:.4g}  max {s.top_max:.4g}  mean {s.top_mean:.4g} rad/s",
+        f"  (mean {rpm(s.bit_mean):.4g} rpm)",
+        f"top velocity    min {s.top_min:.4g}  max {s.top_max:.4g}  mean {s.top_mean:.4g} rad/s"
+        f"  (mean {rpm(s.top_mean):.4g} rpm)",
         f"severity        {s.severity:.3g}   (max-min)/(2 mean) of the bit velocity",
         f"stuck           {100 * s.stuck_fraction:.1f} % of [{s.window_start:g}, "
-        f"{s.window_end:g}] s, {s.stick_events} stick events"
+        f"{s.window_end:g}] s, {counted(s.stick_events, 'stick event')}"
         + (f", period {s.period:.4g} s" if s.period else ""),
         "steady states   "
         + (
-            ", ".join(f"{w:.6g}" for w in s.omega_equilibrium) + " rad/s"
+            ", ".join(f"{w:.6g} rad/s ({rpm(w):.4g} rpm)" for w in s.omega_equilibrium)
             if s.omega_equilibrium
             else "none (the torque cannot balance the bit friction)"
         ),
         f"static torque   T_s = {s.static_torque / scale:.4g} {unit} (surface torque "
         f"{result.torque / scale:g})",
-        f"solver          {st.method} ({st.method_reason}); {st.steps} steps, "
-        f"{st.switches} switches, {1e3 * st.wall_time:.1f} ms in the core",
+        f"solver          {st.method} ({st.method_reason}); {counted(st.steps, 'step')}, "
+        f"{counted(st.switches, 'switch', 'switches')}, {1e3 * st.wall_time:.1f} ms in the core",
     ]
     if s.note:
         lines.append(f"note            {s.note}")

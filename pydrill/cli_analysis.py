@@ -4,6 +4,7 @@ window live in :mod:`pydrill.cli_window`)."""
 from __future__ import annotations
 
 import argparse
+import math
 from collections.abc import Sequence
 
 from .cli_options import (
@@ -22,6 +23,16 @@ from .cli_options import (
     string_units,
 )
 from .cli_window import register_tally
+
+
+def counted(n: int, one: str, many: str | None = None) -> str:
+    """``1 switch``, ``33 switches``: a count with its noun in the number it takes."""
+    return f"{n} {one if n == 1 else (many or one + 's')}"
+
+
+def rpm(omega: float) -> float:
+    """A velocity in rad/s as revolutions per minute, what a driller sets and reads."""
+    return omega * 30 / math.pi
 
 
 def register_analysis(sub, PRESETS: Sequence[str]) -> None:
@@ -200,8 +211,8 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
         return 0
     hopf = [c for c in crossings if c.type == "hopf"]
     print(
-        f"{params.name}, dof {params.dof}: {len(hopf)} Hopf crossings, "
-        f"{len(crossings) - len(hopf)} fold"
+        f"{params.name}, dof {params.dof}: {counted(len(hopf), 'Hopf crossing')}, "
+        f"{counted(len(crossings) - len(hopf), 'fold')}"
     )
     print(
         f"{'type':6s} {'delta (N m s/rad)':>18s} {'frequency (rad/s)':>18s}  {'direction':13s}"
@@ -270,17 +281,27 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         )
         return 0
     for pt in points:
-        verdict = "STABLE" if pt.stable else f"UNSTABLE ({pt.unstable} eigenvalues in Re > 0)"
-        rpm = pt.omega * 60 / (2 * 3.141592653589793)
+        verdict = (
+            "STABLE" if pt.stable else f"UNSTABLE ({counted(pt.unstable, 'eigenvalue')} in Re > 0)"
+        )
+        # W_ob beside the rest of the operating point (the lines said Omega and u only).
         print(
-            f"steady state    Omega = {pt.omega:.6g} rad/s ({rpm:.4g} rpm), "
-            f"u = {pt.torque:.6g} N m ({pt.torque / 1e3:.4g} kN m)"
+            f"steady state    Omega = {pt.omega:.6g} rad/s ({rpm(pt.omega):.4g} rpm), "
+            f"u = {pt.torque:.6g} N m ({pt.torque / 1e3:.4g} kN m) at {at}"
         )
         print(f"Stribeck slope  delta = {pt.delta:.6g} N m s/rad")
+        # The margin is a distance in delta (the Stribeck slope), so in its unit; the
+        # abscissa is the real part of the leading eigenvalue: what its mode grows at.
+        mode = "fastest-growing" if pt.spectral_abscissa > 0 else "slowest-decaying"
         print(
-            f"verdict         {verdict}; delta margin {pt.delta_margin:.4g}, "
+            f"verdict         {verdict}; delta margin {pt.delta_margin:.4g} N m s/rad, "
             f"spectral abscissa {pt.spectral_abscissa:.4g} 1/s"
         )
+        print(
+            "                delta margin: delta's distance to the nearest critical slope "
+            "(pydrill hopf lists them)"
+        )
+        print(f"                spectral abscissa: the growth rate of the {mode} mode")
         lead = ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" for z in pt.eigenvalues[:4])
         print(f"eigenvalues     {lead}, ...")
     if args.plot:
