@@ -1,4 +1,6 @@
-"""Figures of the stability analysis: boundaries, eigenvalues, bifurcations, the operating map."""
+"""Figures of the stability analysis: the Hopf boundaries in (Ω, W_ob), the eigenvalues of a
+steady state, bifurcation diagrams. The (W_ob, u) operating map is drawn by
+:mod:`pydrill.plot_map`."""
 
 from __future__ import annotations
 
@@ -6,7 +8,7 @@ import itertools
 import math
 from typing import TYPE_CHECKING
 
-from .plot import fit_suptitle, plt, quantity, scale_ticks, unit_scale
+from .plot import plt, quantity, scale_ticks, unit_scale
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -349,85 +351,3 @@ def _place_labels(fig, labels, right: bool = True) -> None:
         _, note, box = best
         ax.add_artist(note)
         taken.append(box)
-
-
-def operating_figure(params, omap, crossings, checks=None) -> Figure:
-    """(W_ob, u) map: where a stable steady state exists and where the bit can stay stuck, the
-    sliding boundary u = μ_sb W_ob R_b, the Hopf and fold curves, and simulated regimes."""
-    import numpy as np
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-    from matplotlib.patches import Patch
-
-    from .operating import CATEGORIES, hopf_curve_wu
-
-    colors = ["#abebc6", "#d6eaf8", "#f8c471", "#d5d8dc"]
-    fig, ax = plt.subplots(figsize=(10, 6.5), layout="constrained")
-    ax.pcolormesh(
-        omap.wob,
-        omap.torque,
-        omap.category,
-        cmap=ListedColormap(colors),
-        norm=BoundaryNorm(np.arange(-0.5, 4.5), 4),
-        shading="nearest",
-        rasterized=True,
-    )
-    ax.plot(
-        omap.wob,
-        omap.static_torque,
-        color="black",
-        lw=2,
-        label="$u = \\mu_{sb} W_{ob} R_b$ (sliding boundary, Eq. 38)",
-    )
-    omega = np.linspace(1e-3, 60.0, 2000)
-    first = next((c for c in crossings if c.direction > 0 and c.type == "hopf"), None)
-    for c in crossings:
-        w, u = hopf_curve_wu(params, c.delta, omega)
-        keep = (w <= omap.wob.max() * 1.05) & (u <= omap.torque.max() * 1.05)
-        if c.type == "fold":
-            ax.plot(w[keep], u[keep], "--", color="#1f618d", lw=1.3, label="fold (LP) curve")
-        elif c is first:
-            ax.plot(w[keep], u[keep], color="#922b21", lw=2, label="first Hopf curve")
-    if checks:
-        marks = {
-            "steady": ("o", "#1e8449"),
-            "stick-slip": ("x", "#b9770e"),
-            "stuck": ("s", "#566573"),
-            "oscillation": ("^", "#7d3c98"),
-        }
-        for regime, (marker, color) in marks.items():
-            pts = [(w, u) for w, u, r in checks if r == regime]
-            if pts:
-                ax.scatter(
-                    [pt[0] for pt in pts],
-                    [pt[1] for pt in pts],
-                    marker=marker,
-                    color=color,
-                    s=26,
-                    label=f"simulated from rest: {regime}",
-                    zorder=5,
-                    clip_on=False,  # the check grid ends on the map's edges: markers whole
-                )
-    ax.set_xlim(omap.wob.min(), omap.wob.max())
-    ax.set_ylim(omap.torque.min(), omap.torque.max())
-    xscale, xunit = unit_scale(omap.wob, "N")
-    yscale, yunit = unit_scale(omap.torque, "N·m")
-    scale_ticks(ax.xaxis, xscale)
-    scale_ticks(ax.yaxis, yscale)
-    ax.set_xlabel(f"weight on bit $W_{{ob}}$ ({xunit})")
-    ax.set_ylabel(f"surface torque $u$ ({yunit})")
-    handles, labels = ax.get_legend_handles_labels()
-    handles += [Patch(color=c) for c in colors]
-    labels += list(CATEGORIES)
-    ax.legend(handles, labels, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    # Over the whole figure, wrapped to fit: over the axes alone a tally's longer name pushed
-    # the line off the figure's left edge. Stick-slip along the boundary is said where the
-    # checks found it (a real string's 4 x 4 check found none, and the title said it anyway).
-    slipped = any(r == "stick-slip" for _, _, r in checks or [])
-    fit_suptitle(
-        fig,
-        f"{params.name}, dof {params.dof}: safe drilling = stable steady state (green) above "
-        "the sliding boundary"
-        + ("; from rest, stick-slip still fills a band along it (the paper's ε⁺, ρ⁺)" * slipped),
-        fontsize=10,
-    )
-    return fig

@@ -119,7 +119,7 @@ def test_map_figure_title_fits_and_says_only_what_the_checks_found(regimes):
     import numpy as np
 
     from pydrill.operating import operating_map
-    from pydrill.plot_analysis import operating_figure
+    from pydrill.plot_map import operating_figure
     from pydrill.stability import critical_deltas
 
     tally = load_tally(PAPER)

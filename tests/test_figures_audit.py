@@ -169,7 +169,7 @@ def test_operating_map_markers_on_the_edges_are_drawn_whole():
     from matplotlib.collections import PathCollection
 
     from pydrill.operating import operating_map
-    from pydrill.plot_analysis import operating_figure
+    from pydrill.plot_map import operating_figure
     from pydrill.stability import critical_deltas
 
     p = pydrill.preset("reduced-scale", dof=4)

@@ -1,0 +1,144 @@
+"""The ``pydrill map`` command: the (W_ob, u) plane of a string classified by whether a stable
+steady state exists and whether the bit can stay stuck (the paper's Figs. 6b and 12), with
+simulations from rest to check it (``--check K``)."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+
+from .cli_options import (
+    _integer,
+    _positive,
+    _string_options,
+    check_progress,
+    figure_path,
+    json_document,
+    kilo,
+    print_json,
+    shown,
+    string_json,
+    string_params,
+    string_units,
+)
+
+
+def register_map(sub, PRESETS: Sequence[str]) -> None:
+    """Add ``pydrill map`` to the subcommands ``sub``."""
+    omap = sub.add_parser(
+        "map",
+        help="(W_ob, u) map: stable steady drilling, stuck bit, neither (Figs. 6b and 12)",
+        description="Classify weight on bit and surface torque: whether a stable steady state "
+        "exists (Hopf analysis) and whether the bit can stay stuck (u <= T_s, the sliding "
+        "analysis). The paper's safe drilling parameters have a stable steady state and "
+        "u > T_s. With --check K, simulations from rest on a K x K grid show where stick-slip "
+        "actually happens (it coexists with the stable steady state near the sliding boundary).",
+        epilog="examples:\n  pydrill map --dof 4 --plot map.png\n"
+        "  pydrill map --dof 2 --check 10 --json\n\nunits: wob N, torque N*m.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    _string_options(omap, PRESETS)
+    omap.add_argument(
+        "--wob-max",
+        type=_positive("--wob-max", "force"),
+        help="largest W_ob (N; default 250 for reduced-scale, 2e5 for real-string)",
+    )
+    omap.add_argument(
+        "--torque-max",
+        type=_positive("--torque-max", "torque"),
+        help="largest u (N m; default 0.1 * wob-max)",
+    )
+    omap.add_argument(
+        "--check",
+        type=_integer("--check", 0, 40),
+        default=0,
+        metavar="K",
+        help="simulate from rest on a K x K grid and overlay the regimes (K <= 40; default 0: "
+        "no simulations)",
+    )
+    omap.add_argument(
+        "--t-end",
+        type=_positive("--t-end"),
+        help="simulated time of each check (s, default 300)",
+    )
+    omap.add_argument("--json", action="store_true", help="print one JSON object for scripts")
+    omap.add_argument("--plot", metavar="FILE.png", type=figure_path, help="draw the map")
+    omap.set_defaults(handler=_cmd_map)
+
+
+def _cmd_map(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from . import simulate
+    from .operating import CATEGORIES, operating_map
+    from .stability import critical_deltas
+
+    if args.check < 0 or args.check > 40:
+        raise ValueError(f"--check = {args.check} is not allowed: need 0 <= K <= 40")
+    if not args.check and args.t_end is not None:
+        raise ValueError("--t-end needs --check K: it is the simulated time of each check")
+    params = string_params(args)
+    wob_max = args.wob_max or (250.0 if params.name == "reduced-scale" else 2e5)
+    torque_max = args.torque_max or 0.1 * wob_max
+    wob = np.linspace(wob_max / 200, wob_max, 200)
+    torque = np.linspace(torque_max / 200, torque_max, 200)
+    crossings = critical_deltas(params)
+    omap = operating_map(params, wob, torque, crossings)
+    checks: list[tuple[float, float, str]] = []
+    if args.check:
+        bar = check_progress(args.check**2, "map --check")
+        for w in np.linspace(wob_max / args.check, wob_max, args.check):
+            for u in np.linspace(torque_max / args.check, torque_max, args.check):
+                r = simulate(params, wob=w, torque=u, t_end=args.t_end or 300.0, n_out=301)
+                checks.append((float(w), float(u), r.regime))
+                bar.update()
+        bar.close()
+    if args.plot:
+        from .plot import save
+        from .plot_map import operating_figure
+
+        save(operating_figure(params, omap, crossings, checks), args.plot)
+    if args.json:
+        inputs = {
+            "preset": params.name,
+            **string_json(args),
+            "dof": params.dof,
+            "wob_max": wob_max,
+            "torque_max": torque_max,
+            "check": args.check,
+            "t_end": (args.t_end or 300.0) if args.check else None,  # of each check
+        }
+        results = {
+            "categories": list(CATEGORIES),
+            "fractions": omap.fractions(),
+            "wob": omap.wob.tolist(),
+            "torque": omap.torque.tolist(),
+            "category": omap.category.tolist(),
+            "safe_torque_min": [None if not np.isfinite(v) else v for v in omap.safe_torque_min],
+            "checks": [{"wob": w, "torque": u, "regime": r} for w, u, r in checks],
+        }
+        units = {
+            "wob": "N",
+            "torque": "N·m",
+            "wob_max": "N",
+            "torque_max": "N·m",
+            "t_end": "s",
+            **string_units(args),
+        }
+        print_json(json_document(inputs, results, units, args.plot))
+        return 0
+    big = kilo(wob_max)  # a real string's in kN and kN m (was "W_ob 0..200000 N")
+    print(
+        f"{params.name}, dof {params.dof}: W_ob 0..{shown(wob_max, 'N', big)}, "
+        f"u 0..{shown(torque_max, 'N m', big)}"
+    )
+    for name, frac in omap.fractions().items():
+        print(f"  {100 * frac:5.1f} %  {name}")
+    if checks:
+        counts: dict[str, int] = {}
+        for _, _, regime in checks:
+            counts[regime] = counts.get(regime, 0) + 1
+        print("simulated from rest: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    if args.plot:
+        print(f"figure: {args.plot}")
+    return 0
