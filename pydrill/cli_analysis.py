@@ -10,6 +10,7 @@ from collections.abc import Sequence
 
 from .cli_map import register_map
 from .cli_options import (
+    KILO,
     _finite,
     _positive,
     _string_options,
@@ -246,9 +247,11 @@ def _cmd_stability(args: argparse.Namespace) -> int:
             "STABLE" if pt.stable else f"UNSTABLE ({counted(pt.unstable, 'eigenvalue')} in Re > 0)"
         )
         # W_ob beside the rest of the operating point (the lines said Omega and u only).
+        # A real string's torque in kN m too; a laboratory one's 8.3 N m alone (not 0.0083).
+        kn = f" ({pt.torque / 1e3:.4g} kN m)" if abs(pt.torque) > KILO else ""
         print(
             f"steady state    Omega = {pt.omega:.6g} rad/s ({rpm(pt.omega):.4g} rpm), "
-            f"u = {pt.torque:.6g} N m ({pt.torque / 1e3:.4g} kN m) at {at}"
+            f"u = {pt.torque:.6g} N m{kn} at {at}"
         )
         print(f"Stribeck slope  delta = {pt.delta:.6g} N m s/rad")
         # The margin is a distance in delta (the Stribeck slope), so in its unit; the
@@ -264,7 +267,8 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         )
         print(f"                spectral abscissa: the growth rate of the {mode} mode")
         lead = ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" for z in pt.eigenvalues[:4])
-        print(f"eigenvalues     {lead}, ...")
+        more = ", ..." if len(pt.eigenvalues) > 4 else ""  # dof 2 has three: all shown
+        print(f"eigenvalues     {lead}{more}")
     if args.plot:
         print(f"figure: {args.plot}")
     return 0

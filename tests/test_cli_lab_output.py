@@ -140,3 +140,29 @@ def test_no_count_of_one_takes_a_plural(capsys):
     ):
         text = run(capsys, *args)
         assert not plural.search(text), text
+
+
+@pytest.mark.parametrize(
+    ("args", "real"),
+    [
+        (["--dof", "4", "--wob", "40", "--torque", "8.3"], False),
+        (["--dof", "2", "--wob", "100", "--omega", "2"], False),
+        (["--tally", PAPER, "--depth", "1000m", "--wob", "60kN", "--omega", "60rpm"], True),
+    ],
+)
+def test_stability_torque_in_kilo_only_for_a_real_string_and_every_eigenvalue_said(
+    capsys, args, real
+):
+    """A laboratory string's 'u = 8.3 N m (0.0083 kN m)' lost its kN m; the eigenvalue line
+    ended ', ...' even where it showed all of them (dof 2 has three)."""
+    text, data = both(capsys, "stability", *args)
+    (eq,) = data["equilibria"]
+    head = line(text, "steady state")
+    kn = re.search(rf"\(({NUMBER}) kN m\)", head)
+    assert (kn is not None) == real
+    if real:
+        assert float(kn.group(1)) == pytest.approx(eq["torque"] / 1e3, rel=1e-3)
+    shown = line(text, "eigenvalues").removeprefix("eigenvalues").strip()
+    values = [v for v in shown.split(", ") if v != "..."]
+    assert len(values) == min(4, len(eq["eigenvalues"]))
+    assert shown.endswith(", ...") == (len(eq["eigenvalues"]) > 4)
