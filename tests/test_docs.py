@@ -25,8 +25,9 @@ Comparing shown output: the lines shown are the output's lines, whole, in order 
 out, from its first line to its last (blank lines aside). A line of ``...`` stands for any
 number of lines (the only way to leave lines out), ``...`` within a line for anything there;
 whitespace is ignored, and a number matches within one unit of its last shown digit
-(``67.12`` accepts 67.11 … 67.13). So machine-dependent figures (wall times) are written as
-``...`` and everything else must be what pydrill prints. A command shown without output is
+(``67.12`` accepts 67.11 … 67.13), a whole number exactly (a count: ``6`` is not 7). So
+machine-dependent figures (wall times) are written as ``...`` and everything else must be
+what pydrill prints. A command shown without output is
 run, its output not compared.
 """
 
@@ -142,6 +143,10 @@ def _number(token: str) -> tuple[float, float] | None:
     except ValueError:
         return None
     mantissa, _, exponent = token.lower().partition("e")
+    if "." not in mantissa and not exponent:
+        # A whole number is a count (points, events, switches) or printed whole: exact, or
+        # "(6 of 11 points)" would also accept 7.
+        return value, 0.0
     decimals = len(mantissa.partition(".")[2])
     return value, 10.0 ** (int(exponent or 0) - decimals)
 
@@ -436,6 +441,10 @@ def test_output_comparison_rules():
     assert line_matches("bit velocity ... (mean ... rpm)", actual, whole=True)
     assert not line_matches("bit velocity min 0 max 67.12 mean 13.42 rad/s", actual, whole=True)
     assert not line_matches("max 67.12", actual, whole=True)
+    # a whole number is a count, or printed whole: exact (a count off by one was accepted)
+    assert line_matches("(6 of 11 points)", "(6 of 11 points)")
+    assert not line_matches("(6 of 11 points)", "(7 of 11 points)")
+    assert not line_matches("max 67", actual)
 
 
 @pytest.mark.parametrize(
