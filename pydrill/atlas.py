@@ -159,13 +159,15 @@ class Atlas:
         return tuple(len(v) for v in self.axes.values())
 
     def index(self, method: str = "exact", **coords: float) -> tuple[int, ...]:
-        """Grid index of the given coordinates (every axis must be given)."""
-        missing = set(self.axes) - set(coords)
+        """Grid index of the given coordinates: every axis must be given, but for an axis of
+        one value (a depth swept as ``["3000 m"]``), which may be left out."""
         extra = set(coords) - set(self.axes)
         if extra:
             raise KeyError(
                 f"{sorted(extra)[0]} is not an axis of this atlas; axes: " + ", ".join(self.axes)
             )
+        coords = {n: v[0].item() for n, v in self.axes.items() if len(v) == 1} | coords
+        missing = set(self.axes) - set(coords)
         if missing:
             raise KeyError(f"give a value for every axis; missing: {', '.join(sorted(missing))}")
         if method not in ("exact", "nearest"):
@@ -188,8 +190,9 @@ class Atlas:
     def value(self, method: str = "exact", **coords: float) -> dict[str, Any]:
         """Everything recorded at one point, as plain data.
 
-        Give a value for every axis (``wob=100, torque=8.3``); ``method="nearest"`` takes the
-        nearest grid point instead of requiring an exact one. Keys: ``coords``, ``status``
+        Give a value for every axis (``wob=100, torque=8.3``; one of a single value may be
+        left out); ``method="nearest"`` takes the nearest grid point instead of requiring an
+        exact one. Keys: ``coords``, ``status``
         (``"done"``, ``"failed"`` with ``message``, ``"missing"``), ``regime`` and ``metrics``
         (each by start), ``stability`` (lists over the steady states: ``omega_eq``, ``delta``,
         ``spectral_abscissa``, ``hopf_margin``, ``unstable``, ``eigenvalues``) and

@@ -45,9 +45,12 @@ def axis_unit(name: str) -> str:
 
 def shown_unit(name: str, *values: float) -> tuple[str, float]:
     """The unit a sweep axis's values are printed in, and its size in SI: a real string's
-    weights on bit (1e5 N) read as kN, the reduced-scale rig's (100 N) as N."""
+    weights on bit (1e5 N) and torques (8000 N·m) read as kN and kN·m, the reduced-scale rig's
+    (100 N, 8.3 N·m) as N and N·m."""
+    from .cli_options import KILO  # the figures' threshold, and the other commands' text
+
     unit = axis_unit(name)
-    if unit in ("N", "N·m") and max(abs(float(v)) for v in values) >= 1e4:
+    if unit in ("N", "N·m") and max(abs(float(v)) for v in values) > KILO:
         return "k" + unit, 1e3
     return unit, 1.0
 

@@ -39,11 +39,8 @@ def model_line(m: dict[str, Any]) -> str:
             shown = f"[{', '.join(f'{x:.4g}' for x in v)}]" if len(v) <= 4 else ""
             unit = parameter_unit(name)
             parts.append(f"{name} {shown} {unit}".rstrip() if shown else f"{name} as given")
-        elif name in ("wob", "torque"):  # 9 kN·m as the spec likely gave it, 8 N·m as is
-            unit = axis_unit(name)
-            parts.append(
-                f"{name} " + (f"{v / 1e3:g} k{unit}" if abs(v) >= 1e3 else f"{v:g} {unit}")
-            )
+        elif name in ("wob", "torque", "depth"):  # 9 kN·m as the spec likely gave it
+            parts.append(f"{name} {with_unit(name, v)}")
         else:
             parts.append(f"{name} {v:.4g} {parameter_unit(name)}".rstrip())
     parts[-1] += f"; {m['t_end']:g} s from each start"

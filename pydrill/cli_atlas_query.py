@@ -33,6 +33,11 @@ def axis_values(items: list[str]) -> dict[str, float]:
             raise ValueError(
                 f"--set {item!r}: expected AXIS=VALUE (a number, or with a unit: depth=3000ft)"
             )
+        if name in out:  # --set torque=8 --set torque=9: the last won, silently
+            raise ValueError(
+                f"--set {item!r}: {name} is given twice; give each axis once (a map or a "
+                "query is at one value; 'atlas safe' without --set lists every value)"
+            )
         try:
             out[name] = coordinate(name, value)
         except ValueError as exc:  # "wob = '80 m': unit 'm' is not a force unit; ..."

@@ -100,15 +100,18 @@ def dry_run(args: argparse.Namespace, spec) -> int:
     }[plan.atlas]
     print(f"  atlas   {state}")
     if plan.sampled:
-        each = f"{1e3 * plan.point_seconds:.3g} ms each on one core"
+        # ms for a laboratory string's points, s for a long string's (was "1.63e+04 ms")
+        sec = plan.point_seconds >= 1 or plan.point_seconds_high >= 1
+        scale, unit = (1.0, "s") if sec else (1e3, "ms")
+        each = f"{scale * plan.point_seconds:.3g} {unit} each on one core"
         if plan.sampled == plan.todo:  # every point timed: nothing left to estimate
             print(f"  timed   all {plan.todo} points to compute: {each}")
             print(f"  needs   {_span(compute[1])} of computing")
         else:
-            low, high = 1e3 * plan.point_seconds_low, 1e3 * plan.point_seconds_high
+            low, high = scale * plan.point_seconds_low, scale * plan.point_seconds_high
             print(
                 f"  timed   {plan.sampled} of the {plan.todo} points to compute: {each} "
-                f"(95 %: {low:.3g} ... {high:.3g} ms)"
+                f"(95 %: {low:.3g} ... {high:.3g} {unit})"
             )
             print(
                 f"  needs   about {_span(compute[1])} of computing (95 %: {_span(compute[0])} "

@@ -52,6 +52,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     _check_tally,
     _check_tally_size,
     _fail,
+    _is_number,
     _read_tally,
     _record,
     _simulation,
@@ -170,8 +171,9 @@ class SweepSpec:
             from .tally import parse_tally
 
             tally = parse_tally(self.tally_text)
-            if "depth" in coords:
-                tally = tally.at_depth(coords["depth"])
+            depth = coords.get("depth", self.fixed.get("depth"))  # swept, or held in [model]
+            if depth is not None:
+                tally = tally.at_depth(depth)
             params = tally.to_params(dof=self.dof, lump=self.lump)
             over = {k: v for k, v in self.overrides.items() if k not in ("tally", "lump")}
             over.update({k: v for k, v in coords.items() if k in SCALAR_AXES})
@@ -244,6 +246,8 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     fixed = {
         key: in_si(f"model.{key}", key, model.pop(key)) for key in OPERATING_AXES if key in model
     }
+    if "depth" in model:  # a tally string at one depth, as an operating value is held
+        fixed["depth"] = _fixed_depth(model.pop("depth"), tally_text, axes_doc)
     model = {key: in_si(f"model.{key}", key, v) for key, v in model.items()}
     _check_parameters(model)
     if not axes_doc:
@@ -265,7 +269,12 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     _check_grid(axes)
     _check_axes(axes, model, dof, fixed, tally_text)
     if tally_text is not None:
-        _check_tally_size(tally_text, lump, axes.get("depth"))
+        depths = axes.get("depth")
+        if "depth" in fixed:
+            depths = np.array([fixed["depth"]])
+        _check_tally_size(
+            tally_text, lump, depths, "axes.depth" if "depth" in axes else "model.depth"
+        )
     for values in axes.values():
         # A frozen spec, frozen grid: an axis changed in place would make an atlas whose
         # coordinates disagree with what its points computed (workers parse ``text``).
@@ -291,6 +300,23 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
             where = ", ".join(f"axes.{k} = {v:g}" for k, v in corner.items())
             raise _fail(f"model (at {where})" if where else "model", str(exc)) from None
     return spec
+
+
+def _fixed_depth(value: Any, tally_text: str | None, axes_doc: dict[str, Any]) -> float:
+    """``[model] depth``: the bit depth of a tally string (m, or with a unit), held for the
+    whole sweep; refused without a tally, beside a depth axis, or not > 0."""
+    if tally_text is None:
+        raise _fail(
+            "model.depth",
+            'needs a tally string ([model] tally = "FILE.toml"); a preset\'s length is its dof '
+            "or pipes",
+        )
+    if "depth" in axes_doc:
+        raise _fail("model.depth", "depth is also an axis: give it in one place only")
+    depth = in_si("model.depth", "depth", value)
+    if not _is_number(depth) or not 0 < depth < math.inf:
+        raise _fail("model.depth", f"{value!r} is not allowed: a depth > 0 (m, or '3000 ft')")
+    return float(depth)
 
 
 def _corners(spec: SweepSpec) -> list[dict[str, float]]:

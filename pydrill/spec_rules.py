@@ -312,7 +312,9 @@ def _check_friction_pair(axes: dict[str, np.ndarray]) -> None:
         )
 
 
-def _check_tally_size(tally_text: str, lump: int, depths: np.ndarray | None) -> None:
+def _check_tally_size(
+    tally_text: str, lump: int, depths: np.ndarray | None, where: str = "axes.depth"
+) -> None:
     """The deepest string of a tally within MAX_DOF inertias, counted without building it
     (``Tally.elements``: one per ``lump`` drill-pipe joints, one per other joint)."""
     from .tally import TallyError, parse_tally
@@ -327,7 +329,7 @@ def _check_tally_size(tally_text: str, lump: int, depths: np.ndarray | None) -> 
     n = 1 + sum(-(-s.count // per[s.kind == "drill-pipe"]) for s in tally.sections)
     if n > MAX_DOF:
         key, where = (
-            ("axes.depth", f" at {depths.max():g} m") if depths is not None else ("model.tally", "")
+            (where, f" at {depths.max():g} m") if depths is not None else ("model.tally", "")
         )
         raise _fail(
             key,

@@ -167,3 +167,82 @@ def test_info_shows_per_element_values_with_their_unit(tmp_path):
     assert "model preset reduced-scale, 3 inertias, inertias [0.5, 0.4, 0.3] kg·m²;" in text
     model = json.loads(_run("atlas", "info", str(out), "--json"))["model"]
     assert model["held"] == {"inertias": [0.5, 0.4, 0.3]} and model["inertias"] == 3
+
+
+def test_an_axis_of_one_value_need_not_be_given(tmp_path):
+    """'give a value for every axis; missing: depth' for an atlas whose depth axis held one
+    value (the guide's way to sweep a tally string at one depth)."""
+    spec = FIELD.replace('wob = ["40 kN"', 'depth = ["3000 m"]\nwob = ["40 kN"')
+    out = tmp_path / "one-depth.h5"
+    run_sweep(
+        parse_spec(spec.replace("t_end = 30.0", "t_end = 10.0"), tally_text=TALLY), out, serial=True
+    )
+    args = ["atlas", "query", str(out), "--wob", "40kN", "--torque", "6kN·m"]
+    text = _run(*args)
+    assert text.splitlines()[0] == "depth = 3000 m, wob = 40 kN, torque = 6 kN·m: done"
+    doc = json.loads(_run(*args, "--json"))
+    assert doc["coords"] == {"depth": 3000.0, "wob": 40e3, "torque": 6e3}
+    full = json.loads(_run(*args, "--depth", "3000m", "--json"))
+    assert full["regime"] == doc["regime"] and full["bit_mean"] == doc["bit_mean"]
+    with pytest.raises(KeyError, match="missing: torque"):  # more values: still asked for
+        from pydrill.atlas import Atlas
+
+        with Atlas(out) as atlas:
+            atlas.value(wob=40e3)
+
+
+@pytest.mark.parametrize("command", ["query", "safe", "plot"])
+def test_an_axis_set_twice_is_refused(field, tmp_path, command):
+    """'--set torque=8 --set torque=9' kept the last, silently."""
+    args = ["atlas", command, str(field), "--set", "torque=6kN·m", "--set", "torque=9kN·m"]
+    args += {"query": ["--wob", "40kN"], "plot": ["--out", str(tmp_path / "x.png")]}.get(
+        command, []
+    )
+    proc = subprocess.run([*CMD, *args], capture_output=True, text=True)
+    assert proc.returncode == 2 and not proc.stdout
+    assert "--set 'torque=9kN·m': torque is given twice; give each axis once" in proc.stderr
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_kilo_units_start_where_the_figures_do():
+    """An axis of 8000 ... 9000 N·m read 'N·m' in text (kN·m from 10^4) and kN·m on its
+    figure (from 5000): one threshold now, KILO."""
+    from pydrill.atlas_grid import grid_unit, with_unit
+    from pydrill.cli_options import KILO
+    from pydrill.plot import unit_scale
+
+    for values in ([8e3, 9e3], [4e3, 4.9e3], [6.0, 8.3], [2e4, 2e5]):
+        text, factor = grid_unit("torque", values)
+        assert (factor, text) == unit_scale(values, "N·m"), values
+        assert (factor == 1e3) == (max(values) > KILO)
+    assert with_unit("torque", 8e3) == "8 kN·m" and with_unit("wob", 4e3) == "4000 N"
+
+
+def test_dry_run_times_slow_points_in_seconds(tmp_path, monkeypatch):
+    """A long string's sample was printed '1.63e+04 ms each'."""
+    from pydrill import cli, sweep_plan
+
+    spec = tmp_path / "s.toml"
+    spec.write_text(SMALL)
+    real = sweep_plan.plan_sweep
+
+    def slow(*args, **kwargs):
+        import dataclasses
+
+        plan = real(*args, **kwargs)
+        return dataclasses.replace(
+            plan, sampled=3, point_seconds=16.3, point_seconds_low=0.4, point_seconds_high=32.8
+        )
+
+    monkeypatch.setattr(sweep_plan, "plan_sweep", slow)
+    import contextlib  # the CLI in this process, to see the patched plan
+    import io
+
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert cli.main(["sweep", str(spec), "--dry-run", "--serial"]) == 0
+    line = next(x for x in out.getvalue().splitlines() if x.startswith("  timed"))
+    assert (
+        line
+        == "  timed   3 of the 6 points to compute: 16.3 s each on one core (95 %: 0.4 ... 32.8 s)"
+    )
