@@ -160,8 +160,9 @@ def safe_outline(atlas, ax, mesh, index: list, swap: bool) -> list:
         return []
     edges = mesh.get_coordinates()  # (len(y) + 1, len(x) + 1, 2): cell corners
     ex, ey = edges[0, :, 0], edges[:, 0, 1]
-    pad = np.zeros((safe.shape[0] + 2, safe.shape[1] + 2), bool)
-    pad[1:-1, 1:-1] = safe
+    # Beyond the grid as at its edge: no line along the grid's own border, which the frame
+    # draws, or shows half a cell inside where the axes end at the grid's values.
+    pad = np.pad(safe, 1, mode="edge")
     segments = []
     # Where a cell and its neighbour along x differ: the edge between them, at ex[i]
     for i, j in zip(*np.nonzero(pad[:-1, 1:-1] != pad[1:, 1:-1]), strict=True):
