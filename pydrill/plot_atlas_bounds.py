@@ -17,6 +17,9 @@ from .plot_atlas import _extent
 
 #: the curves' looks: the stuck boundary in black, the stability boundary in dark red
 STUCK = {"color": "black", "linestyles": "-", "linewidths": 2}
+#: its label: the static balance; a start from rest winds the string up past u, and can free
+#: the bit a little beyond it (the stick-slip or steady cells on its stuck side)
+STUCK_LABEL = "stuck boundary $u = \\mu_{sb} W_{ob} R_b$\n(static: a start-up can overshoot it)"
 UNSTABLE: dict[str, Any] = {"colors": "#922b21", "linestyles": "--", "linewidths": 2}
 
 
@@ -41,7 +44,7 @@ def _analytic(atlas, ax, xname: str, yname: str, held: dict[str, float]) -> list
     ts = params.static_torque(wob)
     crossings = critical_deltas(params)
     first = next((c for c in crossings if c.type == "hopf" and c.direction > 0), None)
-    curves = [(wob, ts, "black", "-", "stuck boundary $u = \\mu_{sb} W_{ob} R_b$")]
+    curves = [(wob, ts, "black", "-", STUCK_LABEL)]
     if first is not None:
         from .operating import hopf_curve_wu
 
@@ -69,9 +72,7 @@ def _from_grid(atlas, ax, xname: str, yname: str, held: dict[str, float], index:
     margin = _stuck_margin(atlas, xname, yname, x, y, held)
     if _crosses(margin):
         ax.contour(x, y, margin.T, levels=[0.0], colors=STUCK["color"], linewidths=2)
-        handles.append(
-            Line2D([], [], color="black", lw=2, label="stuck boundary $u = \\mu_{sb} W_{ob} R_b$")
-        )
+        handles.append(Line2D([], [], color="black", lw=2, label=STUCK_LABEL))
     if atlas.spec.record["stability"]:
         order = list(atlas.axes)
         abscissa = np.asarray(atlas._f["spectral_abscissa"][..., 0][tuple(index)], dtype=float)

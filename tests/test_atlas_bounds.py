@@ -35,7 +35,7 @@ t_end = 50.0
 initial = ["rest"]
 """
 
-STUCK = "stuck boundary $u = \\mu_{sb} W_{ob} R_b$"
+STUCK = "stuck boundary $u = \\mu_{sb} W_{ob} R_b$\n(static: a start-up can overshoot it)"
 UNSTABLE = "stability boundary of the fastest steady state (atlas eigenvalues)"
 
 
