@@ -74,7 +74,7 @@ def cmd_safe(args: argparse.Namespace) -> int:
             name = exc.args[0].split(" ")[0]
             option = f"--set {name}={given[name]}" if name in given else f"--along {along}"
             raise ValueError(f"{option}: {exc.args[0]}") from None
-        axes = {name: values for name, values in atlas.axes.items()}
+        axes = dict(atlas.axes)
         initials = atlas.initials
     unit = {name: grid_unit(name, values) for name, values in axes.items()}
     if args.json:
