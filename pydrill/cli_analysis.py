@@ -13,16 +13,13 @@ from .cli_options import (
     KILO,
     _finite,
     _positive,
-    _string_options,
     figure_path,
     json_document,
     kilo,
     print_json,
     shown,
-    string_json,
-    string_params,
-    string_units,
 )
+from .cli_string import _string_options, string_json, string_params, string_units
 from .cli_window import register_tally
 
 

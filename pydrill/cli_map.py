@@ -10,17 +10,14 @@ from collections.abc import Sequence
 from .cli_options import (
     _integer,
     _positive,
-    _string_options,
     check_progress,
     figure_path,
     json_document,
     kilo,
     print_json,
     shown,
-    string_json,
-    string_params,
-    string_units,
 )
+from .cli_string import _string_options, string_json, string_params, string_units
 
 
 def register_map(sub, PRESETS: Sequence[str]) -> None:

@@ -155,7 +155,8 @@ def register_tally(sub) -> None:
 
 
 def _cmd_string(args: argparse.Namespace) -> int:
-    from .cli_options import json_document, string_json, tally_params
+    from .cli_options import json_document
+    from .cli_string import string_json, tally_params
 
     tally, p = tally_params(args.tally, args.depth, args.lump, args.dof)
     results = {
@@ -249,7 +250,8 @@ def _rpms(text: str) -> list[float]:
 def _cmd_window(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from .cli_options import check_progress, for_option, load_tally_file
+    from .cli_options import check_progress
+    from .cli_string import for_option, load_tally_file
     from .cli_window_report import print_window, window_json
     from .window import parse_depths, window_against_depth
 

@@ -14,13 +14,14 @@ import json
 import os
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, TypeGuard
+from typing import Any
 
 import numpy as np
 
 from . import atlas_format as fmt
 from .atlas_check import layout_problem
 from .atlas_check import show as _show
+from .journal_records import is_int, quick_problem, record_problem
 from .spec import SweepSpec
 
 JOURNAL_SUFFIX = ".journal"
@@ -72,7 +73,7 @@ def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterato
                         f"{jp} belongs to another sweep (spec digest {digest} != {spec.digest})"
                     )
                 continue
-            problem = _quick_problem(data, size)
+            problem = quick_problem(data, size)
             if problem:
                 raise AtlasError(
                     f"{jp}, line {n + 1}, is damaged ({problem}); remove the journal "
@@ -85,100 +86,6 @@ def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterato
         jp.write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
     elif good < jp.stat().st_size:
         os.truncate(jp, good)
-
-
-def _is_int(v: Any, low: int, high: int) -> TypeGuard[int]:
-    return isinstance(v, int) and not isinstance(v, bool) and low <= v <= high
-
-
-def _is_name(v: Any, names: dict[str, int]) -> bool:
-    return isinstance(v, str) and v in names
-
-
-def _is_number(v: Any) -> bool:
-    return isinstance(v, int | float) and not isinstance(v, bool)
-
-
-def _field_problem(name: str, v: Any, dtype: str) -> str | None:
-    """What is wrong with the value ``v`` of a float (f8) or integer (i2, i4) field."""
-    if v is None:
-        return None
-    if dtype.startswith("i"):
-        bits = 8 * int(dtype[1:])
-        if not _is_int(v, -(2 ** (bits - 1)), 2 ** (bits - 1) - 1):
-            return f"{name} = {_show(v)} is not an integer of {bits} bits"
-    elif not _is_number(v):
-        return f"{name} = {_show(v)} is not a number"
-    return None
-
-
-def _quick_problem(rec: Any, size: int) -> str | None:
-    """What makes a journal line's ``rec`` name no point of a grid of ``size``, or no status or
-    message, or None: checked on every line (a negative or fractional index silently wrote
-    another point; one past the grid was an IndexError; a message not text failed the
-    atlas's write). The rest of a record is checked only if it fails to replay
-    (:func:`record_problem`: checking all of every line would slow a replay 2.5 times)."""
-    if not isinstance(rec, dict):
-        return f"{_show(rec)} is not a point's record"
-    i = rec.get("i")
-    if not _is_int(i, 0, size - 1):
-        return f"point i = {_show(i)} is not allowed: an integer 0 ... {size - 1}"
-    if not _is_name(rec.get("status"), fmt.STATUS):
-        return f"status = {_show(rec.get('status'))} is not one of {', '.join(fmt.STATUS)}"
-    if not isinstance(rec.get("message", ""), str):  # else a TypeError writing the atlas
-        return f"message = {_show(rec['message'])} is not text"
-    return None
-
-
-def record_problem(rec: Any, spec: SweepSpec) -> str | None:
-    """What makes a journal line's ``rec`` unfit to replay into ``spec``'s atlas, or None:
-    a name or value of the wrong kind (a KeyError or TypeError from deep inside the replay)."""
-    problem = _quick_problem(rec, spec.size)
-    if problem:
-        return problem
-    runs = rec.get("runs", {})
-    if not isinstance(runs, dict):
-        return f"runs = {_show(runs)} is not a table of runs"
-    for init in spec.initials:
-        run = runs.get(init)
-        if run is None:
-            continue
-        if not isinstance(run, dict):
-            return f"runs.{init} = {_show(run)} is not a run"
-        if not _is_name(run.get("regime"), fmt.REGIMES):
-            return f"runs.{init}.regime = {_show(run.get('regime'))} is not a regime"
-        if not _is_name(run.get("caveat") or "", fmt.CAVEATS):
-            return f"runs.{init}.caveat = {_show(run.get('caveat'))} is not a caveat"
-        for name, (dtype, *_) in fmt.RUN_FIELDS.items():
-            problem = _field_problem(f"runs.{init}.{name}", run.get(name), dtype)
-            if problem:
-                return problem
-    stab = rec.get("stability")
-    if stab:
-        if not isinstance(stab, dict):
-            return f"stability = {_show(stab)} is not a table"
-        for name, (dtype, *_) in fmt.EQ_FIELDS.items():
-            values = stab.get(name, [])
-            if not isinstance(values, list):
-                return f"stability.{name} = {_show(values)} is not a list"
-            for v in values[: fmt.N_EQ]:
-                problem = _field_problem(f"stability.{name}", v, dtype)
-                if problem:
-                    return problem
-        eig = stab.get("eigenvalues", [])
-        if not isinstance(eig, list) or not all(
-            isinstance(row, list)
-            and all(
-                isinstance(pair, list) and len(pair) == 2 and all(map(_is_number, pair))
-                for pair in row
-            )
-            for row in eig
-        ):
-            return f"stability.eigenvalues = {_show(eig)} is not lists of [real, imag] pairs"
-    co = rec.get("coexistence")
-    if co is not None and not (isinstance(co, bool) or _is_int(co, -1, 1)):
-        return f"coexistence = {_show(co)} is not one of true, false, null, -1, 0, 1"
-    return None
 
 
 def journaled(path: Path) -> np.ndarray:
@@ -205,7 +112,7 @@ def journaled(path: Path) -> np.ndarray:
                 with contextlib.suppress(ValueError, KeyError, TypeError):
                     i = json.loads(raw)["i"]
             # an index the replay would refuse is no point (nor an OverflowError for numpy)
-            if _is_int(i, 0, 2**63 - 1):
+            if is_int(i, 0, 2**63 - 1):
                 found.append(i)
     return np.array(found, dtype=np.int64)
 

@@ -54,13 +54,13 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     _fail,
     _is_number,
     _read_tally,
-    _record,
-    _simulation,
     _table,
     in_si,
     printable,
     read_text,
 )
+from .spec_sections import record as _record
+from .spec_sections import simulation as _simulation
 
 _NONE = object()  # a key one spec has and the other does not
 

@@ -1,0 +1,88 @@
+"""The rules of a sweep specification's [simulation] and [record] tables (``spec.parse_spec``
+applies them, after ``spec_rules``'s of the model and axes): each key's allowed values and
+defaults, each refusal a :class:`SpecError` naming the key."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .spec_rules import (
+    MAX_STEPS,
+    RECORD_KEYS,
+    SIMULATION_KEYS,
+    _fail,
+    _is_number,
+    printable,
+)
+
+
+def with_defaults(doc: dict[str, Any], section: str, defaults: dict[str, Any]) -> dict[str, Any]:
+    """A table's values over its defaults; a key it does not know is refused."""
+    unknown = [key for key in doc if key not in defaults]
+    if unknown:
+        raise _fail(
+            f"{section}.{printable(unknown[0])}", "unknown; allowed: " + ", ".join(defaults)
+        )
+    return {**defaults, **doc}
+
+
+#: The simulator's tolerance floors (kMinRtol, kMinAtol in cpp/include/pydrill/simulator.hpp;
+#: tests/test_spec.py checks that simulate refuses just below them and accepts them).
+RTOL_MIN = 1e-14
+ATOL_MIN = 1e-20
+
+
+def simulation(doc: dict[str, Any]) -> dict[str, Any]:
+    sim = with_defaults(doc, "simulation", SIMULATION_KEYS)
+    initial = sim["initial"]
+    if isinstance(initial, str):
+        initial = [initial]
+    if (
+        not isinstance(initial, list)
+        or not initial
+        or any(i not in ("rest", "equilibrium") for i in initial)
+        or len(set(initial)) != len(initial)
+    ):
+        raise _fail(
+            "simulation.initial",
+            f"{sim['initial']!r}: a list of distinct values from 'rest', 'equilibrium'",
+        )
+    sim["initial"] = initial
+    # simulate's own ranges, so that a spec it would refuse at every point is refused here.
+    for key, ok, allowed in (
+        ("t_end", lambda v: v > 0, "a finite number > 0 (s)"),
+        ("rtol", lambda v: RTOL_MIN <= v < 1, f"{RTOL_MIN:g} <= rtol < 1"),
+        ("atol", lambda v: v >= ATOL_MIN, f"a finite number >= {ATOL_MIN:g}"),
+    ):
+        v = sim[key]
+        if not _is_number(v) or not ok(v):
+            raise _fail(f"simulation.{key}", f"{v!r} is not allowed: {allowed}")
+        sim[key] = float(v)
+    # window and max_steps kept as written (1, not 1.0): the digest of existing specs with them.
+    if not _is_number(sim["window"]) or not 0 < sim["window"] <= 1:
+        raise _fail("simulation.window", f"{sim['window']!r} is not allowed: 0 < window <= 1")
+    steps = sim["max_steps"]
+    if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps < MAX_STEPS:
+        raise _fail(
+            "simulation.max_steps", f"{steps!r} is not allowed: an integer >= 1 (below 2**62)"
+        )
+    if sim["friction"] not in ("exact", "karnopp"):
+        raise _fail("simulation.friction", f"{sim['friction']!r}: choose 'exact' or 'karnopp'")
+    if sim["method"] not in ("auto", "dop853", "bdf", "adams", "erk"):
+        raise _fail(
+            "simulation.method", f"{sim['method']!r}: choose auto, dop853, bdf, adams or erk"
+        )
+    return sim
+
+
+def record(doc: dict[str, Any]) -> dict[str, Any]:
+    rec = with_defaults(doc, "record", RECORD_KEYS)
+    if not isinstance(rec["stability"], bool):
+        raise _fail("record.stability", "true or false")
+    if (
+        isinstance(rec["eigenvalues"], bool)
+        or not isinstance(rec["eigenvalues"], int)
+        or not (0 <= rec["eigenvalues"] <= 64)
+    ):
+        raise _fail("record.eigenvalues", "an integer 0 ... 64")
+    return rec
