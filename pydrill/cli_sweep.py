@@ -13,6 +13,7 @@ from .cli_sweep_report import (
     failures,
     inputs,
     interrupted,
+    next_steps,
     progress_bar,
     results_of,
     say,
@@ -271,4 +272,6 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         )
         if args.plot:
             print(f"figure: {args.plot}")
-    return failures(report)
+    status = failures(report)
+    next_steps(args, report, spec)
+    return status

@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from .atlas_grid import grid_unit
 from .cli_options import json_document, print_json
 
 
@@ -200,6 +201,36 @@ def interrupted(args: argparse.Namespace, exc: Any, cluster: dict[str, object] |
         )
     # The shell's convention for "ended by signal N": 128 + N.
     return 128 + int(exc.signum)
+
+
+def next_steps(args: argparse.Namespace, report: Any, spec: Any) -> None:
+    """After a sweep that completed (text output), say on stderr what to ask of the atlas next:
+    its safe windows (``atlas safe``, holding all but one other axis of a bigger grid, whose
+    every row would be a wall of lines) and, unless --plot drew it, its regime map."""
+    if args.json or report.all_failed:
+        return
+    atlas = shlex.quote(str(report.atlas))
+    steps = []  # (command, what it gives): a line each, the command first, to copy whole
+    if spec.record["stability"]:
+        along = "wob" if "wob" in spec.axes else next(iter(spec.axes))
+        others = [n for n in spec.axes if n != along]
+        held = ""
+        # One row per value of the other axes: hold all but the first at their middle value.
+        for name in others[1:]:
+            values = spec.axes[name]
+            unit, factor = grid_unit(name, values)
+            middle = f"{float(values[len(values) // 2]) / factor:g}"
+            held += " --set " + shlex.quote(f"{name}={middle}{'' if unit == '1' else unit}")
+        steps.append((f"pydrill atlas safe {atlas}{held}", f"the safe windows along {along}"))
+    else:  # no stability recorded: nothing can be called safe (atlas safe refuses)
+        steps.append((f"pydrill atlas info {atlas}", "what it found"))
+    if not args.plot:
+        figure = shlex.quote(str(Path(report.atlas).with_suffix(".png")))
+        steps.append((f"pydrill atlas plot {atlas} --out {figure}", "a regime map"))
+    width = max(len(command) for command, _ in steps)
+    lines = [f"{command:{width}s}  # {what}" for command, what in steps]
+    sys.stderr.write("next: " + "\n      ".join(lines) + "\n")
+    sys.stderr.flush()
 
 
 def failures(report) -> int:
