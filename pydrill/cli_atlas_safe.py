@@ -34,7 +34,8 @@ def register_safe(asub, raw) -> None:
         "  pydrill atlas safe paper.h5 --along torque --set wob=100 --json\n"
         "  pydrill atlas safe depth.h5 --set depth=3000m\n\n"
         "JSON fields: along, criterion, rows [{at {AXIS: value}, windows [[first, last]],\n"
-        "  safe_points, points, not_done}], units {along, at {AXIS: unit}}; values in SI",
+        "  safe_points, points, not_done}], fixed {NAME: value} (what the spec holds for the\n"
+        "  whole sweep), units {along, at {AXIS: unit}, fixed}; values in SI",
     )
     safe.add_argument("atlas", metavar="ATLAS.h5")
     safe.add_argument(
@@ -76,6 +77,7 @@ def cmd_safe(args: argparse.Namespace) -> int:
             raise ValueError(f"{option}: {exc.args[0]}") from None
         axes = dict(atlas.axes)
         initials = atlas.initials
+        fixed = dict(atlas.spec.fixed)  # what the spec holds for the whole sweep ([model])
     unit = {name: grid_unit(name, values) for name, values in axes.items()}
     if args.json:
         results = {
@@ -91,16 +93,24 @@ def cmd_safe(args: argparse.Namespace) -> int:
                 }
                 for row in rows
             ],
+            "fixed": fixed,
         }
         units = {"along": axis_unit(along), "at": {n: axis_unit(n) for n in axes if n != along}}
+        units["fixed"] = {n: axis_unit(n) for n in fixed}
         print_json(json_document({"atlas": args.atlas}, results, units))
         return 0
-    print(f"{args.atlas}: safe windows along {along}")
+    # What every row shares is said once, in the first line: the spec's fixed values, an axis
+    # held by --set or of one value (", depth = 3000 m" on every row was a wall of repeats).
+    shared = {n: v for n, v in rows[0].at.items() if all(row.at[n] == v for row in rows)}
+    at = [f"{n} = {with_unit(n, v, grid_unit(n, [v]))}" for n, v in fixed.items()]
+    at += [f"{n} = {with_unit(n, v, unit[n])}" for n, v in shared.items()]
+    print(f"{args.atlas}: safe windows along {along}" + (f", at {', '.join(at)}" if at else ""))
     print(f"  safe: {criterion(initials)}")
     labels = [
-        ", ".join(f"{n} = {with_unit(n, v, unit[n])}" for n, v in row.at.items()) for row in rows
+        ", ".join(f"{n} = {with_unit(n, v, unit[n])}" for n, v in row.at.items() if n not in shared)
+        for row in rows
     ]
-    width = max(len(label) + 1 for label in labels)  # an atlas of one axis: no label
+    width = max(len(label) + 1 for label in labels)  # every value shared: no label
     for label, row in zip(labels, rows, strict=True):
         shown = _windows(row, along, unit[along])
         print(f"  {label + ':':{width}s}  {shown}" if label else f"  {shown}")

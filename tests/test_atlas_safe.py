@@ -4,6 +4,7 @@ they are exactly the safe points; points not computed are counted and never insi
 
 import json
 import subprocess
+import tomllib
 
 import h5py
 import numpy as np
@@ -153,26 +154,77 @@ def test_the_command_prints_and_scripts_read_the_same_windows(grid):
     ).stdout.splitlines()
     with Atlas(grid) as atlas:
         (row,) = atlas.safe_windows(torque=8.3)
-    assert text[0] == f"{grid}: safe windows along wob"
+    # The held torque is said once, in the first line; the one row needs no label.
+    assert text[0] == f"{grid}: safe windows along wob, at torque = 8.3 N·m"
     assert (
         text[1]
         == "  safe: steady from rest and from equilibrium, and the fastest steady state stable"
     )
     lo, hi = row.windows[0]
-    assert text[2] == f"  torque = 8.3 N·m:  wob {lo:g} N ... {hi:g} N ({row.safe} of 10 points)"
+    assert text[2] == f"  wob {lo:g} N ... {hi:g} N ({row.safe} of 10 points)"
     doc = json.loads(
         subprocess.run(
             [*CMD, "atlas", "safe", str(grid), "--json"], capture_output=True, text=True, check=True
         ).stdout
     )
     safe, _, axes = _brute_safe(grid)
-    assert doc["along"] == "wob" and doc["units"] == {"along": "N", "at": {"torque": "N·m"}}
+    assert doc["along"] == "wob" and doc["fixed"] == {}
+    assert doc["units"] == {"along": "N", "at": {"torque": "N·m"}, "fixed": {}}
     for j, r in enumerate(doc["rows"]):
         assert r["safe_points"] == safe[:, j].sum() and r["points"] == 10
         assert r["at"] == {"torque": axes["torque"][j]}
         for lo, hi in r["windows"]:
             inside = (axes["wob"] >= lo) & (axes["wob"] <= hi)
             assert safe[inside, j].all()
+
+
+# Torque fixed for the whole sweep ([model]) and an axis of one value: every row shares both.
+HELD = """
+[model]
+preset = "reduced-scale"
+dof = 4
+torque = 10.0
+[axes]
+mu_static = [0.8]
+wob = [20.0, 40.0, 60.0, 80.0, 100.0]
+bit_damping = [0.03, 0.05, 0.07]
+[simulation]
+t_end = 100.0
+initial = ["rest", "equilibrium"]
+"""
+
+
+def test_what_every_row_shares_is_said_once_in_the_first_line(tmp_path):
+    """The spec's fixed torque and a one-value axis (and an axis held by --set) are said once,
+    in the first line, with the value the atlas file holds; the rows are labelled by what
+    varies from one to the next only, and each row's windows are the raw datasets' runs."""
+    out = tmp_path / "held.h5"
+    run_sweep(parse_spec(HELD), out, serial=True)
+    safe, _, axes = _brute_safe(out)
+    with h5py.File(out, "r") as f:  # the fixed torque as the file stores it: its spec's text
+        torque = tomllib.loads(f.attrs["spec"])["model"]["torque"]
+    (mu,) = axes["mu_static"]
+
+    def run(*args):
+        proc = [*CMD, "atlas", "safe", str(out), *args]
+        return subprocess.run(proc, capture_output=True, text=True, check=True).stdout
+
+    text = run().splitlines()
+    assert (
+        text[0] == f"{out}: safe windows along wob, at torque = {torque:g} N·m, mu_static = {mu:g}"
+    )
+    rows = text[2 : 2 + len(axes["bit_damping"])]
+    for k, line in enumerate(rows):
+        label, _, shown = line.strip().partition(":  ")
+        assert label == f"bit_damping = {axes['bit_damping'][k]:g} N·m·s/rad"
+        assert "mu_static" not in line and "torque" not in line
+        assert shown.endswith(f"({safe[0, :, k].sum()} of {len(axes['wob'])} points)")
+    one = run("--set", "bit_damping=0.05").splitlines()[0]
+    assert one.endswith(", at torque = 10 N·m, mu_static = 0.8, bit_damping = 0.05 N·m·s/rad")
+    doc = json.loads(run("--json"))
+    assert doc["fixed"] == {"torque": torque} and doc["units"]["fixed"] == {"torque": "N·m"}
+    for k, r in enumerate(doc["rows"]):  # scripts still read every row's place whole
+        assert r["at"] == {"mu_static": mu, "bit_damping": axes["bit_damping"][k]}
 
 
 def test_the_command_refuses_what_it_cannot_answer(grid, tmp_path):
