@@ -102,9 +102,10 @@ def cmd_safe(args: argparse.Namespace) -> int:
     # What every row shares is said once, in the first line: the spec's fixed values, an axis
     # held by --set or of one value (", depth = 3000 m" on every row was a wall of repeats).
     shared = {n: v for n, v in rows[0].at.items() if all(row.at[n] == v for row in rows)}
-    at = [f"{n} = {with_unit(n, v, grid_unit(n, [v]))}" for n, v in fixed.items()]
-    at += [f"{n} = {with_unit(n, v, unit[n])}" for n, v in shared.items()]
-    print(f"{args.atlas}: safe windows along {along}" + (f", at {', '.join(at)}" if at else ""))
+    said = [f"{n} = {with_unit(n, v, grid_unit(n, [v]))}" for n, v in fixed.items()]
+    said += [f"{n} = {with_unit(n, v, unit[n])}" for n, v in shared.items()]
+    place = f", at {', '.join(said)}" if said else ""
+    print(f"{args.atlas}: safe windows along {along}{place}")
     print(f"  safe: {criterion(initials)}")
     labels = [
         ", ".join(f"{n} = {with_unit(n, v, unit[n])}" for n, v in row.at.items() if n not in shared)
