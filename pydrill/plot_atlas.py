@@ -6,7 +6,8 @@ import math
 from typing import TYPE_CHECKING
 
 from . import atlas_format as fmt
-from .plot import plt, quantity, scale_ticks, unit_scale
+from .plot import plt, scale_ticks, unit_scale
+from .plot_atlas_title import context, keep_title_inside, title
 
 #: what ``atlas_figure(metric=...)`` can colour a map by: a simulation's summary values (from
 #: one start) and a steady state's (the fastest), each with its units and meaning
@@ -195,44 +196,8 @@ def atlas_figure(
     string, count = context(atlas, held, scales)
     after = "" if metric in fmt.EQ_FIELDS else f" after {atlas.spec.simulation['t_end']:g} s"
     ax.set_title(title(string, f"{what}{after} ({count})"), fontsize=10)
+    keep_title_inside(fig, ax)
     return fig
-
-
-def title(string: str, what: str) -> str:
-    """A figure's title, "string: what" on one line, or on two where one would run past the
-    figure's edges (a real string's name, dof, torque and depth, and a metric's meaning)."""
-    return f"{string}: {what}" if len(string) + len(what) <= 95 else f"{string}:\n{what}"
-
-
-def context(atlas, held: dict[str, float], scales: dict[str, tuple[float, str]]):
-    """What a figure's title says of the string and how much of the atlas is done: ("reduced-
-    scale, dof 4, torque = 8.3 N·m", "42 points" or "30 of 42 points done"). ``held``: the
-    axes held at a value; ``scales``: the kN scales of wob and torque, as the figure uses."""
-    import numpy as np
-
-    s = atlas.spec
-    total = int(np.prod(atlas.shape))
-    missing = atlas.summary()["status"]["missing"]
-    # An interrupted sweep's atlas: say so, or the white cells read as a regime of their own.
-    points = "point" if total == 1 else "points"
-    count = f"{total - missing} of {total} {points} done" if missing else f"{total} {points}"
-    # Everything a figure holds constant: the held axes, and what the spec fixes (e.g. torque).
-    # (a model parameter held with its unit: "bit_damping = 0.05 N·m·s/rad")
-    where = "".join(
-        f", {n} = "
-        + (quantity(v, AXIS_SI[n], scales[n][0]) if n in scales else f"{v:.4g}")
-        + (f" {AXIS_SI[n]}" if AXIS_SI.get(n) and n not in scales else "")  # depth's m
-        + ("" if n in AXIS_SI or not shown_unit(n) else f" {shown_unit(n)}")
-        for n, v in {**s.fixed, **held}.items()
-    )
-    size = f", dof {s.dof}" if s.dof and "dof" not in atlas.axes else ""
-    if s.tally_text:
-        from .tally import parse_tally
-
-        string = f"string {parse_tally(s.tally_text).name}"
-    else:
-        string = s.preset
-    return f"{string}{size}{where}", count
 
 
 def shown_unit(name: str) -> str:

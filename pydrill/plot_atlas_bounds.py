@@ -80,7 +80,7 @@ def _from_grid(atlas, ax, xname: str, yname: str, held: dict[str, float], index:
             abscissa = abscissa.T
         if _crosses(abscissa):
             ax.contour(x, y, np.ma.masked_invalid(abscissa).T, levels=[0.0], **UNSTABLE)
-            label = "stability boundary of the fastest steady state (atlas eigenvalues)"
+            label = "stability boundary of the fastest steady state\n(from the atlas's eigenvalues)"
             handles.append(Line2D([], [], color=UNSTABLE["colors"], ls="--", lw=2, label=label))
     return handles
 

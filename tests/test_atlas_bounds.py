@@ -36,7 +36,7 @@ initial = ["rest"]
 """
 
 STUCK = "stuck boundary $u = \\mu_{sb} W_{ob} R_b$\n(static: a start-up can overshoot it)"
-UNSTABLE = "stability boundary of the fastest steady state (atlas eigenvalues)"
+UNSTABLE = "stability boundary of the fastest steady state\n(from the atlas's eigenvalues)"
 
 
 @pytest.fixture(scope="module")

@@ -198,3 +198,58 @@ def test_titles_give_held_depths_in_metres_and_fit_the_figure(tmp_path):
         assert box.x0 >= 0 and box.x1 <= fig.bbox.width
     assert "depth = 3000 m:" in figures[0].axes[0].get_title()
     assert figures[0].axes[1].get_xlabel() == "weight on bit $W_{ob}$ (kN)"
+
+
+# Steady from rest at every point: the bit's velocity barely varies along the row.
+STEADY = """
+[model]
+preset = "reduced-scale"
+dof = 4
+torque = 8.3
+[axes]
+wob = [20.0, 30.0, 40.0]
+[simulation]
+t_end = 100.0
+initial = ["rest"]
+"""
+
+
+def test_a_profile_shows_zero_with_every_value_so_small_changes_stay_small(tmp_path):
+    """Autoscaled to the data alone, a profile of steady points (9.1185 ... 9.1203 rad/s) filled
+    the plot with the last 1e-4 of the start-up's wobble, as if the bit shook: zero is in view,
+    beside every value drawn (read from the raw datasets)."""
+    out = tmp_path / "steady.h5"
+    run_sweep(parse_spec(STEADY), out, serial=True)
+    assert (_raw(out, "regime") == fmt.REGIMES["steady"]).all()
+    with Atlas(out) as atlas:
+        figures = {"bit": atlas.plot(), "period": atlas.plot("bit_top_ratio")}
+    drawn = {
+        "bit": np.concatenate([_raw(out, n)[..., 0] for n in ("bit_min", "bit_max", "omega_eq")]),
+        "period": _raw(out, "bit_top_ratio")[..., 0],
+    }
+    for what, fig in figures.items():
+        low, high = fig.axes[0].get_ylim()
+        values = drawn[what][np.isfinite(drawn[what])]
+        assert low <= 0.0 < values.min() and values.max() <= high, what
+        # and the values fill a visible part of it: from zero to the largest, not the plot's top
+        assert values.max() >= 0.8 * high
+
+
+def test_a_title_over_a_map_narrowed_by_its_legend_stays_inside_the_figure():
+    """Centred over a map that a wide legend beside it narrows, a title of 80 characters ran
+    past the figure's left edge and was cut; it is shifted inside, by the overflow only."""
+    from pydrill.plot import plt
+    from pydrill.plot_atlas_title import keep_title_inside
+
+    fig, ax = plt.subplots(figsize=(9.5, 6.2), layout="constrained")
+    ax.plot([0, 1], [0, 1], label="a legend entry as wide as half the figure " * 2)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_title("string paper-eq53, dof 24, torque = 9 kN·m: regime from rest after 100 s (3969)")
+    fig.draw_without_rendering()
+    assert ax.title.get_window_extent().x0 < 0  # as it was: cut at the left
+    keep_title_inside(fig, ax)
+    fig.canvas.draw()
+    box = ax.title.get_window_extent()
+    assert 0 <= box.x0 and box.x1 <= fig.bbox.width
+    assert box.x0 < 10  # moved by the overflow (and a few pixels), not re-centred elsewhere
+    plt.close(fig)
