@@ -22,6 +22,7 @@ from . import atlas_format as fmt
 from .atlas_check import code_problem, layout_problem
 from .atlas_grid import coordinate, distinct, near_enough, on_grid
 from .atlas_grid import grid_value as _on_grid
+from .atlas_heap import OPENING_BYTES, refuse_damaged_heap
 from .atlas_lock import snapshot
 from .atlas_objects import DATASETS as _DATASETS
 from .atlas_objects import Objects as _Objects
@@ -56,15 +57,20 @@ class Atlas:
         # While a sweep writes the atlas, read a copy of its last complete write: the file
         # itself may be half rewritten at any moment (atlas_lock).
         self._image = snapshot(self.path)
+        # Before HDF5 reads a variable-length value: a damaged global heap hangs it.
+        self._heap_checked = False
+        self._heap(OPENING_BYTES)
         try:
             self._f = h5py.File(self._source(), "r")
-            self._objects = _Objects(self._f)
         except OSError as exc:
             raise AtlasError(
                 f"{self.path} is not a readable HDF5 atlas (truncated or corrupt?): {exc}"
                 + journal_hint(self.path)
             ) from None
         try:
+            # A damaged root object header fails here (h5py's KeyError "bad object header
+            # version number"), inside the handler that closes the file and names the damage.
+            self._objects = _Objects(self._f)
             if self._f.attrs.get("format") != fmt.FORMAT:
                 raise AtlasError(f"{self.path} is an HDF5 file but not a pydrill atlas")
             try:
@@ -258,6 +264,13 @@ class Atlas:
         problem = layout_problem(self._file(), self.spec)
         if problem:
             raise AtlasError(f"{self.path} is damaged or incomplete: {problem}")
+        self._heap()
+
+    def _heap(self, limit: int | None = None) -> None:
+        """AtlasError if a global heap starting before byte ``limit`` (None: any) is damaged."""
+        if not self._heap_checked:
+            refuse_damaged_heap(self.path, self._image, limit)
+            self._heap_checked = limit is None  # the whole file: once per Atlas
 
     def regimes(self, initial: str | None = None) -> np.ndarray:
         """Regime names on the whole grid for one initial condition."""
@@ -378,7 +391,11 @@ class Atlas:
         lazily. ``regime`` is an integer code; its CF attributes ``flag_values`` and
         ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable)."""
         self._file()  # closed: refused like every other read
-        return _to_xarray(self._source(), self.axes)
+        self._heap()  # xarray reads every attribute and dimension list
+        try:
+            return _to_xarray(self._source(), self.axes)
+        except (OSError, RuntimeError, KeyError) as exc:  # h5py's, on a damaged file
+            raise AtlasError(f"{self.path} is damaged: xarray cannot read it ({exc})") from None
 
 
 #: coexistence codes, by what they say (as the CSV export names them)

@@ -1,0 +1,146 @@
+"""Damaged global heaps: HDF5 loops for ever on some (reading a text attribute of an atlas with
+one bit flipped in a heap object's size hung ``xarray.open_dataset``, ``Atlas.to_xarray`` and
+``pydrill atlas export``); pydrill finds them first and raises an AtlasError naming the file.
+The damage is made by walking the file's heap collections by the HDF5 format specification
+("Global Heap"), written out here apart from pydrill's own walk."""
+
+import struct
+import subprocess
+import sys
+import textwrap
+
+import h5py
+import pytest
+from sweeping import SMALL
+
+import pydrill
+from pydrill.atlas_heap import heap_problem
+from pydrill.journal import AtlasError
+from pydrill.sweep import run_sweep
+
+SPEC = SMALL.replace("t_end = 200.0", "t_end = 50.0")
+
+
+@pytest.fixture(scope="module")
+def atlases(tmp_path_factory):
+    """A whole atlas, and one whose points all failed (each with a message in the heap)."""
+    tmp = tmp_path_factory.mktemp("heap")
+    whole, failed = tmp / "whole.h5", tmp / "failed.h5"
+    run_sweep(pydrill.parse_spec(SPEC), whole, serial=True)
+    run_sweep(pydrill.parse_spec(SPEC + "max_steps = 3\n"), failed, serial=True)
+    return whole, failed
+
+
+def heap_objects(data: bytes) -> list[tuple[int, int, int]]:
+    """(collection start, object offset, object index) of every object with data in every
+    collection of ``data``: signature "GCOL", version 1, 3 reserved bytes, 8-byte size; objects
+    of a 2-byte index, 2-byte count, 4 reserved bytes, 8-byte size and data padded to 8."""
+    found, at = [], data.find(b"GCOL")
+    while at >= 0:
+        assert data[at + 4] == 1, "a global heap of version 1"
+        (size,) = struct.unpack_from("<Q", data, at + 8)
+        p = at + 16
+        while p + 16 <= at + size:
+            index, _, _, length = struct.unpack_from("<HHIQ", data, p)
+            if index == 0:
+                break  # the free space, last
+            found.append((at, p, index))
+            p += 16 + (length + 7) // 8 * 8
+        at = data.find(b"GCOL", at + size)
+    return found
+
+
+def test_whole_atlases_have_whole_heaps(atlases):
+    """No false alarm: pydrill's own atlases, messages and all, pass (and open)."""
+    for path in atlases:
+        assert heap_objects(path.read_bytes()), f"{path.name} keeps text in a global heap"
+        assert heap_problem(path) is None
+        with pydrill.Atlas(path) as atlas:
+            atlas.check()
+    with h5py.File(atlases[1]) as f:
+        assert "max_steps" in f["message"][0, 0].decode()  # the messages are there
+
+
+def flipped(src, dst, offset: int) -> None:
+    data = bytearray(src.read_bytes())
+    data[offset] ^= 1
+    dst.write_bytes(bytes(data))
+
+
+CHILD = textwrap.dedent(
+    """
+    import sys
+    import pydrill
+    from pydrill.journal import AtlasError
+    for path in sys.argv[1:]:
+        try:
+            with pydrill.Atlas(path) as atlas:
+                atlas.check()
+                atlas.to_xarray().load()
+            print("opened")
+        except AtlasError as exc:
+            print("refused", exc)
+    """
+)
+
+
+def opened_in_a_child(paths: list[str]) -> list[str]:
+    """What opening each of ``paths`` (check, to_xarray) came to, in a child process: a hang
+    there fails the test (after a minute) instead of hanging the suite."""
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", CHILD, *paths], capture_output=True, text=True, timeout=60
+        )
+    except subprocess.TimeoutExpired:
+        pytest.fail("opening a damaged atlas hung")
+    assert done.returncode == 0, done.stderr
+    return done.stdout.splitlines()
+
+
+def test_a_heap_object_a_bit_longer_is_refused_not_a_hang(atlases, tmp_path):
+    """Each text object's size + 256 (bit 0 of its second byte): the objects after it fall out
+    of line, which HDF5 met with an endless loop on the zeros of some padding. Every such file
+    is refused, by the heap's check or as one xarray cannot read (h5py's RuntimeError from
+    H5DSget_num_scales was a traceback from to_xarray): never a hang or another exception."""
+    whole = atlases[0]
+    objects = heap_objects(whole.read_bytes())
+    paths = []
+    for n, (_, p, _) in enumerate(objects):
+        flipped(whole, tmp_path / f"f{n}.h5", p + 8 + 1)
+        paths.append(str(tmp_path / f"f{n}.h5"))
+    lines = opened_in_a_child(paths)
+    assert len(lines) == len(paths)
+    assert all(line.startswith("refused ") for line in lines), lines
+    assert any("is damaged: its global heap at byte" in line for line in lines)
+    assert any("is damaged: xarray cannot read it" in line for line in lines)
+
+
+def test_the_hang_xarray_met_is_an_atlas_error(atlases, tmp_path):
+    """The case found by fuzzing: a heap object's size grown by 256 threw HDF5's walk onto an
+    object of index 0 and size 0, where it stepped by nothing for ever."""
+    whole = atlases[0]
+    for start, p, _ in heap_objects(whole.read_bytes()):  # noqa: B007 - read after break
+        flipped(whole, tmp_path / "a.h5", p + 9)
+        problem = heap_problem(tmp_path / "a.h5")
+        if problem and "has size 0" in problem:
+            break
+    else:
+        pytest.fail("no object whose longer size makes HDF5's walk step by nothing")
+    assert problem.startswith(f"its global heap at byte {start}: object 0 at byte ")
+    (line,) = opened_in_a_child([str(tmp_path / "a.h5")])
+    assert line == f"refused {tmp_path / 'a.h5'} is damaged: {problem}"
+
+
+def test_a_damaged_root_object_header_is_an_atlas_error(atlases, tmp_path):
+    """The root group's object header (its address at byte 36 of a version-2 superblock) with
+    its version byte changed: h5py's KeyError 'bad object header version number' was a
+    traceback from Atlas() and every 'pydrill atlas' command."""
+    whole = atlases[0]
+    data = bytearray(whole.read_bytes())
+    assert data[8] in (2, 3), "a version 2 or 3 superblock"
+    (root,) = struct.unpack_from("<Q", data, 36)
+    assert data[root : root + 4] == b"OHDR"
+    data[root + 4] ^= 0x20
+    (tmp_path / "a.h5").write_bytes(bytes(data))
+    with pytest.raises(AtlasError, match=r"a\.h5 is damaged or incomplete: .*object header"):
+        pydrill.Atlas(tmp_path / "a.h5")
