@@ -146,6 +146,7 @@ def _already_done(out: Path, spec) -> int | None:
     import numpy as np
 
     from . import atlas_format as fmt
+    from .atlas_heap import heap_problem
     from .atlas_lock import writer
     from .journal import damage, journal_path, journaled
 
@@ -153,6 +154,8 @@ def _already_done(out: Path, spec) -> int | None:
         return None
     done = np.zeros(spec.size, dtype=bool)
     try:
+        if heap_problem(out):  # HDF5 would hang on it: damaged
+            raise ValueError("damaged")
         with h5py.File(out, "r") as f:
             if f.attrs.get("spec_digest") != spec.digest:
                 return None

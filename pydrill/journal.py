@@ -21,6 +21,7 @@ import numpy as np
 from . import atlas_format as fmt
 from .atlas_check import layout_problem
 from .atlas_check import show as _show
+from .atlas_heap import heap_problem
 from .journal_records import is_int, quick_problem, record_problem
 from .spec import SweepSpec
 
@@ -133,6 +134,10 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
         try:
             import h5py
 
+            # Before HDF5 reads a text attribute: a damaged global heap hangs it (atlas_heap).
+            problem = heap_problem(out)
+            if problem:
+                raise _Damaged(problem)
             with h5py.File(out, "r") as f:
                 if not _is_text(f.attrs.get("format"), fmt.FORMAT):
                     raise AtlasError(f"{out} exists and is not a pydrill atlas; not touching it")

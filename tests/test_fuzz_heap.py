@@ -4,12 +4,14 @@ one bit flipped in a heap object's size hung ``xarray.open_dataset``, ``Atlas.to
 The damage is made by walking the file's heap collections by the HDF5 format specification
 ("Global Heap"), written out here apart from pydrill's own walk."""
 
+import json
 import struct
 import subprocess
 import sys
 import textwrap
 
 import h5py
+import numpy as np
 import pytest
 from sweeping import SMALL
 
@@ -17,6 +19,7 @@ import pydrill
 from pydrill.atlas_heap import heap_problem
 from pydrill.journal import AtlasError
 from pydrill.sweep import run_sweep
+from pydrill.sweep_points import evaluate_point
 
 SPEC = SMALL.replace("t_end = 200.0", "t_end = 50.0")
 
@@ -144,3 +147,56 @@ def test_a_damaged_root_object_header_is_an_atlas_error(atlases, tmp_path):
     (tmp_path / "a.h5").write_bytes(bytes(data))
     with pytest.raises(AtlasError, match=r"a\.h5 is damaged or incomplete: .*object header"):
         pydrill.Atlas(tmp_path / "a.h5")
+
+
+def hanging_copy(atlas, dst) -> str:
+    """A copy of ``atlas`` whose heap would hang HDF5, and what pydrill says of it."""
+    for _, p, _ in heap_objects(atlas.read_bytes()):
+        flipped(atlas, dst, p + 9)
+        problem = heap_problem(dst)
+        if problem and "has size 0" in problem:
+            return problem
+    pytest.fail("no object whose longer size makes HDF5's walk step by nothing")
+
+
+RESUME = [sys.executable, "-m", "pydrill", "sweep", "--serial", "--resume"]
+
+
+def test_resume_rebuilds_an_atlas_whose_heap_hangs_hdf5_from_its_journal(atlases, tmp_path):
+    """--resume read the atlas's attributes with h5py first, and hung there; now the atlas is
+    damaged as any other is: rebuilt from its journal, the points the journal holds kept."""
+    spec = pydrill.parse_spec(SPEC)
+    (tmp_path / "s.toml").write_text(SPEC)
+    out = tmp_path / "a.h5"
+    hanging_copy(atlases[0], out)
+    records = [json.dumps(evaluate_point(spec, i)) for i in range(spec.size)]
+    header = json.dumps({"spec_digest": spec.digest})
+    (tmp_path / "a.h5.journal").write_text("".join(x + "\n" for x in [header, *records]))
+    done = subprocess.run(
+        [*RESUME, str(tmp_path / "s.toml"), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    assert f"0 computed now (0 failed), {spec.size} already done" in done.stdout + done.stderr
+    assert heap_problem(out) is None
+    with h5py.File(out) as f, h5py.File(atlases[0]) as g:
+        for name in ("status", "regime", "bit_mean", "omega_eq"):
+            np.testing.assert_array_equal(f[name][...], g[name][...])
+
+
+def test_resume_refuses_an_atlas_whose_heap_hangs_hdf5_without_journal(atlases, tmp_path):
+    (tmp_path / "s.toml").write_text(SPEC)
+    out = tmp_path / "a.h5"
+    problem = hanging_copy(atlases[0], out)
+    before = out.read_bytes()
+    done = subprocess.run(
+        [*RESUME, str(tmp_path / "s.toml"), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode != 0
+    assert f"is damaged ({problem}) and has no journal to rebuild it from" in done.stderr
+    assert out.read_bytes() == before  # left as it was
