@@ -44,7 +44,38 @@ def to_xarray(source: Path | io.BytesIO, axes: dict[str, Any]) -> Any:
             count = ds[name]
             ds[name] = count.where(count != -1)
             ds[name].encoding.update(dtype=count.dtype, _FillValue=count.dtype.type(-1))
-    return ds
+    return with_safe(ds)
+
+
+#: ``safe``'s attributes: what it means, and its two values named as CF flags
+SAFE_ATTRS = {
+    "long_name": "1 where every start drills steadily and the fastest steady state is stable "
+    "(what pydrill atlas safe lists)",
+    "flag_values": np.array([0, 1], dtype="i1"),
+    "flag_meanings": "unsafe safe",
+}
+
+
+def with_safe(ds):
+    """``ds`` with a ``safe`` variable on the axes: 1 where every start drills steadily and the
+    fastest steady state is stable (``Atlas.safe_region``), 0 elsewhere (a point not computed
+    too). None without stability recorded (``[record] stability = false``): there a steady run
+    alone does not say its steady state is stable."""
+    import tomllib
+
+    if not {"regime", "unstable", "initial", "equilibrium"} <= set(ds.variables):
+        return ds
+    try:
+        record = tomllib.loads(ds.attrs.get("spec", "")).get("record", {})
+    except tomllib.TOMLDecodeError:
+        return ds
+    if not record.get("stability", True):
+        return ds
+    steady = (ds["regime"] == fmt.REGIMES["steady"]).all("initial")
+    stable = ds["unstable"].isel(equilibrium=0, drop=True) == 0  # a fill (NaN) is not 0
+    safe = (steady & stable).astype("i1")
+    safe.attrs = dict(SAFE_ATTRS)  # its own alone (``unstable``'s units came along: "1")
+    return ds.assign(safe=safe)
 
 
 def with_regime_names(ds):

@@ -211,12 +211,14 @@ def register_atlas(sub) -> None:
         help="write the atlas as netCDF (.nc) or CSV (.csv)",
         description="Write the atlas for other tools. netCDF (.nc, through h5netcdf): "
         "every variable, eigenvalues included, with the axes as coordinates and the regime "
-        "names as CF flag meanings; it opens with xarray.open_dataset. CSV (.csv): one row "
-        "per point and initial condition: the axes, the regime, the metrics, the caveat "
-        "(what the run's judgement notes), the status, a failed point's message and whether "
-        "rest and equilibrium starts disagree (coexistence); each coded column is followed by "
-        "its names (regime_name, caveat_name, status_name, coexistence_name). No steady "
-        "states or eigenvalues (they are netCDF's). The file is written whole or not at all: "
+        "names as CF flag meanings, and safe (1 where 'atlas safe' lists the point); it opens "
+        "with xarray.open_dataset. CSV (.csv): one row per point and initial condition: the "
+        "axes, the regime, the metrics, the caveat (what the run's judgement notes), the "
+        "status, a failed point's message, whether rest and equilibrium starts disagree "
+        "(coexistence) and safe; each coded column is followed by its names (regime_name, "
+        "caveat_name, status_name, coexistence_name). Values in SI, as the atlas holds them "
+        "(wob N, torque N·m, depth m, velocities rad/s, times s). No steady states or "
+        "eigenvalues (they are netCDF's). The file is written whole or not at all: "
         "an existing file at --out is replaced once the new one is complete, and kept as it "
         "was if writing fails (a full disk).",
     )
