@@ -111,7 +111,8 @@ def register_atlas(sub) -> None:
         "  bit_top_ratio) from the first initial\n"
         "  condition; coords, status, by_initial {regime, metrics, caveat}, stability\n"
         "  {omega_eq, delta, spectral_abscissa, hopf_margin, unstable, eigenvalues},\n"
-        "  coexistence, units;\n"
+        "  coexistence, safe (what 'atlas safe' lists: every start steady and the fastest\n"
+        "  steady state stable; null without stability recorded), units;\n"
         "  message for a failed point; with --nearest, asked (the values given: coords are\n"
         "  the grid point's)",
     )

@@ -73,6 +73,12 @@ def cmd_query(args: argparse.Namespace) -> int:
             message = exc.args[0].replace("method='nearest' (--nearest)", "--nearest")
             raise ValueError(message) from None
         initials = atlas.initials
+        # safe as 'atlas safe' lists it (None: stability not recorded, nothing is called safe)
+        safe = (
+            bool(atlas.safe_region()[atlas.index("exact", **v["coords"])])
+            if atlas.spec.record["stability"]
+            else None
+        )
         # each coordinate in its axis's unit (9 kN·m on an axis of 6 ... 12 kN·m)
         unit = {name: grid_unit(name, values) for name, values in atlas.axes.items()}
     if args.json:
@@ -87,6 +93,7 @@ def cmd_query(args: argparse.Namespace) -> int:
         flat["by_initial"] = {"regime": v["regime"], "metrics": v["metrics"], "caveat": v["caveat"]}
         flat["stability"] = v["stability"]
         flat["coexistence"] = v["coexistence"]
+        flat["safe"] = safe
         # Every field's unit from the table the atlas's own "units" attributes come from
         # (dimensionless ones too, so a script need not guess), and the axes'.
         units: dict[str, Any] = {  # a unit each, and the axes' units as a dict (coords)

@@ -84,3 +84,21 @@ def test_without_stability_there_is_no_safe_variable(tmp_path):
     run_sweep(parse_spec(GRID + "[record]\nstability = false\n"), out, serial=True)
     with Atlas(out) as a:
         assert "safe" not in a.to_xarray()
+
+
+def test_atlas_query_json_says_whether_the_point_is_safe(atlas, tmp_path):
+    """A script asking one point had no 'safe' to read: it is what the raw datasets say, at a
+    safe point and an unsafe one, and null without stability recorded."""
+    want, axes = _brute(atlas)
+    picks = [np.argwhere(want)[0], np.argwhere(~want)[-1]]
+
+    def query(path, point):
+        options = [f"--set={n}={float(axes[n][k])!r}" for n, k in zip(axes, point, strict=True)]
+        proc = [*CMD, "atlas", "query", str(path), *options, "--json"]
+        return json.loads(subprocess.run(proc, capture_output=True, text=True, check=True).stdout)
+
+    for point in picks:
+        assert query(atlas, point)["safe"] is bool(want[tuple(point)])
+    blind = tmp_path / "blind.h5"
+    run_sweep(parse_spec(GRID + "[record]\nstability = false\n"), blind, serial=True)
+    assert query(blind, picks[0])["safe"] is None
