@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 import textwrap
 from typing import Any
@@ -284,12 +285,21 @@ def _cmd_info(args: argparse.Namespace) -> int:
         notes = ", ".join(f"{k} {v}" for k, v in counts.items())
         print(f"  caveats from {init}: {notes} (points to simulate longer; query shows which)")
     if s["journal"]:
+        from pathlib import Path
+
+        from .atlas_lock import writer
+
         more = s["journal_points"]
         held = f"holds {more} more points, not yet in the atlas" if more else "is there"
-        print(
-            f"  journal {s['journal']} {held}:\n          a sweep into this atlas is running "
-            "or was stopped; 'pydrill sweep SPEC.toml --out ATLAS.h5 --resume' completes it"
+        holder = writer(Path(args.atlas))  # the sweep writing it now, if one is
+        resume = f"pydrill sweep SPEC.toml --out {shlex.quote(args.atlas)} --resume"
+        why = (
+            f"a sweep is writing this atlas now ({holder})"
+            if holder is not None
+            else f"a sweep into this atlas was stopped; '{resume}' completes it (SPEC.toml: "
+            "the spec it was swept from)"
         )
+        print(f"  journal {s['journal']} {held}:\n          {why}")
     return 0
 
 

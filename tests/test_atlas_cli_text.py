@@ -246,3 +246,30 @@ def test_dry_run_times_slow_points_in_seconds(tmp_path, monkeypatch):
         line
         == "  timed   3 of the 6 points to compute: 16.3 s each on one core (95 %: 0.4 ... 32.8 s)"
     )
+
+
+def test_info_beside_a_journal_says_whether_a_sweep_writes_it_and_names_the_atlas(tmp_path):
+    """'a sweep into this atlas is running or was stopped; pydrill sweep SPEC.toml --out
+    ATLAS.h5 --resume' named neither the atlas nor which it was: a sweep holding the atlas's
+    lock is named (its process), else the resume command names the atlas as given."""
+    import os
+    from pathlib import Path
+
+    from pydrill.atlas_lock import writer_lock
+
+    out = tmp_path / "my atlas.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    Path(str(out) + ".journal").write_text("")  # what a sweep stopped (kill -9) leaves
+
+    def last_line():
+        proc = subprocess.run([*CMD, "atlas", "info", str(out)], capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stderr
+        return proc.stdout.splitlines()[-1].strip()
+
+    stopped = last_line()
+    assert f"pydrill sweep SPEC.toml --out '{out}' --resume" in stopped
+    assert stopped.startswith("a sweep into this atlas was stopped")
+    with writer_lock(out):  # as a running sweep holds it
+        running = last_line()
+    assert running.startswith("a sweep is writing this atlas now (process ")
+    assert f"process {os.getpid()} " in running and "--resume" not in running
