@@ -308,7 +308,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from .atlas_format import EQ_FIELDS
     from .atlas_grid import on_grid
     from .plot import save
-    from .plot_atlas import NO_STABILITY, atlas_figure, nearest_index
+    from .plot_atlas import NO_STABILITY, atlas_figure, drawn_axes, nearest_index
 
     at = axis_values(args.set)
     given = set_texts(args.set)
@@ -330,6 +330,21 @@ def _cmd_plot(args: argparse.Namespace) -> int:
                     f"{with_unit(name, grid, grid_unit(name, atlas.axes[name]))}",
                     file=sys.stderr,
                 )
+        try:
+            drawn: tuple[str | None, ...] = drawn_axes(atlas, args.x, args.y, at, args.profile)[:2]
+        except ValueError:  # atlas_figure says why
+            drawn = ()
+        for name, values in atlas.axes.items():
+            if not drawn or name in drawn or name in at or len(values) < 2:
+                continue
+            # Held at its first value unasked: the figure shows one slice of several.
+            unit = grid_unit(name, values)
+            first, last = (with_unit(name, float(v), unit) for v in (values[0], values[-1]))
+            print(
+                f"pydrill atlas plot: note: {name} is held at its first value, {first}, of "
+                f"{len(values)} ({first} ... {last}); --set {name}=VALUE for another",
+                file=sys.stderr,
+            )
         fig = atlas_figure(
             atlas,
             initial=args.initial,

@@ -44,6 +44,39 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
+def drawn_axes(
+    atlas, x: str | None, y: str | None, at: dict[str, float], profile: bool
+) -> tuple[str, str | None, bool]:
+    """The axes a figure of ``atlas`` draws, as ``atlas_figure`` chooses them: x, y (None for
+    a profile) and whether it is a profile; every other axis is held, at ``at`` or its first
+    value. ValueError for axes that do not fit the atlas."""
+    order = list(atlas.axes)
+    profile = profile or len(order) < 2  # one axis: nothing to map, a profile along it
+    if profile and y is not None:
+        why = f": this atlas has one axis, {order[0]}" if len(order) < 2 else " with --profile"
+        raise ValueError(f"y = {y!r}{why}: a profile is drawn along x alone")
+    for what, name in [("x", x), ("y", y)] + [("a held axis", n) for n in at]:
+        if name is not None and name not in order:
+            raise ValueError(
+                f"{what} = {name!r} is not an axis of this atlas; axes: {', '.join(order)}"
+            )
+    if x is not None and x == y:
+        raise ValueError(f"x and y are both {x!r}: a map needs two different axes")
+    if {x, y} & set(at):
+        raise ValueError(f"{sorted(set(at) & {x, y})[0]!r} is drawn; it cannot also be held")
+    swept_first = sorted(order, key=lambda n: len(atlas.axes[n]) <= 1)
+    free = [n for n in swept_first if n not in (x, y) and n not in at]
+    if y is None and len(free) + (x is not None) == 1:
+        # Every axis but one held (torque=8.3 on a (W_ob, u) atlas): a map has one axis left,
+        # and the figure asked for is the profile along it.
+        profile = True
+    if len(free) < (x is None) + (y is None and not profile):
+        raise ValueError(f"no axis left to draw: {', '.join(order)} are all given as x, y or held")
+    xname = x or free.pop(0)
+    yname = None if profile else y or free.pop(0)
+    return xname, yname, profile
+
+
 def atlas_figure(
     atlas,
     initial: str | None = None,
@@ -85,30 +118,8 @@ def atlas_figure(
     if metric in fmt.EQ_FIELDS and not atlas.spec.record["stability"]:
         raise ValueError(f"metric = {metric!r}: {NO_STABILITY}")
     order = list(atlas.axes)
-    profile = profile or len(order) < 2  # one axis: nothing to map, a profile along it
-    if profile and y is not None:
-        why = f": this atlas has one axis, {order[0]}" if len(order) < 2 else " with --profile"
-        raise ValueError(f"y = {y!r}{why}: a profile is drawn along x alone")
     at = dict(at or {})
-    for what, name in [("x", x), ("y", y)] + [("a held axis", n) for n in at]:
-        if name is not None and name not in order:
-            raise ValueError(
-                f"{what} = {name!r} is not an axis of this atlas; axes: {', '.join(order)}"
-            )
-    if x is not None and x == y:
-        raise ValueError(f"x and y are both {x!r}: a map needs two different axes")
-    if {x, y} & set(at):
-        raise ValueError(f"{sorted(set(at) & {x, y})[0]!r} is drawn; it cannot also be held")
-    swept_first = sorted(order, key=lambda n: len(atlas.axes[n]) <= 1)
-    free = [n for n in swept_first if n not in (x, y) and n not in at]
-    if y is None and len(free) + (x is not None) == 1:
-        # Every axis but one held (torque=8.3 on a (W_ob, u) atlas): a map has one axis left,
-        # and the figure asked for is the profile along it.
-        profile = True
-    if len(free) < (x is None) + (y is None and not profile):
-        raise ValueError(f"no axis left to draw: {', '.join(order)} are all given as x, y or held")
-    xname = x or free.pop(0)
-    yname = None if profile else y or free.pop(0)
+    xname, yname, profile = drawn_axes(atlas, x, y, at, profile)
     held: dict[str, float] = {}
     index: list[int | slice] = []
     for name in order:

@@ -273,3 +273,33 @@ def test_info_beside_a_journal_says_whether_a_sweep_writes_it_and_names_the_atla
         running = last_line()
     assert running.startswith("a sweep is writing this atlas now (process ")
     assert f"process {os.getpid()} " in running and "--resume" not in running
+
+
+# Three axes: a map holds one of them, a profile two.
+CUBE = SMALL.replace("[axes]\n", "[axes]\nmu_static = [0.85, 0.8, 0.9]\n").replace(
+    "t_end = 200.0", "t_end = 50.0"
+)
+
+
+def test_atlas_plot_says_which_axes_it_holds_at_their_first_value_unasked(tmp_path):
+    """A map of a three-axis atlas drew one slice of it, at the first value of the third axis,
+    without a word: a newcomer's first map of a depth atlas was its least telling (4 kN·m,
+    stuck almost everywhere). Each axis held unasked is named with the value the file holds
+    first; none held by --set, or drawn."""
+    out = tmp_path / "cube.h5"
+    run_sweep(parse_spec(CUBE), out, serial=True)
+    with h5py.File(out, "r") as f:
+        first = {n: float(f[n][0]) for n in ("mu_static", "wob", "torque")}
+
+    def notes(*args):
+        proc = [*CMD, "atlas", "plot", str(out), "--out", str(tmp_path / "f.png"), *args]
+        run = subprocess.run(proc, capture_output=True, text=True, check=True)
+        return [line for line in run.stderr.splitlines() if "is held at its first value" in line]
+
+    (note,) = notes()  # a map on the first two axes (mu_static, wob): torque held
+    assert note.startswith("pydrill atlas plot: note: torque is held at its first value, ")
+    assert f"value, {first['torque']:g} N·m, of 2 (" in note and "--set torque=VALUE" in note
+    assert notes("--set", "torque=8.3") == []
+    assert notes("--x", "wob", "--y", "torque") != []  # mu_static now held
+    held = {line.split(": note: ")[1].split(" ")[0] for line in notes("--profile", "--x", "wob")}
+    assert held == {"mu_static", "torque"}
