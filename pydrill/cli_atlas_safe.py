@@ -16,7 +16,8 @@ DESCRIPTION = (
     "another), the runs of grid points where the bit drills steadily from every start the "
     "atlas holds and the fastest steady state is stable, for each value of the other axes "
     "(or only at those given with --set). A window is given by its first and last safe grid "
-    "values: the true edges lie within one grid step beyond them. A point not computed "
+    "values: the true edges lie within one grid step beyond them (at the grid's own ends, "
+    "the atlas says nothing of what lies past them). A point not computed "
     "(missing, failed) is not safe and ends a window: a row counts them. Needs an atlas swept "
     "with stability recorded."
 )
@@ -34,7 +35,9 @@ def register_safe(asub, raw) -> None:
         "  pydrill atlas safe paper.h5 --along torque --set wob=100 --json\n"
         "  pydrill atlas safe depth.h5 --set depth=3000m\n\n"
         "JSON fields: along, criterion, rows [{at {AXIS: value}, windows [[first, last]],\n"
-        "  safe_points, points, not_done}], fixed {NAME: value} (what the spec holds for the\n"
+        "  beyond [[below, above]] (the grid values just outside each window, between which\n"
+        "  and its ends the true edges lie; null past the grid's end), safe_points, points,\n"
+        "  not_done}], fixed {NAME: value} (what the spec holds for the\n"
         "  whole sweep), units {along, at {AXIS: unit}, fixed}; values in SI",
     )
     safe.add_argument("atlas", metavar="ATLAS.h5")
@@ -87,6 +90,7 @@ def cmd_safe(args: argparse.Namespace) -> int:
                 {
                     "at": row.at,
                     "windows": [list(w) for w in row.windows],
+                    "beyond": [_beyond(axes[along], w) for w in row.windows],
                     "safe_points": row.safe,
                     "points": row.points,
                     "not_done": row.not_done,
@@ -117,8 +121,34 @@ def cmd_safe(args: argparse.Namespace) -> int:
         print(f"  {label + ':':{width}s}  {shown}" if label else f"  {shown}")
     if len(rows) > 1:
         print(f"  {sum(1 for row in rows if row.windows)} of {len(rows)} have a safe window")
-    print("  (the true edges lie within a grid step beyond each window's ends)")
+    print(_edges_note(rows, along, axes[along], unit[along]))
     return 0
+
+
+def _beyond(values: Any, window: tuple[float, float]) -> list[float | None]:
+    """The grid values just outside a window's ends, between which and the window's ends its
+    true edges lie; None past the grid's own end, where the atlas says nothing."""
+    grid = sorted(float(v) for v in values)
+    k, j = grid.index(window[0]), grid.index(window[1])
+    return [grid[k - 1] if k > 0 else None, grid[j + 1] if j + 1 < len(grid) else None]
+
+
+def _edges_note(rows: list, along: str, values: Any, unit: tuple[str, float]) -> str:
+    """Where the true edges lie: within a grid step beyond each window's ends, except at the
+    grid's own ends, past which the atlas says nothing (a window from W_ob's first value is
+    not known to end there: safe 20 kN ... 80 kN on a grid from 20 kN)."""
+    lo, hi = float(min(values)), float(max(values))
+    ends = {end for row in rows for w in row.windows for end in w}
+    note = "  (the true edges lie within a grid step beyond each window's ends"
+    more = ";\n   "  # the grid's ends on a line of their own
+    first, last = with_unit(along, lo, unit), with_unit(along, hi, unit)
+    if lo in ends and hi in ends:
+        return note + more + f"one from {first} or to {last}, the grid's ends, may go on past them)"
+    if lo in ends:
+        return note + more + f"one from {first}, the grid's first value, may begin below it)"
+    if hi in ends:
+        return note + more + f"one to {last}, the grid's last value, may go on above it)"
+    return note + ")"
 
 
 def _windows(row: Any, along: str, unit: tuple[str, float]) -> str:

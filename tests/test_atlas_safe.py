@@ -298,3 +298,39 @@ def test_no_outline_without_stability(tmp_path):
         ax = atlas.plot().axes[0]
     assert not [c for c in ax.collections if isinstance(c, LineCollection)]
     assert not any(t.get_text().startswith("safe") for t in ax.get_legend().get_texts())
+
+
+def test_a_window_at_the_grid_s_end_is_not_said_to_end_within_a_grid_step(grid):
+    """'wob 20 kN ... 80 kN' on a grid from 20 kN, and '(the true edges lie within a grid step
+    beyond each window's ends)': but past the grid's own end the atlas says nothing. The note
+    names the ends that windows reach, and --json gives each window's outside neighbours on the
+    grid (null past its end), checked against the raw datasets."""
+    safe, _, axes = _brute_safe(grid)
+    wob = np.sort(axes["wob"])
+    order = np.argsort(axes["wob"])
+    text = subprocess.run(
+        [*CMD, "atlas", "safe", str(grid)], capture_output=True, text=True, check=True
+    ).stdout
+    at_first = safe[order[0], :].any()  # some row's window starts at the grid's first W_ob
+    at_last = safe[order[-1], :].any()
+    assert at_first or at_last  # the case this test is for
+    note = " ".join(text.split("(the true edges lie")[1].split())
+    if at_first and at_last:
+        assert f"one from {wob[0]:g} N or to {wob[-1]:g} N, the grid's ends" in note
+    elif at_first:
+        assert f"one from {wob[0]:g} N, the grid's first value, may begin below it)" in note
+    else:
+        assert f"one to {wob[-1]:g} N, the grid's last value, may go on above it)" in note
+    doc = json.loads(
+        subprocess.run(
+            [*CMD, "atlas", "safe", str(grid), "--json"], capture_output=True, text=True, check=True
+        ).stdout
+    )
+    for j, row in enumerate(doc["rows"]):
+        ok = safe[order, j]
+        for (lo, hi), (below, above) in zip(row["windows"], row["beyond"], strict=True):
+            k, m = int(np.searchsorted(wob, lo)), int(np.searchsorted(wob, hi))
+            assert below == (None if k == 0 else wob[k - 1])
+            assert above == (None if m == len(wob) - 1 else wob[m + 1])
+            for outside in (below, above):  # the neighbours are not safe: the edge is between
+                assert outside is None or not ok[int(np.searchsorted(wob, outside))]
