@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from . import _core
-from .model import Params, _integer, _number
+from .model import Params, _integer, _load, _number
 from .stability import (
     Crossing,
     _check_crossings,
@@ -87,7 +87,7 @@ def _positive(name: str, value: float | None, unit: str, why: str) -> float:
     value = _number(name, value, unit)
     if not (math.isfinite(value) and value > 0):
         raise ValueError(f"{name} = {value:g} is not allowed: {why} a finite {name} > 0 ({unit})")
-    return value
+    return _load(name, value, unit) if name in ("wob", "torque") else value
 
 
 def _mu(params: Params, omega):
@@ -112,8 +112,8 @@ def branch(
     ``vary="wob"`` holds ``torque`` fixed (W_ob(Ω) = (u − (c_r + c_b)Ω) / (R_b μ_b(Ω)));
     ``vary="torque"`` holds ``wob`` fixed (u(Ω) = (c_r + c_b)Ω + W_ob R_b μ_b(Ω)).
 
-    - ``torque`` (N·m) or ``wob`` (N): the one held fixed, a finite number > 0; the varied
-      one is not given.
+    - ``torque`` (N·m) or ``wob`` (N): the one held fixed, a finite number > 0, at most
+      ``MAX_LOAD`` (1e15) as in :func:`pydrill.simulate`; the varied one is not given.
     - ``omega_max`` (rad/s): the largest Ω sampled, a finite number > 0; None (default) for
       u / (c_r + c_b) with ``vary="wob"`` (where W_ob reaches 0; never beyond it), 40 with
       ``vary="torque"``.

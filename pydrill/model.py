@@ -24,6 +24,11 @@ PRESETS = tuple(_core.preset_names())
 # beyond 100000 inertias a point would take hours and a mistyped size runs out of memory.
 MAX_DOF = 100_000
 
+# The largest weight on bit (N) and surface torque (N·m) anything takes: far above any drill
+# string's loads (a few hundred kN, some 100 kN·m), below where a run would overflow. The C++
+# core refuses a simulation beyond it; the analyses and the command line apply it too.
+MAX_LOAD = 1e15
+
 _SCALARS = (
     "top_damping",
     "bit_damping",
@@ -285,6 +290,16 @@ def _number(name: str, value: Any, unit: str) -> float:
         raise ValueError(
             f"{name} = {reprlib.repr(plain)} is not allowed: beyond the range of a float ({unit})"
         ) from None
+
+
+def _load(name: str, value: float, unit: str) -> float:
+    """``value``, a weight on bit (N) or torque (N·m), refused by name beyond ``MAX_LOAD``."""
+    if abs(value) > MAX_LOAD:
+        raise ValueError(
+            f"{name} = {value:g} is not allowed: at most 1e15 {unit} in size (MAX_LOAD; far "
+            "above any drill string's loads)"
+        )
+    return value
 
 
 def _integer(

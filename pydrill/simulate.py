@@ -23,6 +23,12 @@ from .result import (  # noqa: F401 - re-exported: pydrill.simulate.SimulationRe
     Switch,
 )
 
+#: The longest run, s: 317 years, beyond the life of any bit or rig. Beyond it a run cannot be
+#: done: CVODES's first step overflows (t_end = 1e300 failed at t = 0 with h = 1e109), and
+#: DOP853 runs for minutes into its step limit (``max_steps``).
+MAX_T_END = 1e10
+YEAR = 365.25 * 86400.0
+
 
 def simulate(
     params: Params | None = None,
@@ -67,7 +73,8 @@ def simulate(
     - ``wob`` (N), ``torque`` (N·m): the operating point, weight on bit > 0 and the torque
       the top drive applies; both at most 1e15 in size (far above any drill string's loads,
       below where the run would overflow).
-    - ``t_end`` (s): simulated time, from t = 0; > 0.
+    - ``t_end`` (s): simulated time, from t = 0; > 0, at most ``MAX_T_END`` (1e10 s, 317
+      years).
     - ``initial``: ``"rest"``, ``"equilibrium"`` or a 1-D state of ``2·dof − 1`` numbers
       (ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b; rad/s and rad).
     - ``t_out`` (s): the output times, a non-empty 1-D increasing list in ``[0, t_end]``;
@@ -141,6 +148,11 @@ def simulate(
     wob = _number("wob", wob, "N")
     torque = _number("torque", torque, "N·m")
     t_end = _number("t_end", t_end, "s")
+    if not 0 < t_end <= MAX_T_END:  # (a NaN fails it too)
+        raise ValueError(
+            f"t_end = {t_end:g} is not allowed: need 0 < t_end <= 1e10 s ("
+            f"{MAX_T_END / YEAR:.0f} years)"
+        )
     settings: dict[str, Any] = {"t_end": t_end}
     opts = _core.SimulationOptions()
     opts.t_end = t_end

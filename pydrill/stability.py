@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from .model import Params, _number, _plain, _show
+from .model import Params, _load, _number, _plain, _show
 
 
 def _velocity(omega: float) -> float:
@@ -307,13 +307,14 @@ def stability(
     would pass and answer for it.
 
     ``wob`` (N) must be finite and > 0, ``omega`` (rad/s) finite and non-zero, ``torque``
-    (N·m) finite. A negative ``torque`` or ``omega`` turns the string backwards: the mirror
-    image (φ → −φ) of ``-torque`` or ``-omega``, the same steady states with Ω and u
-    reversed and the same eigenvalues; the points come in increasing Ω either way."""
+    (N·m) finite; ``wob`` and ``torque`` at most ``MAX_LOAD`` (1e15) in size, as in
+    :func:`pydrill.simulate`. A negative ``torque`` or ``omega`` turns the string backwards:
+    the mirror image (φ → −φ) of ``-torque`` or ``-omega``, the same steady states with Ω and
+    u reversed and the same eigenvalues; the points come in increasing Ω either way."""
     params = _params(params)
     if (omega is None) == (torque is None):
         raise ValueError("give exactly one of omega (rad/s) or torque (N·m)")
-    wob = _number("wob", wob, "N")
+    wob = _load("wob", _number("wob", wob, "N"), "N")
     if crossings is not None:
         crossings = _check_crossings(params, crossings)
     core = params.to_core()
@@ -325,11 +326,11 @@ def stability(
         else:
             points = [_core.stability_at_velocity(core, wob, omega)]
     elif crossings is not None:
-        torque = _number("torque", torque, "N·m")
+        torque = _load("torque", _number("torque", torque, "N·m"), "N·m")
         known = [vars(c) for c in crossings]  # their fields, as the core takes them
         points = _core.stability_at_torque(core, wob, torque, known)
     else:
-        torque = _number("torque", torque, "N·m")
+        torque = _load("torque", _number("torque", torque, "N·m"), "N·m")
         points = _core.stability_at_torque(core, wob, torque)
     return [
         StabilityPoint(

@@ -125,7 +125,8 @@ class Limits:
     def wob_max_stable(self, rpm: ArrayLike) -> NDArray[np.float64]:
         """Heaviest W_ob (N) at which steady drilling at ``rpm`` is stable (stick-slip edge)."""
         omega = _checked("rpm", rpm, 0.0, strict=False) * RPM
-        return self.delta_limit * np.exp(self._g * omega) / (self._a * self._g)
+        with np.errstate(over="ignore"):  # inf: fast enough, no weight makes it unstable
+            return self.delta_limit * np.exp(self._g * omega) / (self._a * self._g)
 
     def wob_max_unstuck(self, rpm: ArrayLike) -> NDArray[np.float64]:
         """Heaviest W_ob (N) at which the steady torque at ``rpm`` exceeds the static friction
