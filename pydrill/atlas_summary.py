@@ -96,6 +96,14 @@ def model(spec: SweepSpec) -> dict[str, Any]:
     }
 
 
+def model_units(m: dict[str, Any]) -> dict[str, Any]:
+    """The units of ``model(spec)``'s values, for a --json ``units`` table: each held value's
+    (SI: N, N·m, m, a parameter's own) and the simulated time's."""
+    from .atlas_grid import axis_unit
+
+    return {"held": {name: axis_unit(name) for name in m["held"]}, "t_end": "s"}
+
+
 def journal_only(path: Path, status: np.ndarray) -> int:
     """Points the journal of the atlas at ``path`` holds and the atlas does not yet: a running
     sweep's progress since its last flush, or what --resume takes back after a kill."""

@@ -89,7 +89,8 @@ def register_atlas(sub) -> None:
         "  axes {NAME: {size, min, max}}, initial, status {missing, done, failed},\n"
         "  regimes {INITIAL: {REGIME: count}},\n"
         "  safe_points (null: stability not recorded), coexistence_points,\n"
-        "  journal (its path, or null), journal_points (in the journal, not yet in the atlas)",
+        "  journal (its path, or null), journal_points (in the journal, not yet in the atlas),\n"
+        "  units {axes {NAME: unit}, model {held {NAME: unit}, t_end}}",
     )
     info.add_argument("atlas", metavar="ATLAS.h5")
     info.add_argument("--json", action="store_true", help="print one JSON object for scripts")
@@ -254,7 +255,10 @@ def _cmd_info(args: argparse.Namespace) -> int:
     if args.json:
         results = dict(s)
         inputs = {"path": results.pop("path")}
+        from .atlas_summary import model_units
+
         units = {"axes": {name: axis_unit(name) for name in s["axes"]}}
+        units["model"] = model_units(s["model"])  # a held torque's 9000.0 is N·m
         print_json(json_document(inputs, results, units))
         return 0
     print(

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from .cli_atlas import axis_line
+from .atlas_summary import model, model_units
+from .cli_atlas import axis_line, model_line
 from .cli_options import json_document, print_json
 from .cli_sweep_report import duration
 
@@ -58,6 +59,7 @@ def dry_run(args: argparse.Namespace, spec) -> int:
             "points": plan.points,
             "shape": {k: len(v) for k, v in spec.axes.items()},
             "initial": spec.initials,
+            "model": model(spec),  # as atlas info --json gives it
             "todo": plan.todo,
             "sampled": plan.sampled,
             "failed": plan.failed,
@@ -84,11 +86,15 @@ def dry_run(args: argparse.Namespace, spec) -> int:
             "journal_bytes": "bytes",
             "memory_bytes": "bytes",
             "memory_available_bytes": "bytes",
+            "model": model_units(model(spec)),
         }
         print_json(json_document(inputs, results, units))  # no figure: nothing is drawn
         return 0
     grid = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
     print(f"{args.spec}: {plan.points} points ({grid}), from " + " and ".join(spec.initials))
+    # The string and what the spec holds for the whole sweep (a fixed torque, a depth): the
+    # grid's lines alone left a sweep at 9 kN·m looking like one at no torque.
+    print(model_line(model(spec)))
     for name, values in spec.axes.items():
         print(axis_line(name, len(values), values[0], values[-1], max(map(len, spec.axes))))
     state = {

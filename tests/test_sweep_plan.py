@@ -309,3 +309,36 @@ def test_the_dry_run_of_a_complete_atlas_says_what_the_sweep_says(tmp_path):
     )
     assert proc.returncode == 2
     assert f"{out} already holds this sweep, complete: 6 points" in proc.stderr
+
+
+def test_the_dry_run_names_the_string_and_what_the_spec_holds_fixed(tmp_path):
+    """A sweep at a fixed torque ([model] torque) dry-ran as '36 points (6 depth x 6 wob)' with
+    no word of the torque: the model line names it, in kN·m as given in N·m, and --json gives
+    it in SI with its unit, as atlas info does."""
+    import tomllib
+
+    tally = Path(__file__).resolve().parents[1] / "examples" / "tallies" / "paper-eq53.toml"
+    text = (
+        f'[model]\ntally = "{tally}"\ndof = 6\ntorque = 9000.0\n'
+        '[axes]\ndepth = ["1000 m", "3000 m"]\nwob = ["40 kN", "80 kN"]\n'
+        '[simulation]\nt_end = 20.0\ninitial = ["rest"]\n'
+    )
+    spec_file = tmp_path / "fixed.toml"
+    spec_file.write_text(text)
+    torque = tomllib.loads(text)["model"]["torque"]  # N·m, as written
+    run = [*CMD, "sweep", str(spec_file), "--dry-run", "--serial"]
+    lines = subprocess.run(run, capture_output=True, text=True, check=True).stdout.splitlines()
+    model = " ".join(line.strip() for line in lines[1:3])  # the model line, maybe wrapped
+    assert lines[1].startswith("  model   string paper-eq53 (tally), 6 inertias")
+    assert f"torque {torque / 1e3:g} kN·m; 20 s from each start" in model
+    doc = json.loads(
+        subprocess.run([*run, "--json"], capture_output=True, text=True, check=True).stdout
+    )
+    assert doc["model"]["held"] == {"torque": torque} and doc["model"]["inertias"] == 6
+    assert doc["units"]["model"] == {"held": {"torque": "N·m"}, "t_end": "s"}
+    out = tmp_path / "fixed.h5"
+    subprocess.run([*CMD, "sweep", str(spec_file), "--out", str(out), "--serial"], check=True)
+    info = subprocess.run(
+        [*CMD, "atlas", "info", str(out), "--json"], capture_output=True, text=True, check=True
+    )
+    assert json.loads(info.stdout)["units"]["model"] == doc["units"]["model"]
