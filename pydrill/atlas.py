@@ -389,7 +389,9 @@ class Atlas:
     def to_xarray(self):
         """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates, read
         lazily. ``regime`` is an integer code; its CF attributes ``flag_values`` and
-        ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable)."""
+        ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable).
+        ``safe`` (int8 on the axes, computed on opening: not in the file) is
+        :meth:`safe_region`, 1 where safe, when the sweep recorded stability."""
         self._file()  # closed: refused like every other read
         self._heap()  # xarray reads every attribute and dimension list
         try:
