@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from .cli_options import (
+    _duration,
     _finite,
     _fraction,
     _integer,
@@ -26,13 +27,10 @@ from .cli_options import (
     print_json,
 )
 from .cli_string import (
-    _no_tally_options,
     _string_options,
-    lab_notes,
     string_json,
     string_params,
     string_units,
-    unit_notes,
 )
 
 EXIT_USAGE = 2
@@ -109,36 +107,39 @@ def build_parser() -> argparse.ArgumentParser:
         "--inertias",
         type=_list("--inertias"),
         metavar="I0,I1,...",
-        help="override every inertia (kg m^2), top drive first",
+        help="override every inertia (kg m^2, each > 0), top drive first",
     )
     model.add_argument(
         "--stiffnesses",
         type=_list("--stiffnesses"),
         metavar="K0,...",
-        help="override every spring stiffness (N m/rad)",
+        help="override every spring stiffness (N m/rad, each > 0)",
     )
     model.add_argument(
         "--dampings",
         type=_list("--dampings"),
         metavar="C0,...",
-        help="override every spring damping (N m s/rad)",
+        help="override every spring damping (N m s/rad, each >= 0)",
     )
     op = sim.add_argument_group("operating point")
     op.add_argument(
         "--wob",
         type=_positive("--wob", "force"),
         required=True,
-        help="weight on bit (N, or 100kN, 25klbf)",
+        help="weight on bit (N, > 0; or 100kN, 25klbf)",
     )
     op.add_argument(
         "--torque",
         type=_finite("--torque", "torque"),
         required=True,
-        help="surface torque u (N m, or 12kN*m, 9kft*lbf)",
+        help="surface torque u (N m, either sign; or 12kN*m, 9kft*lbf)",
     )
     run = sim.add_argument_group("simulation")
     run.add_argument(
-        "--t-end", type=_positive("--t-end"), default=300.0, help="simulated time (s, default 300)"
+        "--t-end",
+        type=_duration("--t-end"),
+        default=300.0,
+        help="simulated time (s, default 300; at most 1e10)",
     )
     run.add_argument(
         "--initial",
@@ -161,10 +162,16 @@ def build_parser() -> argparse.ArgumentParser:
         "or erk (ARKODE explicit Runge-Kutta 7(8))",
     )
     run.add_argument(
-        "--rtol", type=_positive("--rtol"), default=1e-8, help="relative tolerance (default 1e-8)"
+        "--rtol",
+        type=_positive("--rtol"),
+        default=1e-8,
+        help="relative tolerance (default 1e-8; 1e-14 ... < 1)",
     )
     run.add_argument(
-        "--atol", type=_positive("--atol"), default=1e-8, help="absolute tolerance (default 1e-8)"
+        "--atol",
+        type=_positive("--atol"),
+        default=1e-8,
+        help="absolute tolerance (rad and rad/s; default 1e-8; >= 1e-20)",
     )
     run.add_argument(
         "--n-out",
@@ -206,18 +213,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     for key in ("inertias", "stiffnesses", "dampings"):
         if getattr(args, key) is not None:
             overrides[key] = getattr(args, key)
-    if args.tally is not None:
-        string = {"params": string_params(args)}
-    else:
-        _no_tally_options(args)
-        if args.preset == "real-string":
-            unit_notes(args)
-        else:
-            lab_notes(args)
-        string = {"preset": args.preset or "reduced-scale", "dof": args.dof, "pipes": args.pipes}
+    try:  # the string first: a refused one is one line, not a note on the load and then it
+        params = string_params(args, overrides)
+    except ValueError as exc:
+        raise as_options(exc) from None
     try:
         result = simulate(
-            **string,
+            params,
             wob=args.wob,
             torque=args.torque,
             t_end=args.t_end,
@@ -229,7 +231,6 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             n_out=args.n_out,
             max_steps=args.max_steps,
             window_fraction=args.window,
-            **overrides,
         )
     except (ValueError, SolverError) as exc:  # worded for the API: name the options instead
         raise as_options(exc) from None

@@ -53,8 +53,7 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     hopf.add_argument(
         "--omega-max",
         type=_positive("--omega-max", "velocity"),
-        default=20.0,
-        help="largest steady velocity on the plot (rad/s, default 20)",
+        help="with --plot: largest steady velocity on the plot (rad/s, > 0, default 20; or 200rpm)",
     )
     hopf.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     hopf.add_argument(
@@ -76,16 +75,21 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     )
     _string_options(stab, PRESETS)
     stab.add_argument(
-        "--wob", type=_positive("--wob", "force"), required=True, help="weight on bit (N, or 100kN)"
+        "--wob",
+        type=_positive("--wob", "force"),
+        required=True,
+        help="weight on bit (N, > 0; or 100kN)",
     )
     point = stab.add_mutually_exclusive_group(required=True)
     point.add_argument(
         "--omega",
         type=_positive("--omega", "velocity"),
-        help="steady bit velocity (rad/s, or 120rpm)",
+        help="steady bit velocity (rad/s, > 0; or 120rpm)",
     )
     point.add_argument(
-        "--torque", type=_finite("--torque", "torque"), help="surface torque u (N m, or 12kN*m)"
+        "--torque",
+        type=_finite("--torque", "torque"),
+        help="surface torque u (N m, either sign; or 12kN*m)",
     )
     stab.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     stab.add_argument("--plot", metavar="FILE.png", type=figure_path, help="draw the eigenvalues")
@@ -112,17 +116,17 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     bif.add_argument(
         "--torque",
         type=_positive("--torque", "torque"),
-        help="fixed surface torque (N m, or 12kN*m), with --vary wob",
+        help="fixed surface torque (N m, > 0; or 12kN*m), with --vary wob",
     )
     bif.add_argument(
         "--wob",
         type=_positive("--wob", "force"),
-        help="fixed weight on bit (N, or 100kN), with --vary torque",
+        help="fixed weight on bit (N, > 0; or 100kN), with --vary torque",
     )
     bif.add_argument(
         "--omega-max",
         type=_positive("--omega-max", "velocity"),
-        help="largest Omega on the branch (rad/s; default: with --vary wob, u / (c_r + c_b), "
+        help="largest Omega on the branch (rad/s, > 0; default: with --vary wob, u / (c_r + c_b), "
         "where W_ob reaches 0; with --vary torque, 40)",
     )
     bif.add_argument("--json", action="store_true", help="print one JSON object for scripts")
@@ -138,13 +142,15 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
 def _cmd_hopf(args: argparse.Namespace) -> int:
     from .stability import critical_deltas, criticality
 
+    if args.omega_max is not None and not args.plot:  # it would be ignored
+        raise ValueError("--omega-max needs --plot: it is the plot's largest steady velocity")
     params = string_params(args)
     crossings = critical_deltas(params)
     if args.plot:
         from .plot import save
         from .plot_analysis import hopf_figure
 
-        save(hopf_figure(params, crossings, omega_max=args.omega_max), args.plot)
+        save(hopf_figure(params, crossings, omega_max=args.omega_max or 20.0), args.plot)
     if args.json:
         inputs = {"preset": params.name, **string_json(args), "dof": params.dof}
         results = {

@@ -8,6 +8,7 @@ import argparse
 from collections.abc import Sequence
 
 from .cli_options import (
+    _duration,
     _integer,
     _positive,
     check_progress,
@@ -38,12 +39,12 @@ def register_map(sub, PRESETS: Sequence[str]) -> None:
     omap.add_argument(
         "--wob-max",
         type=_positive("--wob-max", "force"),
-        help="largest W_ob (N; default 250 for reduced-scale, 2e5 for real-string)",
+        help="largest W_ob (N, > 0; default 250 for reduced-scale, 2e5 for real-string)",
     )
     omap.add_argument(
         "--torque-max",
         type=_positive("--torque-max", "torque"),
-        help="largest u (N m; default 0.1 * wob-max)",
+        help="largest u (N m, > 0; default 0.1 * wob-max)",
     )
     omap.add_argument(
         "--check",
@@ -55,8 +56,8 @@ def register_map(sub, PRESETS: Sequence[str]) -> None:
     )
     omap.add_argument(
         "--t-end",
-        type=_positive("--t-end"),
-        help="simulated time of each check (s, default 300)",
+        type=_duration("--t-end"),
+        help="simulated time of each check (s, default 300; at most 1e10)",
     )
     omap.add_argument("--json", action="store_true", help="print one JSON object for scripts")
     omap.add_argument("--plot", metavar="FILE.png", type=figure_path, help="draw the map")

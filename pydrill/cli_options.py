@@ -14,17 +14,32 @@ from pathlib import Path
 from typing import Any
 
 
+class Given(float):
+    """A number of the command line, in SI, that remembers whether it was typed ``bare`` (SI)
+    or with its unit: a note on a bare 600 for --omega advises "600rpm", one on a typed
+    "6000rpm" does not advise writing what was written."""
+
+    bare = True
+
+
+def typed_bare(value: object) -> bool:
+    """Whether ``value`` of an option was typed as a bare number (or came from a default)."""
+    return getattr(value, "bare", True)
+
+
 def _number(name: str, text: str, kind: str | None) -> float:
     """A plain number is SI; with ``kind``, a driller unit may follow (100kN, 120 rpm)."""
     try:
-        return float(text)
+        return Given(text)
     except ValueError:
         pass
     if kind is not None:
         from . import units
 
         try:
-            return units.parse(text, kind)
+            value = Given(units.parse(text, kind))
+            value.bare = False
+            return value
         except ValueError as exc:
             raise argparse.ArgumentTypeError(
                 f"{name} must be a number, got {text!r} ({exc})"
@@ -37,7 +52,7 @@ def _positive(name: str, kind: str | None = None):
         value = _number(name, text, kind)
         if not math.isfinite(value) or value <= 0:
             raise argparse.ArgumentTypeError(f"{name} must be a finite number > 0, got {text}")
-        return value
+        return _load(name, text, value, kind)
 
     return parse
 
@@ -47,10 +62,56 @@ def _finite(name: str, kind: str | None = None):
         value = _number(name, text, kind)
         if not math.isfinite(value):
             raise argparse.ArgumentTypeError(f"{name} must be finite, got {text}")
+        return _load(name, text, value, kind)
+
+    return parse
+
+
+def _duration(name: str):
+    """An argparse type: a simulated time (s), > 0 and at most simulate()'s ``MAX_T_END``."""
+
+    def parse(text: str) -> float:
+        from .simulate import MAX_T_END, YEAR
+
+        value = _number(name, text, None)
+        if not 0 < value <= MAX_T_END:  # (a NaN fails it too)
+            raise argparse.ArgumentTypeError(
+                f"{name} = {text} is not allowed: need 0 < {name} <= {_count(int(MAX_T_END))} s "
+                f"({MAX_T_END / YEAR:.0f} years)"
+            )
         return value
 
     return parse
 
+
+def _load(name: str, text: str, value: float, kind: str | None) -> float:
+    """A force or torque is at most ``MAX_LOAD`` in size, as simulate() takes it: --wob 1e300
+    said a note on the laboratory string, then simulate's error; stability answered for it."""
+    from .model import MAX_LOAD
+
+    if kind in ("force", "torque") and abs(value) > MAX_LOAD:
+        unit = "N" if kind == "force" else "N m"
+        raise argparse.ArgumentTypeError(
+            f"{name} = {text} is not allowed: at most {_count(int(MAX_LOAD))} {unit} in size (far "
+            "above "
+            "any drill string's loads)"
+        )
+    return value
+
+
+# What a real string's operating values can be. Beyond these a value is possible but most
+# likely mistyped: the command says so in a note (cli_string.unit_notes) and goes on.
+#: m: the longest wells drilled reach some 15 km of measured depth (extended-reach wells); the
+#: deepest, the Kola borehole, 12.3 km
+LONGEST_WELL = 15e3
+#: N: no drill bit takes 2000 kN (200 t)
+HEAVIEST_WOB = 2e6
+#: N·m: the strongest top drives deliver some 100-150 kN·m
+TOP_DRIVE_TORQUE = 150e3
+#: rpm: the fastest top drives turn some 250-300 rpm
+TOP_DRIVE_RPM = 300.0
+#: s: a day of drilling; a run that long takes minutes and may end at its step limit
+LONG_RUN = 86400.0
 
 #: above this many N (or N·m) a string is a real one: its forces in kN, its torques in kN·m, in
 #: text as on its figures (plot.py draws with this threshold too)

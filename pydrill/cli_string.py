@@ -10,7 +10,15 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from .cli_options import KILO
+from .cli_options import (
+    HEAVIEST_WOB,
+    KILO,
+    LONG_RUN,
+    LONGEST_WELL,
+    TOP_DRIVE_RPM,
+    TOP_DRIVE_TORQUE,
+    typed_bare,
+)
 
 
 def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
@@ -30,19 +38,23 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
         help="the string of a pipe tally instead (see 'pydrill string'): one inertia per joint",
     )
     group.add_argument(
-        "--depth", help="with --tally: lengthen the drill pipe to this depth (3000m, 9800ft)"
+        "--depth",
+        help="with --tally: lengthen the drill pipe to this depth, > 0 (3000m, 9800ft; a bare "
+        "number is m)",
     )
     group.add_argument(
-        "--lump", type=int, help="with --tally: drill-pipe joints per element (default 1)"
+        "--lump", type=int, help="with --tally: drill-pipe joints per element, >= 1 (default 1)"
     )
     size = group.add_mutually_exclusive_group()
     size.add_argument(
         "--dof",
         type=int,
-        help="number of inertias, >= 2 (default 4, or 2 for --preset real-string; with --tally: "
-        "reduce its string to these)",
+        help="number of inertias, 2 ... 100000 (default 4, or 2 for --preset real-string; with "
+        "--tally: reduce its string to these, at most one per element)",
     )
-    size.add_argument("--pipes", type=int, help="number of drill pipes P (same as --dof P+3)")
+    size.add_argument(
+        "--pipes", type=int, help="number of drill pipes P, 1 ... 99997 (same as --dof P+3)"
+    )
     return group
 
 
@@ -80,19 +92,23 @@ def tally_params(path: str, depth: str | None, lump: int | None, dof: int | None
     tally = load_tally_file(path)
     if depth is not None:
         try:
-            tally = tally.at_depth(units.parse(depth, "length"))
+            meters = units.parse(depth, "length")
+            tally = tally.at_depth(meters)
         except ValueError as exc:
             raise for_option(exc, "--depth", "depth") from None
     lump = 1 if lump is None else lump
     if lump < 1:
         raise ValueError(f"--lump = {lump} is not allowed: >= 1")
     try:
-        return tally, tally.to_params(dof=dof, lump=lump)
+        params = tally.to_params(dof=dof, lump=lump)
     except ValueError as exc:
         for api in ("dof", "lump"):
             if str(exc).startswith(f"{api} "):
                 raise for_option(exc, f"--{api}", api) from None
         raise
+    if depth is not None:  # once the string is built: a refusal is one line, no note before it
+        depth_note(meters, depth)
+    return tally, params
 
 
 def _no_tally_options(args: argparse.Namespace) -> None:
@@ -104,18 +120,23 @@ def _no_tally_options(args: argparse.Namespace) -> None:
             )
 
 
-def string_params(args: argparse.Namespace):
+def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = None):
     """The string that ``_string_options`` name: a preset of ``--dof`` (or ``--pipes``)
-    inertias, or a tally's (``--tally``, ``--depth``, ``--lump``, reduced to ``--dof``)."""
+    inertias, or a tally's (``--tally``, ``--depth``, ``--lump``, reduced to ``--dof``), with
+    ``overrides`` of its fields (``--inertias``, ...). The notes on the values typed follow
+    once it is built: a refused string is one line, not a note and then the error."""
     from . import preset
 
     if args.tally is None:
         _no_tally_options(args)
+        params = preset(
+            args.preset or "reduced-scale", dof=args.dof, pipes=args.pipes, **(overrides or {})
+        )
         if args.preset == "real-string":
             unit_notes(args)
         else:
             lab_notes(args)
-        return preset(args.preset or "reduced-scale", dof=args.dof, pipes=args.pipes)
+        return params
     if args.preset is not None:
         raise ValueError("give --preset or --tally, not both")
     if args.pipes is not None:
@@ -125,43 +146,115 @@ def string_params(args: argparse.Namespace):
         )
     tally, params = tally_params(args.tally, args.depth, args.lump, args.dof)
     # Titles and reports say which depth: strings of one tally differ by it alone.
-    params = params.replace(name=f"{tally.name} at {tally.length:.1f} m")
+    params = params.replace(name=f"{tally.name} at {tally.length:.1f} m", **(overrides or {}))
     unit_notes(args)
     return params
 
 
 def unit_notes(args: argparse.Namespace) -> None:
     """A bare number is SI, but a driller thinks in kN and rpm: on a real string, a weight of
-    a few newtons or a speed of hundreds of rpm was most likely typed in the wrong unit.
-    Said on stderr, and the command goes on (the value may be meant)."""
-    wob, omega = getattr(args, "wob", None), getattr(args, "omega", None)
+    a few newtons or a speed of hundreds of rpm was most likely typed in the wrong unit; a
+    value beyond what any rig does (a 60000 kN weight, 6000 rpm) most likely mistyped. Said on
+    stderr, and the command goes on (the value may be meant)."""
     notes = []
-    if wob is not None and 0 < wob < 1000.0:
-        notes.append(
-            f"--wob is {wob:g} N, light for a real string: a bare number is N; for kN write "
-            f"{wob:g}kN"
-        )
-    if omega is not None and omega > 30.0:
+    for option, key in (("--wob", "wob"), ("--wob-max", "wob_max")):
+        wob = getattr(args, key, None)
+        if wob is not None and 0 < wob < 1000.0:
+            notes.append(
+                f"{option} is {wob:g} N, light for a real string: a bare number is N; for kN "
+                f"write {wob:g}kN"
+                if typed_bare(wob)
+                else f"{option} is {wob:g} N, light for a real string (tens to hundreds of kN)"
+            )
+        elif wob is not None and wob > HEAVIEST_WOB:
+            notes.append(
+                f"{option} is {wob / 1e3:g} kN, heavier than any drill bit takes (at most some "
+                f"{HEAVIEST_WOB / 1e3:g} kN, {HEAVIEST_WOB / 1e4:g} t)"
+            )
+    for option, key in (("--torque", "torque"), ("--torque-max", "torque_max")):
+        torque = getattr(args, key, None)
+        if torque is not None and 0 < abs(torque) < 100.0 and typed_bare(torque):
+            notes.append(
+                f"{option} is {torque:g} N m, light for a real string: a bare number is N m; "
+                f"for kN m write {torque:g}kN*m"
+            )
+        elif torque is not None and abs(torque) > TOP_DRIVE_TORQUE:
+            notes.append(
+                f"{option} is {torque / 1e3:g} kN m, more than any top drive delivers (the "
+                f"strongest some {TOP_DRIVE_TORQUE / 1e3:g} kN m)"
+            )
+    omega = getattr(args, "omega", None)
+    if omega is not None and omega > 30.0 and typed_bare(omega):
         notes.append(
             f"--omega is {omega:g} rad/s = {omega * 30 / math.pi:.0f} rpm: a bare number is "
             f"rad/s; for rpm write {omega:g}rpm"
         )
-    for note in notes:
-        print(f"pydrill: note: {note}", file=sys.stderr)
+    elif omega is not None and omega * 30 / math.pi > TOP_DRIVE_RPM:
+        notes.append(
+            f"--omega is {omega * 30 / math.pi:.4g} rpm, faster than any top drive turns (some "
+            f"{TOP_DRIVE_RPM:g} rpm at most)"
+        )
+    _say(notes + run_notes(args))
 
 
 def lab_notes(args: argparse.Namespace) -> None:
     """A real string's W_ob on the laboratory string (the default preset, W_ob some 100 N) was
     most likely meant for a real string, its --tally forgotten: --wob 60kN found a steady state
     at 31579 rad/s and said nothing. Said on stderr; the command goes on."""
-    wob = getattr(args, "wob", None)
-    if wob is not None and wob > KILO:
-        print(
-            f"pydrill: note: --wob is {wob / 1e3:g} kN, on the reduced-scale laboratory string "
-            "(its W_ob is some 100 N); for a real string give --tally TALLY.toml or --preset "
-            "real-string",
-            file=sys.stderr,
+    notes = []
+    for option, key, unit, typical in (
+        ("--wob", "wob", "kN", "W_ob is some 100 N"),
+        ("--wob-max", "wob_max", "kN", "W_ob is some 100 N"),
+        ("--torque", "torque", "kN m", "torque is some 10 N m"),
+        ("--torque-max", "torque_max", "kN m", "torque is some 10 N m"),
+    ):
+        value = getattr(args, key, None)
+        if value is not None and abs(value) > KILO:
+            notes.append(
+                f"{option} is {value / 1e3:g} {unit}, on the reduced-scale laboratory string "
+                f"(its {typical}); for a real string give --tally TALLY.toml or --preset "
+                "real-string"
+            )
+    _say(notes + run_notes(args))
+
+
+def run_notes(args: argparse.Namespace) -> list[str]:
+    """The notes on a simulated time: more than a day of drilling (--t-end 1e9 ran for minutes
+    to end at the step limit; the stick-slip it looks for repeats within seconds)."""
+    t_end = getattr(args, "t_end", None)
+    if t_end is None or t_end <= LONG_RUN:
+        return []
+    return [
+        f"--t-end is {t_end:g} s ({t_end / LONG_RUN:.3g} days) of drilling: a run that long "
+        "takes minutes and may end at its step limit; stick-slip repeats within seconds"
+    ]
+
+
+def depth_note(depth: float, text: str) -> None:
+    """A depth beyond the longest well ever drilled (--depth 30000m built a 3334-inertia string
+    and said nothing): most likely mistyped. Said on stderr; the command goes on."""
+    if depth > LONGEST_WELL:
+        bare = f"; a bare number is m: for feet write {text.strip()}ft" if _bare(text) else ""
+        _say(
+            [
+                f"--depth {depth / 1e3:g} km is longer than any well ever drilled (the longest "
+                f"reach some {LONGEST_WELL / 1e3:g} km, the deepest, the Kola borehole, 12.3 km)"
+                + bare
+            ]
         )
+
+
+def _bare(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _say(notes: list[str]) -> None:
+    for note in notes:
+        print(f"pydrill: note: {note}", file=sys.stderr)
 
 
 def string_json(args: argparse.Namespace) -> dict[str, Any]:

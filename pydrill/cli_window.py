@@ -5,51 +5,8 @@ from __future__ import annotations
 
 import argparse
 
-from .cli_options import _integer, _positive, figure_path, print_json
-
-# No drill bit takes 2000 kN (200 t): a bare number that large was meant in newtons.
-LARGEST_BARE_KN = 2000.0
-
-
-def _bare_kn(value: float, option: str) -> float:
-    """A bare number of a weight-on-bit option, in kN, as newtons."""
-    if value > LARGEST_BARE_KN:
-        raise ValueError(
-            f"{option} {value:g}: bare numbers are kN here, and {value:g} kN is no weight on bit; "
-            f"write {value:g}N for newtons"
-        )
-    return value * 1e3
-
-
-def _kilonewtons(option: str):
-    """A weight on bit for a real string: a bare number is kN (as the chart and table show
-    it), or any force with its unit (60klbf, 60000N)."""
-
-    def parse(text: str) -> float:
-        from . import units
-
-        try:
-            number = float(text)
-        except ValueError:
-            number = None
-        if number is not None:
-            try:
-                value = _bare_kn(number, option)
-            except ValueError as exc:
-                raise argparse.ArgumentTypeError(str(exc)) from None
-        else:
-            try:
-                value = units.parse(text, "force")
-            except ValueError as exc:
-                raise argparse.ArgumentTypeError(
-                    f"{option} must be a force (60 = 60 kN, or 60klbf), got {text!r} ({exc})"
-                ) from None
-        if not value > 0 or value == float("inf"):
-            raise argparse.ArgumentTypeError(f"{option} must be a finite force > 0, got {text}")
-        return value
-
-    return parse
-
+from .cli_options import _duration, _integer, figure_path, print_json
+from .cli_window_inputs import _kilonewtons, _rpm, _rpms, _values, _window_notes
 
 WINDOW_EPILOG = """\
 examples:
@@ -78,10 +35,16 @@ def register_tally(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     string.add_argument("tally", metavar="TALLY.toml")
-    string.add_argument("--dof", type=int, help="reduce to this many inertias (>= 2)")
-    string.add_argument("--lump", type=int, default=1, help="drill-pipe joints per element")
     string.add_argument(
-        "--depth", help="lengthen the drill pipe to reach this depth (e.g. 3000m, 9800ft)"
+        "--dof", type=int, help="reduce to this many inertias (2 ... one per element)"
+    )
+    string.add_argument(
+        "--lump", type=int, default=1, help="drill-pipe joints per element, >= 1 (default 1)"
+    )
+    string.add_argument(
+        "--depth",
+        help="lengthen the drill pipe to reach this depth, > 0 (e.g. 3000m, 9800ft; a bare "
+        "number is m)",
     )
     string.add_argument("--json", action="store_true", help="print one JSON object")
     string.set_defaults(handler=_cmd_string)
@@ -97,31 +60,35 @@ def register_tally(sub) -> None:
     )
     win.add_argument("tally", metavar="TALLY.toml")
     win.add_argument(
-        "--depth", required=True, help="3000m; 500m,1000m,3000m; or a range 500m:5000m:10"
+        "--depth",
+        required=True,
+        help="3000m; 500m,1000m,3000m; or a range 500m:5000m:10 (2 ... 500 depths); each > 0, "
+        "a bare number is m",
     )
-    win.add_argument("--lump", type=int, default=1, help="drill-pipe joints per element")
+    win.add_argument(
+        "--lump", type=int, default=1, help="drill-pipe joints per element, >= 1 (default 1)"
+    )
     win.add_argument(
         "--wob-max",
         type=_kilonewtons("--wob-max"),
         default=3e5,
-        help="largest weight on bit on the chart (kN: default 300; or 60klbf)",
+        help="largest weight on bit on the chart (kN, > 0: default 300; or 60klbf)",
     )
     win.add_argument(
         "--rpm-max",
-        type=_positive("--rpm-max"),
+        type=_rpm("--rpm-max"),
         default=200.0,
-        help="largest surface speed on the chart (rpm, default 200)",
+        help="largest surface speed on the chart (rpm: default 200; or 20rad/s)",
     )
     win.add_argument(
         "--at-rpm",
         default="15,20,25,30,40,60,90,120,150",
-        help="surface speeds (rpm) at which to report the heaviest safe W_ob",
+        help="surface speeds at which to report the heaviest safe W_ob (rpm, > 0; or 2rad/s)",
     )
     win.add_argument(
         "--at-wob",
         default="10kN,20kN,30kN,50kN,100kN",
-        help="weights on bit at which to report the slowest safe rpm (bare numbers are kN; "
-        "or 5klbf)",
+        help="weights on bit at which to report the slowest safe rpm (kN, each > 0; or 5klbf)",
     )
     win.add_argument(
         "--check",
@@ -132,7 +99,9 @@ def register_tally(sub) -> None:
         "(K <= 20; default 0: none)",
     )
     win.add_argument(
-        "--check-dof", type=int, help="reduce the checking model to this many inertias"
+        "--check-dof",
+        type=int,
+        help="reduce the checking model to this many inertias (2 ... one per element)",
     )
     win.add_argument(
         "--check-from",
@@ -143,9 +112,10 @@ def register_tally(sub) -> None:
     )
     win.add_argument(
         "--t-end",
-        type=_positive("--t-end"),
+        type=_duration("--t-end"),
         dest="t_end_given",
-        help="simulated s per check (default 120)",
+        metavar="T_END",
+        help="simulated time of each check (s, default 120; at most 1e10)",
     )
     win.add_argument("--json", action="store_true", help="print one JSON object")
     win.add_argument(
@@ -206,47 +176,6 @@ def _cmd_string(args: argparse.Namespace) -> int:
     return 0
 
 
-def _values(text: str, kind: str, option: str) -> list[float]:
-    from . import units
-
-    out = []
-    for v in (v.strip() for v in text.split(",")):
-        if not v:
-            continue
-        try:  # a bare number is kN, as on the chart (forces are the only kind asked here)
-            number = float(v)
-        except ValueError:
-            try:
-                out.append(units.parse(v, kind))
-            except ValueError as exc:  # which option: there are two lists of values
-                raise ValueError(f"{option}: {exc}") from None
-            continue
-        out.append(_bare_kn(number, option))
-    if not out or any(not v > 0 for v in out):
-        raise ValueError(f"{option}: give a comma-separated list of values > 0, got {text!r}")
-    return out
-
-
-def _rpms(text: str) -> list[float]:
-    """Surface speeds in rpm: bare numbers are rpm, or any speed with its unit."""
-    from . import units
-
-    out = []
-    for v in (v.strip() for v in text.split(",")):
-        if not v:
-            continue
-        try:
-            out.append(float(v))
-        except ValueError:
-            try:
-                out.append(units.parse(v, "velocity") * 60 / (2 * 3.141592653589793))
-            except ValueError as exc:
-                raise ValueError(f"--at-rpm: {exc}") from None
-    if not out or any(not r > 0 for r in out):
-        raise ValueError(f"--at-rpm: give a comma-separated list of speeds > 0, got {text!r}")
-    return out
-
-
 def _cmd_window(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -275,6 +204,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
         if str(exc).startswith(("--", "lump ")):  # the option, or the lump that fits, named
             raise
         raise for_option(exc, "--depth", "depth") from None
+    _window_notes(args, depths, at_rpm, at_wob)
     grid = _grid_windows(tally, depths, args)
     checks = {}
     if args.check:

@@ -323,7 +323,13 @@ def test_sweeping_again_into_a_complete_atlas_says_it_is_complete(tmp_path):
 @pytest.mark.parametrize(
     "command, words",
     [
-        (["simulate"], ["relative tolerance (default 1e-8)", "absolute tolerance (default 1e-8)"]),
+        (
+            ["simulate"],
+            [
+                "relative tolerance (default 1e-8;",
+                "absolute tolerance (rad and rad/s; default 1e-8;",
+            ],
+        ),
         (["simulate"], ["number of output times (default 3001; 2 ... 1e8)", "at most 1e12"]),
         (["bifurcation"], ["where W_ob reaches 0; with --vary torque, 40)"]),
         (["map"], ["(K <= 40; default 0"]),
