@@ -7,54 +7,93 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bit_jacobian.hpp"
+
 namespace pydrill::detail {
 
-bool factor_band(std::vector<double>& a, int n, double gamma) {
-  // M = I − γJ, formed in place.
-  for (int r = 0; r < n; ++r) {
-    double* row = &a[5 * static_cast<std::size_t>(r)];
-    for (int d = 0; d < 5; ++d) row[d] *= -gamma;
-    row[2] += 1.0;
-  }
-  // Gaussian elimination without pivoting: for this mechanical chain M is
-  // I plus γ times a matrix whose symmetric part (in energy coordinates) is
-  // dissipative, which keeps pivots away from zero; a tiny pivot is reported
-  // as a recoverable failure so CVODES retries with a smaller step. The
-  // diagonal keeps 1/pivot: the solves, run several times per factorisation,
-  // then multiply where they would divide (a division's latency sat on the
-  // back substitution's critical path, a third of a long string's run time).
-  for (int k = 0; k < n; ++k) {
-    const double piv = a[5 * k + 2];
-    double scale = 0.0;
-    for (int d = 0; d < 5; ++d) scale = std::max(scale, std::fabs(a[5 * k + d]));
-    if (!(std::fabs(piv) > 1e-14 * scale) || !std::isfinite(piv)) return false;
-    const double inv = 1.0 / piv;
-    const int last = std::min(k + 2, n - 1);
-    for (int r = k + 1; r <= last; ++r) {
-      double& lrk = a[5 * r + (k - r + 2)];
-      if (lrk == 0.0) continue;
-      lrk *= inv;
-      for (int c = k + 1; c <= last; ++c) a[5 * r + (c - r + 2)] -= lrk * a[5 * k + (c - k + 2)];
-    }
-    a[5 * k + 2] = inv;
+namespace {
+
+// A pivot smaller than this fraction of its row's largest entry is not trusted: the step is
+// retried with a smaller γ (CVODES does that on a recoverable failure).
+bool trusted(double pivot, double scale) { return std::isfinite(pivot) && std::fabs(pivot) > 1e-14 * scale; }
+
+}  // namespace
+
+bool ChainNewtonMatrix::factor(const Chain& chain, double gamma) {
+  // Velocity row i of M x = b, with θ_{i−1} and θ_i eliminated by their rows
+  // θ_j = b_θj + γ(ω_j − ω_{j+1}):
+  //   a_i ω_{i−1} + d_i ω_i + u_i ω_{i+1} = b_ωi + γJ(2i, 2i−1) b_θ(i−1) + γJ(2i, 2i+1) b_θi
+  // with, above the bit (J from Chain::jacobian_band),
+  //   a_i = −γ(c_{i−1} + γk_{i−1})/I_i,  u_i = −γ(c_i + γk_i)/I_i,
+  //   d_i = 1 + γ(c_r[i = 0] + c_{i−1} + c_i)/I_i + γ²(k_{i−1} + k_i)/I_i = 1 − a_i − u_i (+ γc_r/I_0).
+  const Params& p = chain.params();
+  const int N = chain.dof();
+  rows_.resize(static_cast<std::size_t>(N));
+  gamma_ = gamma;
+  const double* k = p.stiffnesses.data();
+  const double* c = p.dampings.data();
+  double inv_prev = 0.0, upper_prev = 0.0;
+  for (int i = 0; i < N - 1; ++i) {
+    Row& row = rows_[static_cast<std::size_t>(i)];
+    const double inv_inertia = 1.0 / p.inertias[static_cast<std::size_t>(i)];
+    const double a = i > 0 ? -gamma * (c[i - 1] + gamma * k[i - 1]) * inv_inertia : 0.0;
+    const double u = -gamma * (c[i] + gamma * k[i]) * inv_inertia;
+    const double d = 1.0 - a - u + (i == 0 ? gamma * p.top_damping * inv_inertia : 0.0);
+    row.from_twist_above = i > 0 ? gamma * k[i - 1] * inv_inertia : 0.0;
+    row.from_twist_below = -gamma * k[i] * inv_inertia;
+    row.upper = u;
+    row.mult = a * inv_prev;
+    const double pivot = d - row.mult * upper_prev;
+    if (!trusted(pivot, std::max({std::fabs(a), std::fabs(d), std::fabs(u)}))) return false;
+    row.inv_pivot = 1.0 / pivot;
+    inv_prev = row.inv_pivot;
+    upper_prev = u;
   }
   return true;
 }
 
-void solve_band(const std::vector<double>& lu, int n, const double* b, double* x) {
-  const double* a = lu.data();
-  if (x != b) std::copy(b, b + n, x);
-  // Row r holds (l_{r,r-2}, l_{r,r-1}, 1/u_rr, u_{r,r+1}, u_{r,r+2}).
-  if (n > 1) x[1] -= a[5 + 1] * x[0];
-  for (int r = 2; r < n; ++r) {  // forward: L z = b (unit diagonal)
-    const double* row = a + 5 * r;
-    x[r] -= row[0] * x[r - 2] + row[1] * x[r - 1];
+bool ChainNewtonMatrix::set_bit_row(const Chain& chain, const double* y, Mode mode) {
+  // The bit's row (R0, R1, R2) = J(b, b−2 … b), θ_{N−2} eliminated as above.
+  double R[3];
+  bit_jacobian_row(chain, y, mode, R);
+  const double g = gamma_;
+  const double a = -g * R[0] - g * g * R[1];
+  const double d = 1.0 - g * R[2] + g * g * R[1];
+  const std::size_t last = rows_.size() - 1;
+  const Row& above = rows_[last - 1];
+  Row& row = rows_[last];
+  row.from_twist_above = g * R[1];
+  row.from_twist_below = 0.0;
+  row.upper = 0.0;
+  row.mult = a * above.inv_pivot;
+  const double pivot = d - row.mult * above.upper;
+  if (!trusted(pivot, std::max(std::fabs(a), std::fabs(d)))) return false;
+  row.inv_pivot = 1.0 / pivot;
+  return true;
+}
+
+void ChainNewtonMatrix::solve(const double* b, double* x) const {
+  const int N = static_cast<int>(rows_.size());
+  const Row* R = rows_.data();
+  // Forward: z_i = rhs_i − mult_i z_{i−1}, kept in x's velocity slots (each b_ω is read
+  // before its slot is written; the twist slots still hold b_θ).
+  double z = b[0] + R[0].from_twist_below * b[1];
+  x[0] = z;
+  for (int i = 1; i < N - 1; ++i) {
+    const int r = 2 * i;
+    z = b[r] + R[i].from_twist_above * b[r - 1] + R[i].from_twist_below * b[r + 1] - R[i].mult * z;
+    x[r] = z;
   }
-  x[n - 1] *= a[5 * (n - 1) + 2];
-  if (n > 1) x[n - 2] = (x[n - 2] - a[5 * (n - 2) + 3] * x[n - 1]) * a[5 * (n - 2) + 2];
-  for (int r = n - 3; r >= 0; --r) {  // backward: U x = z
-    const double* row = a + 5 * r;
-    x[r] = (x[r] - row[3] * x[r + 1] - row[4] * x[r + 2]) * row[2];
+  const int bit = 2 * N - 2;
+  x[bit] = b[bit] + R[N - 1].from_twist_above * b[bit - 1] - R[N - 1].mult * z;
+  // Backward: ω_i = (z_i − u_i ω_{i+1}) / pivot_i, then θ_i = b_θi + γ(ω_i − ω_{i+1}).
+  double w_next = x[bit] * R[N - 1].inv_pivot;
+  x[bit] = w_next;
+  for (int i = N - 2; i >= 0; --i) {
+    const double w = (x[2 * i] - R[i].upper * w_next) * R[i].inv_pivot;
+    x[2 * i + 1] = b[2 * i + 1] + gamma_ * (w - w_next);
+    x[2 * i] = w;
+    w_next = w;
   }
 }
 
@@ -74,26 +113,15 @@ int solver_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, sunrealty
     return kLinSolFailUnrecoverable;
   }
   const Chain& chain = *d->chain;
-  const int n = chain.size();
-  const double* yp = N_VGetArrayPointer(ypred);
-  const double slope = chain.friction().slip_slope(yp[chain.bit_index()]);
-  const bool fresh = d->valid && d->gamma == gamma && d->factored_mode == *d->mode &&
-                     std::fabs(slope - d->slope) <= 1e-3 * std::fabs(d->slope) + 1e-300;
-  if (!fresh) {
-    d->lu.resize(5 * static_cast<std::size_t>(n));
-    chain.jacobian_band(yp, *d->mode, d->lu.data());
+  if (!d->valid || d->matrix.gamma() != gamma) {
     ++d->factorizations;
-    if (!factor_band(d->lu, n, gamma)) {
-      d->valid = false;
-      return kLinSolFailRecoverable;
-    }
-    d->valid = true;
-    d->gamma = gamma;
-    d->slope = slope;
-    d->factored_mode = *d->mode;
+    d->valid = d->matrix.factor(chain, gamma);
+    if (!d->valid) return kLinSolFailRecoverable;
   }
+  // The bit's row at the predicted state, in the current mode: exact, at O(1).
+  if (!d->matrix.set_bit_row(chain, N_VGetArrayPointer(ypred), *d->mode)) return kLinSolFailRecoverable;
   ++d->solves;
-  solve_band(d->lu, n, N_VGetArrayPointer(b), N_VGetArrayPointer(x));
+  d->matrix.solve(N_VGetArrayPointer(b), N_VGetArrayPointer(x));
   return kLinSolSuccess;
 }
 

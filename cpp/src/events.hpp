@@ -22,6 +22,7 @@ struct RunData {
   Mode mode = Mode::Stick;
   bool karnopp = false;
   double ts = 0.0, dv = 0.0;
+  double rtol = 0.0, atol = 0.0;  // the run's tolerances (CVODES's error weights, in one pass)
 };
 
 // Right-hand side with the quadrature integrands riding along as four extra

@@ -3,7 +3,33 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bit_jacobian.hpp"
+
 namespace pydrill {
+
+namespace detail {
+
+void bit_jacobian_row(const Chain& chain, const double* y, Mode mode, double* row) {
+  // Row b of J: ∂(dω_b/dt)/∂(ω_{N−2}, θ_{N−2}, ω_b). The spring above the bit and c_b act in
+  // every mode but stick; the slip friction adds its slope.
+  const Params& p = chain.params();
+  const int N = chain.dof(), b = chain.bit_index();
+  const double inv = 1.0 / p.inertias[static_cast<std::size_t>(N - 1)];
+  const double k = p.stiffnesses.back(), c = p.dampings.back();
+  bool held = false;  // the rock holds the bit: friction cancels T_e, the row is zero
+  double slope = 0.0;
+  switch (mode) {
+    case Mode::SlipPositive: slope = chain.friction().slip_torque_slope(y[b], 1); break;
+    case Mode::SlipNegative: slope = chain.friction().slip_torque_slope(y[b], -1); break;
+    case Mode::Stick: held = true; break;
+    case Mode::Band: held = std::fabs(chain.reaction_torque(y)) <= chain.static_torque(); break;
+  }
+  row[0] = held ? 0.0 : c * inv;
+  row[1] = held ? 0.0 : k * inv;
+  row[2] = held ? 0.0 : -(c + p.bit_damping + slope) * inv;
+}
+
+}  // namespace detail
 
 const char* mode_name(Mode m) noexcept {
   switch (m) {
@@ -123,24 +149,7 @@ void Chain::jacobian_band(const double* y, Mode mode, double* band) const {
     at(r, r) = diag * inv;
   }
   const int b = bit_index();
-  double& bdiag = at(b, b);
-  bdiag -= params_.bit_damping * inv_inertia_[N - 1];
-  switch (mode) {
-    case Mode::SlipPositive:
-    case Mode::SlipNegative: {
-      const int dir = (mode == Mode::SlipPositive) ? 1 : -1;
-      bdiag -= friction_.slip_torque_slope(y[b], dir) * inv_inertia_[N - 1];
-      break;
-    }
-    case Mode::Stick:
-      at(b, b - 2) = at(b, b - 1) = at(b, b) = 0.0;
-      break;
-    case Mode::Band:
-      if (std::fabs(reaction_torque(y)) <= friction_.static_torque()) {
-        at(b, b - 2) = at(b, b - 1) = at(b, b) = 0.0;  // friction cancels T_e exactly
-      }
-      break;
-  }
+  detail::bit_jacobian_row(*this, y, mode, &band[5 * b]);
 }
 
 double Chain::viscous_power(const double* y, Mode) const {

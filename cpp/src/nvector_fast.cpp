@@ -55,7 +55,20 @@
 #define PYDRILL_IVDEP
 #endif
 
+// Compiled twice where the compiler can target AVX2: plain here (x86-64 baseline SSE2), and
+// by nvector_fast_avx2.cpp with -mavx2 (4 doubles a vector instead of 2; no FMA, so every
+// operation rounds exactly as in the plain build), which defines PYDRILL_NVEC_VARIANT and
+// takes only the kernels and their ops table. make_fast_vector attaches the AVX2 table when
+// the CPU has AVX2, and clones keep their original's table. As for DOP853's kernels (see
+// dop853_kernels.hpp), everything below has internal linkage and calls nothing inline from a
+// library header, so no AVX2 code can reach the plain build through the linker.
+#ifndef PYDRILL_NVEC_VARIANT
+#define PYDRILL_NVEC_VARIANT generic
+#define PYDRILL_NVEC_MAIN 1
+#endif
+
 namespace pydrill::detail {
+namespace PYDRILL_NVEC_VARIANT {
 namespace {
 
 using real = sunrealtype;
@@ -856,11 +869,46 @@ void attach_ops(N_Vector_Ops ops) noexcept {
 
 }  // namespace
 
+// This variant's operations, and whether a vector has them (their ID function tells).
+void attach(N_Vector_Ops ops) noexcept { attach_ops(ops); }
+bool owns(N_Vector v) noexcept { return v->ops->nvgetvectorid == op_getvectorid; }
+
+}  // namespace PYDRILL_NVEC_VARIANT
+
+#ifdef PYDRILL_NVEC_MAIN
+#ifdef PYDRILL_NVEC_AVX2
+namespace avx2 {
+void attach(N_Vector_Ops ops) noexcept;
+bool owns(N_Vector v) noexcept;
+}  // namespace avx2
+#endif
+
+namespace {
+using namespace generic;
+
+bool has_avx2() {
+#ifdef PYDRILL_NVEC_AVX2
+  static const bool yes = __builtin_cpu_supports("avx2");
+  return yes;
+#else
+  return false;
+#endif
+}
+}  // namespace
+
 N_Vector make_fast_vector(sunindextype length, SUNContext ctx) {
   if (length < 0) return nullptr;
   N_Vector v = N_VNewEmpty(ctx);
   if (v == nullptr) return nullptr;
+#ifdef PYDRILL_NVEC_AVX2
+  if (has_avx2()) {
+    avx2::attach(v->ops);
+  } else {
+    attach_ops(v->ops);
+  }
+#else
   attach_ops(v->ops);
+#endif
   auto* c = new (std::nothrow) Content;
   if (c == nullptr) {
     N_VFreeEmpty(v);
@@ -885,8 +933,14 @@ sunrealtype* fast_vector_data(N_Vector v) { return dat(v); }
 bool fast_vector_exact_reductions() { return kLanes == 1; }
 
 bool is_fast_vector(N_Vector v) {
-  return v != nullptr && v->ops != nullptr && v->ops->nvgetvectorid == op_getvectorid &&
-         v->content != nullptr;
+  if (v == nullptr || v->ops == nullptr || v->content == nullptr) return false;
+#ifdef PYDRILL_NVEC_AVX2
+  if (avx2::owns(v)) return true;
+#endif
+  return generic::owns(v);
 }
+
+bool fast_vector_uses_avx2() { return has_avx2(); }
+#endif  // PYDRILL_NVEC_MAIN
 
 }  // namespace pydrill::detail

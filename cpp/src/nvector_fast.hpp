@@ -41,4 +41,8 @@ bool is_fast_vector(N_Vector v);
 // as far as FMA contraction goes). Reports which variant was compiled.
 bool fast_vector_exact_reductions();
 
+// True if new vectors use the operations compiled for AVX2 (the CPU has it and the build made
+// them): the same results, twice the width.
+bool fast_vector_uses_avx2();
+
 }  // namespace pydrill::detail

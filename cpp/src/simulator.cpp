@@ -209,6 +209,8 @@ class Run {
     data_.karnopp = opt.friction == FrictionLaw::Karnopp;
     data_.ts = chain.static_torque();
     data_.dv = chain.params().karnopp_band;
+    data_.rtol = opt.rtol;
+    data_.atol = opt.atol;
     data_.mode = chain.initial_mode(y0.data(), data_.karnopp);
     if (method == Method::DOP853) {
       integrator_ = detail::make_dop853(data_, y0, opt);

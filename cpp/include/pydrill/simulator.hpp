@@ -101,10 +101,12 @@ struct SolverStats {
   double stiffness_ratio = 0;  // stiffness_ratio(params), the estimate "auto" decides from
   long steps = 0;              // internal steps taken (what max_steps bounds)
   long rhs_evals = 0;          // right-hand side evaluations
-  long jac_evals = 0;          // BDF: banded Jacobians formed and factored (I − γJ)
+  long jac_evals = 0;          // BDF: Newton matrices I − γJ formed and factored, one per new γ
+                               // (the bit's row, which the state and mode change, is refreshed
+                               // at every solve without a new factorisation)
   long lin_setups = 0;         // BDF: CVODES's linear-solver setups; 0, as the chain solver
-                               // factors inside its solves when γ, the mode or the slope moved
-  long lin_solves = 0;         // BDF: banded solves
+                               // factors inside its solves when γ moved
+  long lin_solves = 0;         // BDF: linear solves with the chain solver
   long nonlin_iters = 0, nonlin_conv_fails = 0;  // BDF's Newton or Adams's fixed-point iterations
                                                  // and their convergence failures
   long err_test_fails = 0;     // steps rejected by the error test
