@@ -3,6 +3,15 @@
 from __future__ import annotations
 
 
+def _numbers(values) -> list[float | None]:
+    """``values`` for JSON: an edge beyond every number (the stick-slip edge at a speed so fast
+    that no weight makes it unstable, inf) is null: --at-rpm 10000 --json failed after the work
+    with "Out of range float values are not JSON compliant: inf"."""
+    import math
+
+    return [float(v) if math.isfinite(v) else None for v in values]
+
+
 def window_json(tally, dw, grid, checks, args) -> dict:
     import numpy as np
 
@@ -28,10 +37,10 @@ def window_json(tally, dw, grid, checks, args) -> dict:
                 "delta_limit": float(dw.delta_limit[i]),
                 "safe_fraction": float(windows[i].safe.mean()),
                 "min_rpm": [None if np.isnan(v) else float(v) for v in windows[i].min_rpm()],
-                "wob_max": dw.wob_max[i].tolist(),
-                "wob_max_stable": dw.wob_max_stable[i].tolist(),
-                "rpm_min": dw.rpm_min[i].tolist(),
-                "rpm_min_stable": dw.rpm_min_stable[i].tolist(),
+                "wob_max": _numbers(dw.wob_max[i]),
+                "wob_max_stable": _numbers(dw.wob_max_stable[i]),
+                "rpm_min": _numbers(dw.rpm_min[i]),
+                "rpm_min_stable": _numbers(dw.rpm_min_stable[i]),
                 "checks": [
                     {
                         "wob": w,
@@ -46,8 +55,8 @@ def window_json(tally, dw, grid, checks, args) -> dict:
             }
             for i, d in enumerate(dw.depth)
         ],
-        "wob_max_unstuck": dw.wob_max_unstuck.tolist(),
-        "rpm_min_unstuck": dw.rpm_min_unstuck.tolist(),
+        "wob_max_unstuck": _numbers(dw.wob_max_unstuck),
+        "rpm_min_unstuck": _numbers(dw.rpm_min_unstuck),
     }
     units = {
         "depths": "m",

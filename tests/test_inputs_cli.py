@@ -270,3 +270,17 @@ def test_help_states_units_and_ranges(capsys, command, words):
     text = " ".join(out.split())
     for word in words:
         assert word in text, (command, word)
+
+
+def test_a_window_s_json_stays_strict_at_a_speed_no_weight_destabilises(capsys, tmp_path):
+    # failed after the work (and after saving the figure) with "Out of range float values are
+    # not JSON compliant: inf": the stick-slip edge at 10000 rpm is beyond every number
+    png = tmp_path / "w.png"
+    args = ["window", PAPER, "--depth", "3000m", "--at-rpm", "60,10000", "--plot", png, "--json"]
+    code, out, err = call(capsys, *args)
+    assert code == 0 and len(err) == 1 and "faster than any top drive" in err[0], err
+    data = json.loads(out)  # strict: no Infinity
+    window = data["windows"][0]
+    assert window["wob_max_stable"][0] > 0 and window["wob_max_stable"][1] is None
+    assert window["wob_max"][1] == data["wob_max_unstuck"][1] > 0  # the stall edge binds
+    assert data["plot"] == str(png) and png.exists()
