@@ -124,10 +124,19 @@ class Tally:
             )
         except OverflowError:  # an int beyond any float
             value = math.inf
-        if value is None or not 0 < value <= MAX_DEPTH:
-            shown = _show(depth) if value is None else repr(value)
+        if value is None:  # said "depth = '3000m' m is not allowed": a number, in m
+            unit = (
+                f"; for a depth with its unit, pydrill.units.parse({_show(depth)}, 'length')"
+                if isinstance(depth, str)
+                else ""
+            )
             raise TallyError(
-                f"depth = {shown} m is not allowed: a finite depth > 0, at most {MAX_DEPTH:g} m"
+                f"depth = {_show(depth)} is not allowed: a number of metres, > 0, at most "
+                f"{MAX_DEPTH:g}{unit}"
+            )
+        if not 0 < value <= MAX_DEPTH:
+            raise TallyError(
+                f"depth = {value!r} m is not allowed: a finite depth > 0, at most {MAX_DEPTH:g} m"
                 + _DEEPEST
             )
         depth = value

@@ -77,3 +77,13 @@ def test_the_stick_slip_edge_at_any_finite_speed_warns_nothing():
     assert edge[0] < edge[1] == edge[2] == float("inf")
     assert lim.wob_max([1e300])[0] == lim.wob_max_unstuck([1e300])[0]
     assert window.safe.shape == (2, 2)
+
+
+@pytest.mark.parametrize("depth", ["3000m", "3000", b"3000", [3000.0]])
+def test_a_depth_that_is_no_number_is_refused_without_a_unit_after_it(depth):
+    # "depth = '3000m' m is not allowed": the unit after a value that has one
+    paper = tally.load_tally(ROOT / "examples" / "tallies" / "paper-eq53.toml")
+    message = refused("depth = ", paper.at_depth, depth)
+    assert f"{depth!r} m " not in message and "a number of metres" in message, message
+    if isinstance(depth, str):
+        assert f"pydrill.units.parse({depth!r}, 'length')" in message, message
