@@ -259,12 +259,16 @@ def _same_path(given: str, path: str) -> bool:
 
 
 def _list(name: str):
+    """An argparse type: comma-separated numbers, none of them empty (``1,,2`` made a string of
+    two inertias, ``,`` said "dof = 0 is not allowed" of no option)."""
+
     def parse(text: str) -> list[float]:
         try:
-            return [float(v) for v in text.split(",") if v.strip()]
+            return [float(v) for v in text.split(",")]
         except ValueError:
+            empty = " (an entry is empty)" if any(not v.strip() for v in text.split(",")) else ""
             raise argparse.ArgumentTypeError(
-                f"{name} must be comma-separated numbers, got {text!r}"
+                f"{name} must be comma-separated numbers, got {text!r}{empty}"
             ) from None
 
     return parse

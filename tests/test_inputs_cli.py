@@ -284,3 +284,11 @@ def test_a_window_s_json_stays_strict_at_a_speed_no_weight_destabilises(capsys, 
     assert window["wob_max_stable"][0] > 0 and window["wob_max_stable"][1] is None
     assert window["wob_max"][1] == data["wob_max_unstuck"][1] > 0  # the stall edge binds
     assert data["plot"] == str(png) and png.exists()
+
+
+@pytest.mark.parametrize("text", ["1,,2", ",", "0.5,0.03,0.03,"])
+def test_a_list_with_an_empty_entry_is_refused_naming_it(capsys, text):
+    # "1,,2" dropped the gap and ran a string of two inertias; "," said "dof = 0 is not
+    # allowed" of no option
+    line = refused(capsys, "simulate", "--wob", "100", "--torque", "8.3", "--inertias", text)
+    assert "--inertias must be comma-separated numbers" in line and "an entry is empty" in line
