@@ -103,9 +103,22 @@ class SweepSpec:
             out["model.lump"] = spec.lump
             return out
 
-        def show(v: Any) -> str:
+        def show(key: str, v: Any) -> str:
+            from .atlas_grid import grid_unit, with_unit
+
             if v is _NONE:
                 return "not set"
+            section, _, name = key.partition(".")
+            # An axis's values, and a fixed W_ob, torque or depth, with their unit (as atlas
+            # info gives them): "21 values 20000 ... 120000" read as nothing in particular.
+            if section == "axes" and isinstance(v, list):
+                unit = grid_unit(name, v)
+                shown = [with_unit(name, x, unit) for x in v]
+                if len(v) > 4:
+                    return f"{len(v)} values {shown[0]} ... {shown[-1]}"
+                return f"[{', '.join(shown)}]"
+            if section == "model" and name in ("wob", "torque", "depth"):
+                return with_unit(name, v)
             if isinstance(v, list) and len(v) > 4:
                 return f"{len(v)} values {v[0]:g} ... {v[-1]:g}"
             return str(v)
@@ -115,7 +128,11 @@ class SweepSpec:
         for key in [*a, *(k for k in b if k not in a)]:
             x, y = a.get(key, _NONE), b.get(key, _NONE)
             if x != y:
-                what = "differs" if key == "model.tally" else f"{show(x)} here, {show(y)} there"
+                what = (
+                    "differs"
+                    if key == "model.tally"
+                    else f"{show(key, x)} here, {show(key, y)} there"
+                )
                 changed.append(f"{key}: {what}")
         return changed
 

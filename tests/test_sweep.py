@@ -124,7 +124,7 @@ def test_other_spec_is_never_overwritten(tmp_path):
         run_sweep(parse_spec(SMALL.replace("t_end = 200.0", "t_end = 100.0")), out, serial=True)
     other = SMALL.replace("[6.0, 8.3]", "[6.0, 8.3, 9.0]").replace('"equilibrium"]', "]")
     said = (
-        r"axes.torque: \[6.0, 8.3, 9.0\] in this spec, \[6.0, 8.3\] in the atlas; "
+        r"axes.torque: \[6 N·m, 8.3 N·m, 9 N·m\] in this spec, \[6 N·m, 8.3 N·m\] in the atlas; "
         r"simulation.initial: \['rest'\] in this spec"
     )
     with pytest.raises(AtlasError, match=said):
