@@ -269,7 +269,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         print_json(json_document(inputs(args, report), results, UNITS, args.plot))
     else:
         print(
-            f"{report.atlas}: {report.points} points, {report.computed} computed now "
+            f"{report.atlas}: {report.points} point{'' if report.points == 1 else 's'}, "
+            f"{report.computed} computed now "
             f"({report.failed} failed), {report.resumed} already done; "
             f"{report.wall_time:.1f} s, of which {report.write_time:.2f} s writing"
         )

@@ -91,7 +91,8 @@ def dry_run(args: argparse.Namespace, spec) -> int:
         print_json(json_document(inputs, results, units))  # no figure: nothing is drawn
         return 0
     grid = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
-    print(f"{args.spec}: {plan.points} points ({grid}), from " + " and ".join(spec.initials))
+    points = f"{plan.points} point" + ("" if plan.points == 1 else "s")
+    print(f"{args.spec}: {points} ({grid}), from " + " and ".join(spec.initials))
     # The string and what the spec holds for the whole sweep (a fixed torque, a depth): the
     # grid's lines alone left a sweep at 9 kN·m looking like one at no torque.
     print(model_line(model(spec)))

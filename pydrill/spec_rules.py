@@ -5,6 +5,7 @@ and the checks of each table, each axis and the axes together. Every refusal is 
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 from typing import Any
 
@@ -118,6 +119,22 @@ def _range(key: str, value: dict[str, Any]) -> np.ndarray:
             "{ start = 20.0, stop = 200.0, num = 19 }",
         )
     name = key.split(".")[-1]
+    given = value["start"], value["stop"]
+    if name in KINDS and isinstance(given[0], str) != isinstance(given[1], str):
+        # { start = "20 kN", stop = 120 } read as 120 N ... 20 kN, without a word: the bare
+        # end is SI, the other in a unit of its own (kN), and the two were surely meant alike.
+        from .units import SI
+
+        with_unit, bare = ("start", "stop") if isinstance(given[0], str) else ("stop", "start")
+        number = re.match(r"\s*[-+]?[0-9.]+(e[-+]?[0-9]+)?", value[with_unit], re.I)
+        si = in_si(f"{key}.{with_unit}", name, value[with_unit])
+        if number is None or float(number.group()) != si:  # "120 N" beside 20.0 is alike
+            raise _fail(
+                key,
+                f"{with_unit} = {value[with_unit]!r} has a unit and {bare} = {value[bare]!r} "
+                f"has none (read as {value[bare]!r} {SI[KINDS[name]]}): give both ends their "
+                "unit, or neither",
+            )
     start, stop = (in_si(f"{key}.{k}", name, value[k]) for k in ("start", "stop"))
     num = value["num"]
     for k, v in (("start", start), ("stop", stop)):
