@@ -208,6 +208,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from . import SolverError, simulate
+    from .simulate import _check_output_size
 
     overrides: dict[str, Any] = {}
     for key in ("inertias", "stiffnesses", "dampings"):
@@ -215,8 +216,16 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             overrides[key] = getattr(args, key)
     try:  # the string first: a refused one is one line, not a note on the load and then it
         params = string_params(args, overrides)
+        _check_output_size(None, args.n_out, params.dof)  # before the note on its size
     except ValueError as exc:
         raise as_options(exc) from None
+    size = 16.0 * args.n_out * params.dof  # bytes of output: the state at every output time
+    if size > 1e9:  # possible, but a gigabyte of samples is most likely not what was meant
+        print(
+            f"pydrill: note: --n-out {args.n_out} output times of {params.dof} inertias take "
+            f"{size / 1e9:.3g} GB of memory",
+            file=sys.stderr,
+        )
     try:
         result = simulate(
             params,
@@ -315,6 +324,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:  # Ctrl-C: the user knows why; a traceback would only hide it
         sys.stderr.write(f"\npydrill {command}: interrupted\n")
         return 130
+    except MemoryError:  # e.g. a string or an output too large for this machine
+        sys.stderr.write(
+            f"pydrill {command}: error: out of memory: ask for a smaller string or fewer output "
+            "times\n"
+        )
+        return EXIT_USAGE
     except OSError as exc:  # a path that cannot be read or written: name it, and its option
         message = os_error_message(exc, sys.argv[1:] if argv is None else argv)
         sys.stderr.write(f"pydrill {command}: error: {message}\n")

@@ -170,6 +170,7 @@ def simulate(
     if settings["t_out"] is not None:
         opts.t_out = settings["t_out"]
     settings["n_out"] = opts.n_out = _integer("n_out", n_out, 2, 100_000_000)
+    _check_output_size(settings["t_out"], settings["n_out"], params.dof)
     for key, value, unit in (
         ("rtol", rtol, "relative tolerance"),
         ("atol", atol, "absolute tolerance"),
@@ -187,6 +188,35 @@ def simulate(
     settings["max_steps"] = opts.max_steps = _integer("max_steps", max_steps, 1, 2**62)
     core = _core.simulate(params.to_core(), wob, torque, opts)
     return SimulationResult(core, params, settings)
+
+
+def _check_output_size(t_out: Any, n_out: int, dof: int) -> None:
+    """Refuse, before the run, an output larger than this machine's memory: the state (2·dof − 1
+    numbers) and its time at every output time, 8 bytes each. --dof 100000 --n-out 1000000
+    (1.6 TB) ended in a traceback, "MemoryError: std::bad_alloc"."""
+    import os
+
+    times = n_out if t_out is None else len(t_out)
+    size = 8.0 * times * (2 * dof)
+    try:
+        memory = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):  # not known here: nothing to compare with
+        return
+    if size > memory:
+        given = f"n_out = {n_out}" if t_out is None else f"t_out of {times} times"
+        raise ValueError(
+            f"{given} is not allowed with dof = {dof}: its output ({times} times of "
+            f"{2 * dof - 1} state values, 8 bytes each) would take {_bytes(size)}, more than this "
+            f"machine's {_bytes(memory)} of memory; ask for fewer output times"
+        )
+
+
+def _bytes(n: float) -> str:
+    for unit in ("bytes", "kB", "MB", "GB", "TB"):
+        if n < 1000 or unit == "TB":
+            return f"{n:.3g} {unit}"
+        n /= 1000
+    raise AssertionError  # (unreachable)
 
 
 # simulate's own keyword arguments (what an unknown one is checked against)

@@ -87,3 +87,17 @@ def test_a_depth_that_is_no_number_is_refused_without_a_unit_after_it(depth):
     assert f"{depth!r} m " not in message and "a number of metres" in message, message
     if isinstance(depth, str):
         assert f"pydrill.units.parse({depth!r}, 'length')" in message, message
+
+
+def test_an_output_larger_than_the_machine_s_memory_is_refused_before_the_run():
+    # --dof 100000 --n-out 1000000 (1.6 TB) ended in "MemoryError: std::bad_alloc"
+    message = refused(
+        "n_out = 100000000 is not allowed with dof = 100000",
+        pydrill.simulate,
+        dof=100_000,
+        wob=100,
+        torque=8.3,
+        t_end=1e-3,
+        n_out=10**8,
+    )
+    assert "more than this machine's" in message and "TB" in message, message

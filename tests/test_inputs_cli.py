@@ -292,3 +292,31 @@ def test_a_list_with_an_empty_entry_is_refused_naming_it(capsys, text):
     # allowed" of no option
     line = refused(capsys, "simulate", "--wob", "100", "--torque", "8.3", "--inertias", text)
     assert "--inertias must be comma-separated numbers" in line and "an entry is empty" in line
+
+
+def test_an_output_larger_than_memory_is_refused_naming_n_out(capsys):
+    args = ["--dof", "100000", "--n-out", "100000000", "--t-end", "1e-3"]
+    line = refused(capsys, "simulate", "--wob", "100", "--torque", "8.3", *args)
+    assert "--n-out = 100000000 is not allowed with dof = 100000" in line, line
+
+
+def test_a_gigabyte_of_output_earns_a_note_before_the_run(capsys, monkeypatch):
+    import pydrill
+
+    def run(*args, **kwargs):  # the run itself is not what is tested (it takes 1.3 GB)
+        raise MemoryError
+
+    monkeypatch.setattr(pydrill, "simulate", run)
+    args = ["--dof", "40000", "--n-out", "2000", "--t-end", "1e-3"]
+    code, out, err = call(capsys, "simulate", "--wob", "100", "--torque", "8.3", *args)
+    assert code == 2 and not out
+    assert (
+        err[0]
+        == "pydrill: note: --n-out 2000 output times of 40000 inertias take 1.28 GB of memory"
+    )
+    # out of memory anyway: one line, no traceback (was "MemoryError: std::bad_alloc")
+    assert err[1:] == [
+        "pydrill simulate: error: out of memory: ask for a smaller string or fewer output times"
+    ]
+    code, _, err = call(capsys, "simulate", "--wob", "100", "--torque", "8.3", "--dof", "400")
+    assert code == 2 and err == [err[-1]] and "out of memory" in err[-1]  # no note: 19 MB
