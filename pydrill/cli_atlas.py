@@ -307,12 +307,33 @@ def _cmd_info(args: argparse.Namespace) -> int:
     return 0
 
 
+def held_first(atlas: Any, x: Any, y: Any, at: dict[str, float], profile: bool) -> list[str]:
+    """What a figure of ``atlas`` holds at an axis's first value unasked (not drawn, nor held
+    by ``at``), a line each ("torque at its first value, 4 kN·m, of 21 (4 kN·m ... 14 kN·m)"):
+    it shows one slice of several, the first, which for a (depth, W_ob, u) atlas is its least
+    telling (4 kN·m: stuck almost everywhere)."""
+    from .plot_atlas import drawn_axes
+
+    try:
+        drawn = drawn_axes(atlas, x, y, at, profile)[:2]
+    except ValueError:  # the figure says why
+        return []
+    lines = []
+    for name, values in atlas.axes.items():
+        if name in drawn or name in at or len(values) < 2:
+            continue
+        unit = grid_unit(name, values)
+        first, last = (with_unit(name, float(v), unit) for v in (values[0], values[-1]))
+        lines.append(f"{name} at its first value, {first}, of {len(values)} ({first} ... {last})")
+    return lines
+
+
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .atlas import Atlas
     from .atlas_format import EQ_FIELDS
     from .atlas_grid import on_grid
     from .plot import save
-    from .plot_atlas import NO_STABILITY, atlas_figure, drawn_axes, nearest_index
+    from .plot_atlas import NO_STABILITY, atlas_figure, nearest_index
 
     at = axis_values(args.set)
     given = set_texts(args.set)
@@ -334,19 +355,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
                     f"{with_unit(name, grid, grid_unit(name, atlas.axes[name]))}",
                     file=sys.stderr,
                 )
-        try:
-            drawn: tuple[str | None, ...] = drawn_axes(atlas, args.x, args.y, at, args.profile)[:2]
-        except ValueError:  # atlas_figure says why
-            drawn = ()
-        for name, values in atlas.axes.items():
-            if not drawn or name in drawn or name in at or len(values) < 2:
-                continue
-            # Held at its first value unasked: the figure shows one slice of several.
-            unit = grid_unit(name, values)
-            first, last = (with_unit(name, float(v), unit) for v in (values[0], values[-1]))
+        for line in held_first(atlas, args.x, args.y, at, args.profile):
+            name = line.split(" ")[0]
             print(
-                f"pydrill atlas plot: note: {name} is held at its first value, {first}, of "
-                f"{len(values)} ({first} ... {last}); --set {name}=VALUE for another",
+                f"pydrill atlas plot: note: holds {line}; --set {name}=VALUE for another",
                 file=sys.stderr,
             )
         fig = atlas_figure(

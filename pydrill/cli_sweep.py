@@ -259,10 +259,18 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         args.plot = None
     if args.plot:
         from .atlas import Atlas
+        from .cli_atlas import held_first
         from .plot import save
         from .plot_atlas import atlas_figure
 
         with Atlas(args.out) as atlas:
+            for line in held_first(atlas, None, None, {}, False):
+                name = line.split(" ")[0]
+                say(
+                    None,
+                    f"pydrill sweep: note: the map holds {line}; 'pydrill atlas plot "
+                    f"{args.out} --out FILE.png --set {name}=VALUE' draws another",
+                )
             save(atlas_figure(atlas), args.plot)
     if args.json:
         results = results_of(report, on_cluster.cluster, interrupted=False)

@@ -294,12 +294,13 @@ def test_atlas_plot_says_which_axes_it_holds_at_their_first_value_unasked(tmp_pa
     def notes(*args):
         proc = [*CMD, "atlas", "plot", str(out), "--out", str(tmp_path / "f.png"), *args]
         run = subprocess.run(proc, capture_output=True, text=True, check=True)
-        return [line for line in run.stderr.splitlines() if "is held at its first value" in line]
+        return [line for line in run.stderr.splitlines() if " at its first value, " in line]
 
     (note,) = notes()  # a map on the first two axes (mu_static, wob): torque held
-    assert note.startswith("pydrill atlas plot: note: torque is held at its first value, ")
+    assert note.startswith("pydrill atlas plot: note: holds torque at its first value, ")
     assert f"value, {first['torque']:g} N·m, of 2 (" in note and "--set torque=VALUE" in note
     assert notes("--set", "torque=8.3") == []
     assert notes("--x", "wob", "--y", "torque") != []  # mu_static now held
-    held = {line.split(": note: ")[1].split(" ")[0] for line in notes("--profile", "--x", "wob")}
+    profile = notes("--profile", "--x", "wob")
+    held = {line.split(": note: holds ")[1].split(" ")[0] for line in profile}
     assert held == {"mu_static", "torque"}

@@ -89,3 +89,13 @@ def test_without_stability_no_safe_windows_are_offered_and_a_plot_drawn_is_not_o
 def test_json_output_says_nothing_next(tmp_path, option):
     _, proc = _sweep(tmp_path, SPEC, option)
     assert "next:" not in proc.stderr and "next:" not in proc.stdout
+
+
+def test_a_plot_of_a_three_axis_sweep_says_which_slice_it_draws(tmp_path):
+    """sweep --plot of (depth, wob, torque) drew the map at the first torque without a word."""
+    out, proc = _sweep(tmp_path, SPEC, "--plot", "map.png")
+    with h5py.File(out, "r") as f:
+        torques = f["torque"][...]
+    (note,) = [line for line in proc.stderr.splitlines() if "the map holds" in line]
+    assert f"the map holds torque at its first value, {torques[0] / 1e3:g} kN·m, of 3" in note
+    assert f"'pydrill atlas plot {out} --out FILE.png --set torque=VALUE'" in note
