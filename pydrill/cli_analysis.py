@@ -13,6 +13,7 @@ from .cli_options import (
     KILO,
     _finite,
     _positive,
+    as_options,
     figure_path,
     json_document,
     kilo,
@@ -203,7 +204,10 @@ def _cmd_stability(args: argparse.Namespace) -> int:
     from .stability import stability
 
     params = string_params(args)
-    points = stability(params, args.wob, omega=args.omega, torque=args.torque)
+    try:
+        points = stability(params, args.wob, omega=args.omega, torque=args.torque)
+    except ValueError as exc:  # worded for the API: name the option
+        raise as_options(exc, {"omega": "--omega"}) from None
     big = kilo(args.wob)  # a real string's W_ob in kN and torques in kN m (were 200000 N)
     given = f"u = {shown(args.torque or 0.0, 'N m', big)}"
     at = f"W_ob = {shown(args.wob, 'N', big)}"

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from .model import Params, _load, _number, _plain, _show
+from .model import MAX_LOAD, Params, _load, _number, _plain, _show
 
 
 def _velocity(omega: float) -> float:
@@ -307,10 +307,11 @@ def stability(
     would pass and answer for it.
 
     ``wob`` (N) must be finite and > 0, ``omega`` (rad/s) finite and non-zero, ``torque``
-    (N·m) finite; ``wob`` and ``torque`` at most ``MAX_LOAD`` (1e15) in size, as in
-    :func:`pydrill.simulate`. A negative ``torque`` or ``omega`` turns the string backwards:
-    the mirror image (φ → −φ) of ``-torque`` or ``-omega``, the same steady states with Ω and
-    u reversed and the same eigenvalues; the points come in increasing Ω either way."""
+    (N·m) finite; ``wob`` and ``torque`` (or the torque ``omega`` needs) at most ``MAX_LOAD``
+    (1e15) in size, as in :func:`pydrill.simulate`. A negative ``torque`` or ``omega`` turns
+    the string backwards: the mirror image (φ → −φ) of ``-torque`` or ``-omega``, the same
+    steady states with Ω and u reversed and the same eigenvalues; the points come in
+    increasing Ω either way."""
     params = _params(params)
     if (omega is None) == (torque is None):
         raise ValueError("give exactly one of omega (rad/s) or torque (N·m)")
@@ -320,6 +321,12 @@ def stability(
     core = params.to_core()
     if omega is not None:
         omega = _velocity(omega)
+        held = abs(_core.equilibrium_torque(core, wob, abs(omega)))
+        if held > MAX_LOAD:  # answered "Omega = 1e+300 rad/s, u = 1.9e+299 N m"
+            raise ValueError(
+                f"omega = {omega:g} is not allowed at wob = {wob:g} N: its steady state needs a "
+                f"torque of {held:.3g} N·m, beyond MAX_LOAD (1e15)"
+            )
         if omega < 0:  # the core takes Ω > 0: the mirror image of |Ω|, reversed back
             pt = _core.stability_at_velocity(core, wob, -omega)
             points = [{**pt, "omega": -pt["omega"], "torque": -pt["torque"]}]

@@ -101,3 +101,13 @@ def test_an_output_larger_than_the_machine_s_memory_is_refused_before_the_run():
         n_out=10**8,
     )
     assert "more than this machine's" in message and "TB" in message, message
+
+
+@pytest.mark.parametrize("omega", [1e300, -1e300, 1e16])
+def test_a_velocity_whose_torque_is_beyond_max_load_is_refused_by_name(omega):
+    # answered "Omega = 1e+300 rad/s, u = 1.9e+299 N m"
+    message = refused(
+        f"omega = {omega:g} is not allowed at wob = 40 N", stability, P, 40.0, omega=omega
+    )
+    assert "beyond MAX_LOAD (1e15)" in message, message
+    assert stability(P, 40.0, omega=1e14)[0].torque < MAX_LOAD  # within it: answered

@@ -320,3 +320,8 @@ def test_a_gigabyte_of_output_earns_a_note_before_the_run(capsys, monkeypatch):
     ]
     code, _, err = call(capsys, "simulate", "--wob", "100", "--torque", "8.3", "--dof", "400")
     assert code == 2 and err == [err[-1]] and "out of memory" in err[-1]  # no note: 19 MB
+
+
+def test_a_velocity_whose_torque_is_beyond_max_load_is_refused_naming_omega(capsys):
+    line = refused(capsys, "stability", "--dof", "4", "--wob", "40", "--omega", "1e300")
+    assert line.startswith("pydrill stability: error: --omega = 1e+300 is not allowed"), line
