@@ -79,7 +79,8 @@ def simulate(
       (ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b; rad/s and rad).
     - ``t_out`` (s): the output times, a non-empty 1-D increasing list in ``[0, t_end]``;
       None (default) for ``n_out`` uniform times from 0 to ``t_end``.
-    - ``n_out``: how many uniform output times, 2 ... 1e8 (without ``t_out``).
+    - ``n_out``: how many uniform output times, 2 ... 1e8 (without ``t_out``). The output,
+      2·dof − 1 numbers of 8 bytes at each output time, must fit in the machine's memory.
     - ``rtol`` (1e-14 <= rtol < 1), ``atol`` (>= 1e-20, in the state's units: rad and
       rad/s): the integrator's relative and absolute error tolerances per step.
     - ``max_step`` (s): the longest internal step; 0 (default) for no limit.
