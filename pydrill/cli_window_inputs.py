@@ -124,6 +124,10 @@ def _window_notes(args: argparse.Namespace, depths, at_rpm, at_wob) -> None:
                 f"{option} {fastest:g} rpm is faster than any top drive turns (some "
                 f"{TOP_DRIVE_RPM:g} rpm at most)"
             )
+    if args.rpm_max < 1.0:  # a chart of the speeds where no bit drills
+        notes.append(f"--rpm-max {args.rpm_max:g} rpm: the chart ends below 1 rpm")
+    if args.wob_max < 1e3:
+        notes.append(f"--wob-max {args.wob_max / 1e3:g} kN: the chart ends below 1 kN")
     for option, heaviest in (("--wob-max", args.wob_max), ("--at-wob", max(at_wob))):
         if heaviest > HEAVIEST_WOB:
             notes.append(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -186,6 +187,11 @@ def fit_suptitle(fig: Figure, text: str, **kwargs):
 def save(fig: Figure, path: str | Path, dpi: int = 130) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi)
+    with warnings.catch_warnings():
+        # An axis of a range no tick can label (a window charted to 1e-300 rpm) collapses
+        # matplotlib's layout, which it says in a UserWarning on stderr beside the notes; the
+        # figure is saved without it, and the command has noted the range.
+        warnings.filterwarnings("ignore", "constrained_layout not applied", UserWarning)
+        fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path

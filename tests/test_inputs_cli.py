@@ -325,3 +325,20 @@ def test_a_gigabyte_of_output_earns_a_note_before_the_run(capsys, monkeypatch):
 def test_a_velocity_whose_torque_is_beyond_max_load_is_refused_naming_omega(capsys):
     line = refused(capsys, "stability", "--dof", "4", "--wob", "40", "--omega", "1e300")
     assert line.startswith("pydrill stability: error: --omega = 1e+300 is not allowed"), line
+
+
+@pytest.mark.parametrize(
+    "options, words",
+    [
+        (["--rpm-max", "1e-300"], "--rpm-max 1e-300 rpm: the chart ends below 1 rpm"),
+        (["--wob-max", "1e-300"], "--wob-max 1e-300 kN: the chart ends below 1 kN"),
+    ],
+)
+def test_a_chart_that_ends_before_any_drilling_earns_a_note_and_no_warning(
+    capsys, tmp_path, options, words
+):
+    # --rpm-max 1e-300 --plot drew empty axes and printed matplotlib's "UserWarning:
+    # constrained_layout not applied" (here, under the tests' filter, a traceback)
+    png = tmp_path / "w.png"
+    assert noted(capsys, "window", PAPER, "--depth", "3000m", *options, "--plot", png) == [words]
+    assert png.exists()
