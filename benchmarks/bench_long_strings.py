@@ -4,7 +4,9 @@
 The strings users sweep: the paper's real string from its pipe tally
 (examples/tallies/paper-eq53.toml, every 9 m joint one inertia: 900 m, 2700 m and 5030 m give
 101, 301 and 560 inertias), 200 s in stick-slip from rest and in steady drilling from its
-steady state; and the laboratory string (reduced-scale) with as many pipes, 300 s. Each case
+steady state; a lightly damped field string of as many 9 m joints of 5 in pipe (the
+300-inertia string of cpp/tests/test_simulator.cpp, c = 50 N·m·s/rad a joint), 60 s of
+stick-slip; and the laboratory string (reduced-scale) with as many pipes, 300 s. Each case
 runs ``method="auto"`` and both of the methods it chooses between, dop853 and bdf, in the
 same process, so the ratio of the other method to auto's choice is measured under the same
 load (this 2-core machine is shared and its speed drifts: compare ratios, and CPU times
@@ -24,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import statistics
 import sys
 import time
@@ -38,6 +41,26 @@ METHODS = ("auto", "dop853", "bdf")
 MAX_STEPS = 50_000  # ~1 s of DOP853 on these strings; BDF takes at most ~25000 here
 
 
+def field_string(dof: int) -> pydrill.Params:
+    """Top drive, dof - 2 joints of 5 in x 4.408 in pipe whose length and bore vary by a few
+    per cent, and the paper's BHA inertia at the bit: cpp/tests/test_simulator.cpp's string."""
+    g, rho = 79.3e9, 7850.0
+    inertias, stiffnesses, dampings = [2122.0], [], []
+    for i in range(dof - 2):
+        length = 9.0 * (1.0 + 0.03 * math.sin(0.9 * i))
+        inner = 0.112 * (1.0 + 0.01 * math.cos(1.7 * i))
+        polar = math.pi / 32.0 * (0.127**4 - inner**4)
+        inertias.append(rho * polar * length)
+        stiffnesses.append(g * polar / length)
+        dampings.append(50.0 * (1.0 + 0.5 * math.sin(2.3 * i)))
+    inertias.append(471.9698)
+    stiffnesses.append(g * math.pi / 32.0 * (0.127**4 - 0.112**4) / 9.0)
+    dampings.append(50.0)
+    return pydrill.preset("real-string").replace(
+        inertias=inertias, stiffnesses=stiffnesses, dampings=dampings
+    )
+
+
 def cases():
     tally = load_tally(TALLY)
     for depth in (900.0, 2700.0, 5030.0):
@@ -49,6 +72,9 @@ def cases():
             p,
             dict(wob=6e4, torque=9e3, t_end=200.0, initial="equilibrium"),
         )
+    for dof in (101, 301, 560):
+        p = field_string(dof)
+        yield f"field string {dof}, rest", p, dict(wob=1e5, torque=1.2e4, t_end=60.0)
     for dof in (101, 301, 560):
         p = pydrill.preset("reduced-scale", dof=dof)
         name = f"reduced-scale {dof - 3} pipes"
