@@ -176,6 +176,7 @@ OPTION_NAMES = {
     "t_end": "--t-end",
     "rtol": "--rtol",
     "atol": "--atol",
+    "initial": "--initial",
 }
 
 

@@ -342,3 +342,11 @@ def test_a_chart_that_ends_before_any_drilling_earns_a_note_and_no_warning(
     png = tmp_path / "w.png"
     assert noted(capsys, "window", PAPER, "--depth", "3000m", *options, "--plot", png) == [words]
     assert png.exists()
+
+
+def test_a_start_from_a_steady_state_that_does_not_exist_names_initial(capsys):
+    # said "initial = 'equilibrium' is not possible", the API's name of --initial
+    args = ["--wob", "160", "--torque", "8.3", "--initial", "equilibrium"]
+    line = refused(capsys, "simulate", *args)
+    assert line.startswith("pydrill simulate: error: --initial = 'equilibrium' is not possible")
+    assert "start from 'rest' instead" in line
