@@ -154,6 +154,21 @@ def _integer(name: str, low: int, high: int):
     return parse
 
 
+def _whole(name: str, allowed: str):
+    """An argparse type: an integer, its range checked where the string is built (a tally's
+    size bounds it); a non-integer is refused with the range (was "invalid int value: '1e9'")."""
+
+    def parse(text: str) -> int:
+        try:
+            return int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be an integer, {allowed}, got {text!r}"
+            ) from None
+
+    return parse
+
+
 def _fraction(name: str):
     """An argparse type: a number in (0, 1]."""
 

@@ -17,6 +17,7 @@ from .cli_options import (
     LONGEST_WELL,
     TOP_DRIVE_RPM,
     TOP_DRIVE_TORQUE,
+    _whole,
     typed_bare,
 )
 
@@ -43,17 +44,21 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
         "number is m)",
     )
     group.add_argument(
-        "--lump", type=int, help="with --tally: drill-pipe joints per element, >= 1 (default 1)"
+        "--lump",
+        type=_whole("--lump", ">= 1"),
+        help="with --tally: drill-pipe joints per element, >= 1 (default 1)",
     )
     size = group.add_mutually_exclusive_group()
     size.add_argument(
         "--dof",
-        type=int,
+        type=_whole("--dof", "2 ... 100000"),
         help="number of inertias, 2 ... 100000 (default 4, or 2 for --preset real-string; with "
         "--tally: reduce its string to these, at most one per element)",
     )
     size.add_argument(
-        "--pipes", type=int, help="number of drill pipes P, 1 ... 99997 (same as --dof P+3)"
+        "--pipes",
+        type=_whole("--pipes", "1 ... 99997"),
+        help="number of drill pipes P, 1 ... 99997 (same as --dof P+3)",
     )
     return group
 

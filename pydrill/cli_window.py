@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from .cli_options import _duration, _integer, figure_path, print_json
+from .cli_options import _duration, _integer, _whole, figure_path, print_json
 from .cli_window_inputs import _kilonewtons, _rpm, _rpms, _values, _window_notes
 
 WINDOW_EPILOG = """\
@@ -36,10 +36,15 @@ def register_tally(sub) -> None:
     )
     string.add_argument("tally", metavar="TALLY.toml")
     string.add_argument(
-        "--dof", type=int, help="reduce to this many inertias (2 ... one per element)"
+        "--dof",
+        type=_whole("--dof", "2 ... one per element"),
+        help="reduce to this many inertias (2 ... one per element)",
     )
     string.add_argument(
-        "--lump", type=int, default=1, help="drill-pipe joints per element, >= 1 (default 1)"
+        "--lump",
+        type=_whole("--lump", ">= 1"),
+        default=1,
+        help="drill-pipe joints per element, >= 1 (default 1)",
     )
     string.add_argument(
         "--depth",
@@ -66,7 +71,10 @@ def register_tally(sub) -> None:
         "a bare number is m",
     )
     win.add_argument(
-        "--lump", type=int, default=1, help="drill-pipe joints per element, >= 1 (default 1)"
+        "--lump",
+        type=_whole("--lump", ">= 1"),
+        default=1,
+        help="drill-pipe joints per element, >= 1 (default 1)",
     )
     win.add_argument(
         "--wob-max",
@@ -100,7 +108,7 @@ def register_tally(sub) -> None:
     )
     win.add_argument(
         "--check-dof",
-        type=int,
+        type=_whole("--check-dof", "2 ... one per element"),
         help="reduce the checking model to this many inertias (2 ... one per element)",
     )
     win.add_argument(

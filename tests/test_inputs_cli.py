@@ -350,3 +350,19 @@ def test_a_start_from_a_steady_state_that_does_not_exist_names_initial(capsys):
     line = refused(capsys, "simulate", *args)
     assert line.startswith("pydrill simulate: error: --initial = 'equilibrium' is not possible")
     assert "start from 'rest' instead" in line
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["simulate", "--dof", "1e9", "--wob", "100", "--torque", "8.3"], "2 ... 100000"),
+        (["hopf", "--pipes", "4.5"], "1 ... 99997"),
+        (["string", PAPER, "--lump", "2.5"], ">= 1"),
+        (["window", PAPER, "--depth", "3000m", "--check", "1", "--check-dof", "four"], "2 ... "),
+    ],
+)
+def test_a_size_that_is_no_integer_is_refused_with_its_range(capsys, args, words):
+    # said "argument --dof: invalid int value: '1e9'", no range
+    line = refused(capsys, *args)
+    option = next(a for a in args if a in ("--dof", "--pipes", "--lump", "--check-dof"))
+    assert f"{option} must be an integer, {words}" in line, line
