@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import io
 import json
-import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -206,48 +205,9 @@ class Atlas:
         each start's judgement notes, by kind — ``"growing"``, ``"short-window"``, … — or
         ``None``; see ``SimulationResult.summary.note`` for what each means).
         """
-        f = self._file()
-        idx = self.index(method, **coords)
-        status = self._name(fmt.STATUS, "status", f["status"][idx])
-        out: dict[str, Any] = {
-            "coords": {
-                # an int on a size axis (dof, pipes), else a float
-                name: v[i].item()
-                for (name, v), i in zip(self.axes.items(), idx, strict=True)
-            },
-            "status": status,
-        }
-        if status == "failed":
-            msg = f["message"][idx]
-            out["message"] = msg.decode() if isinstance(msg, bytes) else str(msg)
-        regimes = f["regime"][idx]
-        out["regime"] = {
-            init: self._name(fmt.REGIMES, "regime", r)
-            for init, r in zip(self.initials, regimes, strict=True)
-        }
-        metrics = {}
-        for name in fmt.RUN_FIELDS:
-            # (not recorded by the pydrill that wrote an older atlas: None)
-            vals = f[name][idx] if name in f else [math.nan] * len(self.initials)
-            metrics[name] = {init: _clean(v) for init, v in zip(self.initials, vals, strict=True)}
-        out["metrics"] = metrics
-        eq = {name: [_clean(v) for v in f[name][idx]] for name in fmt.EQ_FIELDS}
-        re, im = f["eigenvalues_real"][idx], f["eigenvalues_imag"][idx]
-        eq["eigenvalues"] = [
-            [[float(a), float(b)] for a, b in zip(r, i, strict=True) if math.isfinite(a)]
-            for r, i in zip(re, im, strict=True)
-        ]
-        n = sum(1 for w in eq["omega_eq"] if w is not None)
-        out["stability"] = {k: v[:n] for k, v in eq.items()}
-        co = self._name(_COEXISTENCE, "coexistence", f["coexistence"][idx])
-        out["coexistence"] = None if co == "unknown" else co == "yes"
-        # Older atlases have no caveats: None, as for a run without one.
-        notes = f["caveat"][idx] if "caveat" in f else [0] * len(self.initials)
-        out["caveat"] = {
-            init: self._name(fmt.CAVEATS, "caveat", c) or None
-            for init, c in zip(self.initials, notes, strict=True)
-        }
-        return out
+        from .atlas_value import point_value
+
+        return point_value(self, self._file(), self.index(method, **coords))
 
     def _name(self, known: dict[str, int], dataset: str, code: Any) -> str:
         """The name of ``code`` read from ``dataset``; a code that is none of ``known`` is a
@@ -398,16 +358,3 @@ class Atlas:
             return _to_xarray(self._source(), self.axes)
         except (OSError, RuntimeError, KeyError) as exc:  # h5py's, on a damaged file
             raise AtlasError(f"{self.path} is damaged: xarray cannot read it ({exc})") from None
-
-
-#: coexistence codes, by what they say (as the CSV export names them)
-_COEXISTENCE = {"unknown": -1, "no": 0, "yes": 1}
-
-
-def _clean(v: Any) -> Any:
-    v = v.item() if hasattr(v, "item") else v
-    if isinstance(v, float) and not math.isfinite(v):
-        return None
-    if isinstance(v, int) and v == -1:
-        return None
-    return v
