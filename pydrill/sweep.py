@@ -17,7 +17,6 @@ import os
 import signal
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +34,12 @@ from .sweep_points import (  # noqa: F401 (re-exported: pydrill.sweep.evaluate_p
     evaluate_batch,
     evaluate_point,
 )
+from .sweep_results import (  # noqa: F401 (re-exported: pydrill.sweep.SweepReport and kin)
+    ClusterInfo,
+    SchedulerError,
+    SweepInterrupted,
+    SweepReport,
+)
 
 #: Most local workers ``run_sweep`` starts (as ``pydrill sweep --workers``).
 MAX_WORKERS = 256
@@ -48,78 +53,6 @@ FLUSH_SECONDS = 5.0
 FLUSH_SPACING = 50.0
 #: the journal is synced to disk at most this often (s): what a crash of the machine can lose
 SYNC_SECONDS = 1.0
-
-
-class SchedulerError(ConnectionError):
-    """No Dask cluster to run on: the scheduler given (``--scheduler``) did not answer, or the
-    local workers did not start. Nothing is written (an atlas and journal that this sweep
-    created are removed)."""
-
-
-@dataclass(frozen=True)
-class ClusterInfo:
-    """Where a Dask sweep runs, handed to ``run_sweep``'s ``on_cluster`` once its points are
-    submitted: what to open to watch them (``dashboard``) or to reach the cluster again."""
-
-    scheduler: str  #: the scheduler's address, e.g. ``tcp://127.0.0.1:40321``
-    workers: int  #: workers connected when the points were handed out (0: they wait for some)
-    dashboard: str | None  #: link to Dask's dashboard (task stream, workers' CPU), if it has one
-
-
-class SweepInterrupted(KeyboardInterrupt):
-    """Ctrl-C (or another of ``run_sweep``'s ``stop_on`` signals, number ``signum``) during a
-    sweep. Everything finished is saved: in the journal, and flushed into the atlas on the way
-    out. A KeyboardInterrupt, so code that stops on Ctrl-C still does."""
-
-    def __init__(
-        self,
-        atlas: Path,
-        points: int,
-        done: int,
-        signum: int = signal.SIGINT,
-        *,
-        computed: int = 0,
-        failed: int = 0,
-        resumed: int = 0,
-        wall_time: float = 0.0,
-        write_time: float = 0.0,
-        failed_in_atlas: int = 0,
-        first_failure: str = "",
-    ):
-        self.atlas, self.points, self.done, self.signum = atlas, points, done, signum
-        # as in SweepReport: what this run computed (failed of them), found done, and took
-        self.computed, self.failed, self.resumed = computed, failed, resumed
-        self.wall_time, self.write_time = wall_time, write_time
-        self.failed_in_atlas, self.first_failure = failed_in_atlas, first_failure
-        super().__init__(
-            f"sweep interrupted: {done} of {points} points are saved in {atlas}; resuming "
-            f"(resume=True, --resume) computes the other {points - done}"
-        )
-
-
-@dataclass
-class SweepReport:
-    """What :func:`run_sweep` did: the atlas, its size, the points computed in this run (and
-    how many of them failed), those found already done (``resumed``), and the wall time with
-    the part of it spent writing (journal and HDF5), in seconds."""
-
-    atlas: Path  #: the atlas written
-    points: int  #: points in the grid
-    computed: int  #: computed in this run
-    failed: int  #: of those, stored as failed (with their messages)
-    resumed: int  #: found already done (``resume``)
-    wall_time: float  #: s, the whole run
-    write_time: float  #: s, of it spent writing the journal and the atlas
-    #: points of the atlas stored as failed, this run's and those found done before
-    failed_in_atlas: int = 0
-    #: the message of the first failed point of the atlas (in grid order), or ""
-    first_failure: str = ""
-
-    @property
-    def all_failed(self) -> bool:
-        """True when the atlas holds failures only: every point failed (``pydrill sweep``
-        exits with status 3 then, as for a solver failure)."""
-        return self.points > 0 and self.failed_in_atlas == self.points
 
 
 def run_sweep(
