@@ -390,4 +390,7 @@ def test_no_progress_drops_the_progress_not_the_notices(tmp_path):
     proc = run("sweep", spec, "--out", out, "--workers", "1", "--no-progress")
     assert proc.returncode == 0, proc.stderr
     lines = proc.stderr.splitlines()
-    assert len(lines) == 1 and re.fullmatch(r"sweep: 1 Dask worker, scheduler tcp://\S+", lines[0])
+    assert re.fullmatch(r"sweep: 1 Dask worker, scheduler tcp://\S+", lines[0])
+    # then only what to run next (a notice too), no progress
+    assert lines[1].startswith(f"next: pydrill atlas safe {out}"), lines
+    assert len(lines) == 3 and f"pydrill atlas plot {out} --out" in lines[2], lines
