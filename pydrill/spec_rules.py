@@ -11,7 +11,12 @@ from typing import Any
 
 import numpy as np
 
-from .model import _LISTS, _SCALARS, MAX_DOF  # MAX_DOF: the largest string, explained there
+from .model import (
+    _LISTS,
+    _SCALARS,
+    MAX_DOF,
+    MAX_LOAD,
+)  # MAX_DOF: the largest string, explained there
 
 OPERATING_AXES = ("wob", "torque")
 SIZE_AXES = ("dof", "pipes")
@@ -191,6 +196,8 @@ def _axis(name: str, value: Any) -> np.ndarray:
         raise _fail(key, f"{value!r}: give a list of numbers or {{ start, stop, num }}")
     if name == "wob" and np.any(values <= 0):
         raise _fail(key, "weights on bit must be > 0 (N)")
+    if name in OPERATING_AXES and np.any(np.abs(values) > MAX_LOAD):
+        raise _fail(key, _too_large(name, float(np.abs(values).max())))
     if name in SIZE_AXES:
         if np.any(values != np.round(values)):
             raise _fail(key, "must be whole numbers")
@@ -203,6 +210,14 @@ def _axis(name: str, value: Any) -> np.ndarray:
         # Counts: whole numbers in the atlas too (xarray's dof coordinate reads 2, 4, 8).
         values = values.astype(np.int64)
     return values
+
+
+def _too_large(name: str, value: float) -> str:
+    """The refusal of a W_ob or torque beyond ``MAX_LOAD``, which simulate() refuses at every
+    point: a sweep of them would store nothing but failures."""
+    unit = "N" if name == "wob" else "N·m"
+    most = f"{MAX_LOAD:.0e}".replace("e+", "e")
+    return f"{value:g} {unit} is not allowed: at most {most} {unit} in size (simulate's limit)"
 
 
 _LARGEST = f" (a string has at most {MAX_DOF} inertias; pipes P means dof = P + 3)"
@@ -388,4 +403,6 @@ def _check_axes(
                 raise _fail(f"model.{key}", f"{v!r} is not a finite number")
             if key == "wob" and v <= 0:
                 raise _fail("model.wob", "must be > 0 (N)")
+            if abs(v) > MAX_LOAD:
+                raise _fail(f"model.{key}", _too_large(key, abs(v)))
     _check_friction_pair(axes)

@@ -33,6 +33,9 @@ ATOL_MIN = 1e-20
 
 
 def simulation(doc: dict[str, Any]) -> dict[str, Any]:
+    from .simulate import MAX_T_END
+
+    longest = f"{MAX_T_END:.0e}".replace("e+", "e")
     sim = with_defaults(doc, "simulation", SIMULATION_KEYS)
     initial = sim["initial"]
     if isinstance(initial, str):
@@ -50,7 +53,11 @@ def simulation(doc: dict[str, Any]) -> dict[str, Any]:
     sim["initial"] = initial
     # simulate's own ranges, so that a spec it would refuse at every point is refused here.
     for key, ok, allowed in (
-        ("t_end", lambda v: v > 0, "a finite number > 0 (s)"),
+        (
+            "t_end",
+            lambda v: 0 < v <= MAX_T_END,
+            f"0 < t_end <= {longest} s (simulate's limit)",
+        ),
         ("rtol", lambda v: RTOL_MIN <= v < 1, f"{RTOL_MIN:g} <= rtol < 1"),
         ("atol", lambda v: v >= ATOL_MIN, f"a finite number >= {ATOL_MIN:g}"),
     ):

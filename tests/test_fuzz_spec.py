@@ -25,8 +25,12 @@ def test_a_range_whose_span_overflows_is_refused_naming_it():
     text = "[model]\nwob = 100.0\n[axes]\ntorque = { start = -1e308, stop = 1e308, num = 3 }\n"
     with pytest.raises(SpecError, match=r"^axes\.torque: start = -1e\+308 and stop = 1e\+308 are"):
         parse_spec(text)
-    wide = parse_spec(text.replace("1e308", "8.9e307"))  # the widest span that fits
-    assert wide.axes["torque"].tolist() == [-8.9e307, 0.0, 8.9e307]
+    # the widest span that fits: a range of it (which a torque axis then refuses, beyond
+    # simulate's MAX_LOAD)
+    wide = spec_rules._range("axes.torque", {"start": -8.9e307, "stop": 8.9e307, "num": 3})
+    assert wide.tolist() == [-8.9e307, 0.0, 8.9e307]
+    with pytest.raises(SpecError, match=r"^axes\.torque: 8\.9e\+307 N·m is not allowed: at most"):
+        parse_spec(text.replace("1e308", "8.9e307"))
 
 
 def test_a_file_longer_than_any_spec_or_tally_is_refused_naming_it(tmp_path, monkeypatch):

@@ -38,6 +38,45 @@ def test_a_section_that_is_not_a_table_is_refused(text, key):
     refused(text, key)
 
 
+@pytest.mark.parametrize(
+    ("name", "refuse", "accept"),
+    [("wob", [1.01e15, 1e300], [1e15]), ("torque", [-1.01e15, 1e300], [-1e15, 1e15])],
+)
+def test_loads_are_refused_exactly_where_simulate_refuses_them(name, refuse, accept):
+    """A W_ob or torque axis (or [model] value) beyond simulate's MAX_LOAD swept every point
+    into a failure (a wob axis of [1e300] 'ran'); now refused before anything runs, where
+    simulate refuses, and a value simulate takes is kept."""
+    other = {"wob": "torque = [6.0]", "torque": "wob = [50.0]"}[name]
+    fixed = {"wob": "torque = 6.0", "torque": "wob = 50.0"}[name]
+    for value in refuse:
+        with pytest.raises(ValueError, match=f"{name} = "):
+            pydrill.simulate(dof=2, t_end=1.0, n_out=2, **{"wob": 50.0, "torque": 6.0, name: value})
+        msg = refused(f"[axes]\n{name} = [{value!r}]\n{other}\n", f"axes.{name}")
+        assert "is not allowed: at most 1e15" in msg
+        msg = refused(
+            f"[model]\n{name} = {value!r}\n[axes]\n{fixed.replace(' = ', ' = [')}]\n",
+            f"model.{name}",
+        )
+        assert "is not allowed: at most 1e15" in msg
+    for value in accept:
+        pydrill.simulate(dof=2, t_end=1.0, n_out=2, **{"wob": 50.0, "torque": 6.0, name: value})
+        spec = parse_spec(f"[axes]\n{name} = [{value!r}]\n{other}\n")
+        assert spec.axes[name].tolist() == [value]
+
+
+def test_t_end_is_refused_exactly_where_simulate_refuses_it():
+    """t_end = 1e11 swept every point into simulate's refusal; now refused by the spec."""
+    from pydrill.simulate import MAX_T_END
+
+    for value in (MAX_T_END * 1.01, 1e300):
+        with pytest.raises(ValueError, match="t_end = "):
+            pydrill.simulate(wob=100, torque=8.3, dof=2, t_end=value, n_out=2)
+        msg = refused(GRID + f"[simulation]\nt_end = {value!r}\n", "simulation.t_end")
+        assert "is not allowed: 0 < t_end <= 1e10 s" in msg
+    spec = parse_spec(GRID + f"[simulation]\nt_end = {MAX_T_END!r}\n")
+    assert spec.simulation["t_end"] == MAX_T_END  # simulate takes it (not run: 317 years)
+
+
 @pytest.mark.parametrize("value", ['"0.5"', "true", "[0.5]"])
 def test_window_must_be_a_number(value):
     msg = refused(GRID + f"[simulation]\nwindow = {value}\n", "simulation.window")
