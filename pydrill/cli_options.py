@@ -311,6 +311,17 @@ def json_document(
     return data
 
 
+def bar_size() -> dict[str, int]:
+    """tqdm's ``ncols`` and ``nrows`` for a bar on stderr: the terminal's size, or 80 x 24 on
+    one that says it is 0 x 0 (a pty nobody sized: ``script`` in a batch job, some CI
+    runners), where tqdm hid the bar below its zero rows and drew nothing at all."""
+    try:
+        size = os.get_terminal_size(sys.stderr.fileno())
+    except (OSError, ValueError):  # not a terminal, or stderr closed
+        size = os.terminal_size((0, 0))
+    return {"ncols": size.columns or 80, "nrows": size.lines or 24}
+
+
 def check_progress(total: int, what: str) -> Any:
     """A progress bar on stderr for the ``total`` simulations of a --check, on a terminal only
     (a log or a pipe gets none): 1200 checks of a 334-inertia string take minutes, and the
@@ -318,7 +329,12 @@ def check_progress(total: int, what: str) -> Any:
     from tqdm import tqdm
 
     return tqdm(
-        total=total, desc=what, unit="run", file=sys.stderr, disable=not sys.stderr.isatty()
+        total=total,
+        desc=what,
+        unit="run",
+        file=sys.stderr,
+        disable=not sys.stderr.isatty(),
+        **bar_size(),
     )
 
 

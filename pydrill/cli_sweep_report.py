@@ -4,7 +4,6 @@ line now and then in a log), where it runs and waits, how to resume it, and what
 from __future__ import annotations
 
 import argparse
-import os
 import shlex
 import sys
 import time
@@ -12,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from .atlas_grid import grid_unit
-from .cli_options import json_document, print_json
+from .cli_options import bar_size, json_document, print_json
 
 
 class LogProgress:
@@ -63,20 +62,8 @@ def progress_bar(args: argparse.Namespace, total: int) -> Any:
     if sys.stderr.isatty() and not args.json:
         from tqdm import tqdm
 
-        # A terminal that says it is 0 x 0 (a pty nobody sized: `script` in a job, some CI
-        # runners): tqdm hid the bar below its 0 rows and drew nothing at all there.
-        try:
-            size = os.get_terminal_size(sys.stderr.fileno())
-        except OSError:
-            size = os.terminal_size((0, 0))
-        return tqdm(
-            total=total,
-            unit="pt",
-            desc="sweep",
-            file=sys.stderr,
-            ncols=size.columns or 80,
-            nrows=size.lines or 24,
-        )
+        # sized as the terminal, or 80 x 24 on one that says it is 0 x 0 (bar_size)
+        return tqdm(total=total, unit="pt", desc="sweep", file=sys.stderr, **bar_size())
     return LogProgress(total, resumed=args.resume)
 
 

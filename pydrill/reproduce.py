@@ -94,6 +94,7 @@ def reproduce(
     from . import __version__
     from . import reproduce_analysis as ra
     from . import reproduce_sims as rs
+    from .cli_options import bar_size
     from .reproduce_figures import draw_simulations
     from .reproduce_plots import draw_analysis
     from .reproduce_report import write_report
@@ -114,6 +115,7 @@ def reproduce(
         file=sys.stderr,
         disable=(not sys.stderr.isatty()) if progress is None else not progress,
         bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}<{remaining}] {postfix}",
+        **bar_size(),
     )
 
     def step(label: str) -> None:

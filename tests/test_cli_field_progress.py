@@ -18,11 +18,12 @@ PAPER = ROOT / "examples" / "tallies" / "paper-eq53.toml"
 CMD = [sys.executable, "-m", "pydrill"]
 
 
-def on_terminal(*args):
-    """(stdout, stderr) of the command run with its stderr on a terminal."""
+def on_terminal(*args, sized=True):
+    """(stdout, stderr) of the command run with its stderr on a terminal: 24 x 80, as a
+    terminal window, or (``sized=False``) 0 x 0, as a pty nobody sized."""
     master, slave = pty.openpty()
-    # 24 x 80, as a terminal window: a new pty is 0 columns wide, and tqdm draws no bar in that
-    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 80, 0, 0))
+    if sized:
+        fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 80, 0, 0))
     proc = subprocess.Popen([*CMD, *map(str, args)], stdout=subprocess.PIPE, stderr=slave)
     os.close(slave)
     err = b""
@@ -57,3 +58,11 @@ def test_check_simulations_show_their_progress_on_a_terminal_only(args, runs):
     assert f"{runs}/{runs}" not in out and "steady" in out  # the results, on stdout
     piped = subprocess.run([*CMD, *map(str, args)], capture_output=True, text=True)
     assert piped.returncode == 0 and piped.stderr == ""  # a log or a pipe gets no bar
+
+
+def test_the_check_progress_is_drawn_on_an_unsized_terminal():
+    """A pty nobody sized says it is 0 x 0 ('script' in a batch job, some CI runners): tqdm
+    hid the bar below its zero rows, and a --check of minutes showed nothing there."""
+    _, err = on_terminal("map", "--dof", "4", "--check", "2", "--t-end", "20", sized=False)
+    bars = [b for b in err.replace("\r", "\n").splitlines() if "4/4" in b]
+    assert bars and all(0 < len(b) <= 80 for b in bars), err
