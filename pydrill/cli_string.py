@@ -150,6 +150,16 @@ def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = N
             "--dof N reduces its string to N inertias"
         )
     tally, params = tally_params(args.tally, args.depth, args.lump, args.dof)
+    for key, values in (overrides or {}).items():
+        # An override must fit the tally's string, whose size the tally sets: a list of
+        # another length said "stiffnesses has 111 entries: dof = 2 needs 1" of no option.
+        need = params.dof if key == "inertias" else params.dof - 1
+        if len(values) != need:
+            raise ValueError(
+                f"--{key} has {len(values)} values, but the tally's string has {params.dof} "
+                f"inertias: give {need} (one per {'inertia' if key == 'inertias' else 'link'}), "
+                f"or leave --{key} out"
+            )
     # Titles and reports say which depth: strings of one tally differ by it alone.
     params = params.replace(name=f"{tally.name} at {tally.length:.1f} m", **(overrides or {}))
     unit_notes(args)

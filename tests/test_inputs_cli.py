@@ -366,3 +366,58 @@ def test_a_size_that_is_no_integer_is_refused_with_its_range(capsys, args, words
     line = refused(capsys, *args)
     option = next(a for a in args if a in ("--dof", "--pipes", "--lump", "--check-dof"))
     assert f"{option} must be an integer, {words}" in line, line
+
+
+@pytest.mark.parametrize(
+    ("option", "values", "need"), [("--inertias", "1,2", 112), ("--dampings", "1,2", 3)]
+)
+def test_an_override_of_another_length_than_the_tally_s_string_names_its_option(
+    capsys, option, values, need
+):
+    """--inertias 1,2 on a 112-inertia tally string said 'stiffnesses has 111 entries: dof = 2
+    needs 1', of no option given; now the option, its count and the count the string needs.
+    The string's own size is counted apart, from the tally at the depth asked."""
+    from pydrill.tally import load_tally
+
+    string = load_tally(PAPER).at_depth(1000.0).to_params(dof=None if need == 112 else 4)
+    size = ["--dof", "4"] if need == 3 else []
+    line = refused(
+        capsys,
+        "simulate",
+        "--tally",
+        PAPER,
+        "--depth",
+        "1000m",
+        *size,
+        option,
+        values,
+        "--wob",
+        "60kN",
+        "--torque",
+        "9kN*m",
+    )
+    assert line == (
+        f"pydrill simulate: error: {option} has 2 values, but the tally's string has "
+        f"{string.dof} inertias: give {need} (one per "
+        f"{'inertia' if option == '--inertias' else 'link'}), or leave {option} out"
+    )
+    assert (string.dof if option == "--inertias" else string.dof - 1) == need
+    good = ",".join(["0.5"] * need)
+    code, out, _ = call(
+        capsys,
+        "simulate",
+        "--tally",
+        PAPER,
+        "--depth",
+        "1000m",
+        *size,
+        option,
+        good,
+        "--wob",
+        "60kN",
+        "--torque",
+        "9kN*m",
+        "--t-end",
+        "1",
+    )
+    assert code == 0 and "regime" in out
