@@ -20,6 +20,7 @@ from .cli_options import (
     _whole,
     typed_bare,
 )
+from .model import MAX_DOF
 
 
 def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
@@ -51,14 +52,14 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
     size = group.add_mutually_exclusive_group()
     size.add_argument(
         "--dof",
-        type=_whole("--dof", "2 ... 100000"),
-        help="number of inertias, 2 ... 100000 (default 4, or 2 for --preset real-string; with "
+        type=_whole("--dof", f"2 ... {MAX_DOF}"),
+        help=f"number of inertias, 2 ... {MAX_DOF} (default 4, or 2 for --preset real-string; with "
         "--tally: reduce its string to these, at most one per element)",
     )
     size.add_argument(
         "--pipes",
-        type=_whole("--pipes", "1 ... 99997"),
-        help="number of drill pipes P, 1 ... 99997 (same as --dof P+3)",
+        type=_whole("--pipes", f"1 ... {MAX_DOF - 3}"),
+        help=f"number of drill pipes P, 1 ... {MAX_DOF - 3} (same as --dof P+3)",
     )
     return group
 
