@@ -151,7 +151,24 @@ def cmd_query(args: argparse.Namespace) -> int:
             why.append(f"Hopf margin {margin:.4g} N·m·s/rad")
         if why:
             print("    " + ", ".join(why))
+    if safe is not None:  # the verdict 'atlas safe' counts, and why not
+        print(f"  safe: {_verdict(safe, v)}")
     return 0
+
+
+def _verdict(safe: bool, v: dict[str, Any]) -> str:
+    """'yes (...)' or 'no (what fails)': steady from every start, and the fastest steady
+    state stable, is what ``Atlas.safe_region`` calls safe."""
+    if safe:  # in the words of 'atlas safe': "steady from rest and from equilibrium"
+        starts = " and from ".join(v["regime"])
+        return f"yes (steady from {starts}, the fastest steady state stable)"
+    why = [f"{regime} from {init}" for init, regime in v["regime"].items() if regime != "steady"]
+    unstable = v["stability"]["unstable"]
+    if not why and unstable and unstable[0]:
+        why.append("the fastest steady state is unstable")
+    if v["status"] != "done":
+        why.insert(0, f"the point is {v['status']}")
+    return "no" + (f" ({', '.join(why)})" if why else "")
 
 
 def plural(n: int, word: str) -> str:

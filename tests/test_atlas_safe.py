@@ -334,3 +334,45 @@ def test_a_window_at_the_grid_s_end_is_not_said_to_end_within_a_grid_step(grid):
             assert above == (None if m == len(wob) - 1 else wob[m + 1])
             for outside in (below, above):  # the neighbours are not safe: the edge is between
                 assert outside is None or not ok[int(np.searchsorted(wob, outside))]
+
+
+def test_query_says_each_point_s_verdict_and_why_not(grid, capsys):
+    """'atlas query' ends on the verdict 'atlas safe' counts (it was in --json alone): at every
+    grid point 'safe: yes' exactly where the raw datasets make the point safe, and a 'no' names
+    each start that is not steady, read from the file."""
+    from pydrill import cli
+
+    safe, done, axes = _brute_safe(grid)
+    with h5py.File(grid, "r") as f:
+        regime = f["regime"][...]
+    names = {code: name for name, code in fmt.REGIMES.items()}
+    for i, w in enumerate(axes["wob"]):
+        for j, u in enumerate(axes["torque"]):
+            assert (
+                cli.main(
+                    [
+                        "atlas",
+                        "query",
+                        str(grid),
+                        "--wob",
+                        repr(float(w)),
+                        "--torque",
+                        repr(float(u)),
+                    ]
+                )
+                == 0
+            )
+            last = capsys.readouterr().out.splitlines()[-1]
+            if safe[i, j]:
+                assert (
+                    last == "  safe: yes (steady from rest and from equilibrium, the fastest "
+                    "steady state stable)"
+                )
+                continue
+            assert last.startswith("  safe: no")
+            for k, start in enumerate(("rest", "equilibrium")):
+                name = names[int(regime[i, j, k])]
+                assert (f"{name} from {start}" in last) == (name != "steady"), last
+            if np.all(regime[i, j] == fmt.REGIMES["steady"]):
+                assert last == "  safe: no (the fastest steady state is unstable)"
+    assert done.all() and 0 < safe.sum() < safe.size  # both verdicts were asked
