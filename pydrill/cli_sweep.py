@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 import signal
+import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .cli_options import figure_path, json_document, print_json, writable_place
 from .cli_sweep_report import (
@@ -42,6 +44,9 @@ exit status:
        failure's message is printed; the atlas keeps every point's
   130  Ctrl-C, 143 SIGTERM: stopped between batches with the atlas flushed; --resume goes on
 """
+
+if TYPE_CHECKING:
+    from .spec import SweepSpec
 
 
 def register_sweep(sub, positive) -> None:
@@ -178,6 +183,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from .sweep import SweepInterrupted, run_sweep
 
     spec = load_spec(args.spec)
+    spec_notes(spec)
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise ValueError(f"--workers = {args.workers} is not allowed: 1 ... 256")
     dashboard = args.dashboard_address or ("127.0.0.1:8787" if args.dashboard else None)
@@ -287,3 +293,41 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     status = failures(report)
     next_steps(args, report, spec)
     return status
+
+
+def spec_notes(spec: SweepSpec) -> None:
+    """The notes the single-run commands give on implausible values (cli_string), on a
+    spec's: a depth beyond the longest well (depth = "30 km" swept a 3334-inertia string
+    quietly), a real string's W_ob or torque beyond what any bit or top drive takes. Said
+    on stderr, before anything runs; the sweep goes on (the values may be meant)."""
+    from .cli_options import HEAVIEST_WOB, LONGEST_WELL, TOP_DRIVE_TORQUE
+
+    def largest(name: str) -> float | None:
+        values = spec.axes.get(name, [spec.fixed[name]] if name in spec.fixed else [])
+        return max((abs(float(v)) for v in values), default=None)
+
+    key = {
+        name: ("axes." if name in spec.axes else "model.") + name
+        for name in ("depth", "wob", "torque")
+    }
+    notes = []
+    depth = largest("depth")
+    if depth is not None and depth > LONGEST_WELL:
+        notes.append(
+            f"{key['depth']} reaches {depth / 1e3:g} km, longer than any well ever drilled (the "
+            f"longest some {LONGEST_WELL / 1e3:g} km); a bare number is m"
+        )
+    if spec.tally_text is not None or spec.preset == "real-string":
+        wob, torque = largest("wob"), largest("torque")
+        if wob is not None and wob > HEAVIEST_WOB:
+            notes.append(
+                f"{key['wob']} reaches {wob / 1e3:g} kN: no drill bit takes over "
+                f"{HEAVIEST_WOB / 1e3:g} kN"
+            )
+        if torque is not None and torque > TOP_DRIVE_TORQUE:
+            notes.append(
+                f"{key['torque']} reaches {torque / 1e3:g} kN·m: the strongest top drives give "
+                f"some {TOP_DRIVE_TORQUE / 1e3:g} kN·m"
+            )
+    for note in notes:
+        print(f"pydrill: note: {note}", file=sys.stderr)

@@ -12,7 +12,7 @@ import subprocess
 import h5py
 import numpy as np
 import pytest
-from sweeping import CMD, MEDIUM, SMALL, TINY
+from sweeping import CMD, MEDIUM, ROOT, SMALL, TINY
 
 import pydrill
 import pydrill.sweep as sweep_module
@@ -405,3 +405,34 @@ def test_an_atlas_that_cannot_be_written_is_named_with_what_is_kept(tmp_path, mo
         run_sweep(parse_spec(TINY), out, serial=True)
     assert str(err.value).startswith(f"{out}: cannot write the atlas (Read-only file system)")
     assert f"kept in {journal_path(out).name}" in str(err.value)
+
+
+def test_a_spec_s_implausible_depth_and_loads_are_noted_before_it_runs(tmp_path):
+    """depth = "30 km" swept a 3334-inertia string without a word, where 'simulate --depth
+    30000m' notes it: a spec gets the single-run commands' notes (the longest well, the
+    heaviest W_ob a bit takes, the strongest top drive), on stderr, and runs on."""
+    from pydrill.cli_options import HEAVIEST_WOB, LONGEST_WELL, TOP_DRIVE_TORQUE
+
+    tally = ROOT / "examples" / "tallies" / "paper-eq53.toml"
+    spec = tmp_path / "deep.toml"
+    spec.write_text(
+        f'[model]\ntally = "{tally}"\ndof = 4\n'
+        f"torque = {TOP_DRIVE_TORQUE * 1.5!r}\n"
+        f"[axes]\ndepth = [1000.0, {LONGEST_WELL * 2!r}]\nwob = [60000.0, {HEAVIEST_WOB * 1.5!r}]\n"
+    )
+    proc = subprocess.run([*CMD, "sweep", str(spec), "--dry-run"], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    notes = [line for line in proc.stderr.splitlines() if line.startswith("pydrill: note: ")]
+    assert [n.split(": ")[2].split(" reaches ")[0] for n in notes] == [
+        "axes.depth",
+        "axes.wob",
+        "model.torque",
+    ]
+    assert f"reaches {LONGEST_WELL * 2 / 1e3:g} km" in notes[0]
+    plain = spec.read_text().replace(f"{LONGEST_WELL * 2!r}", "3000.0")
+    plain = plain.replace(f"{HEAVIEST_WOB * 1.5!r}", "90000.0").replace(
+        f"{TOP_DRIVE_TORQUE * 1.5!r}", "9000.0"
+    )
+    spec.write_text(plain)
+    proc = subprocess.run([*CMD, "sweep", str(spec), "--dry-run"], capture_output=True, text=True)
+    assert proc.returncode == 0 and "note:" not in proc.stderr, proc.stderr
