@@ -49,11 +49,8 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     _check_grid,
     _check_parameters,
     _check_size,
-    _check_tally,
-    _check_tally_size,
     _fail,
     _is_number,
-    _read_tally,
     _table,
     in_si,
     printable,
@@ -61,6 +58,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
 )
 from .spec_sections import record as _record
 from .spec_sections import simulation as _simulation
+from .spec_tally import _check_tally, _check_tally_size, _read_tally
 
 _NONE = object()  # a key one spec has and the other does not
 

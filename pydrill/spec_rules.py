@@ -247,41 +247,6 @@ def read_text(path: Path) -> str:
     return text
 
 
-def _read_tally(tally_path: Any, base: Path | None) -> str:
-    if not isinstance(tally_path, str):
-        raise _fail(
-            "model.tally",
-            f"{tally_path!r} is not allowed: a path to a tally file, e.g. 'well.toml'",
-        )
-    path = Path(tally_path)
-    if not path.is_absolute() and base is not None and (base / path).exists():
-        path = base / path
-    shown = printable(tally_path)
-    try:
-        return read_text(path)
-    except UnicodeDecodeError:
-        raise _fail("model.tally", f"cannot read {shown}: not UTF-8 text") from None
-    except OSError as exc:
-        raise _fail("model.tally", f"cannot read {shown}: {exc.strerror}") from None
-    except TextTooLong as exc:
-        raise _fail("model.tally", f"cannot read {shown}: {exc}") from None
-    except ValueError as exc:  # a NUL in the name
-        raise _fail("model.tally", f"cannot read {shown}: {exc}") from None
-
-
-def _check_tally(tally_text: str) -> None:
-    from .tally import TallyError, parse_tally
-
-    try:
-        parse_tally(tally_text)
-    except TallyError as exc:
-        raise _fail("model.tally", str(exc)) from None
-    except (TypeError, AttributeError, ValueError) as exc:
-        # A table or value of the wrong type that the tally's own checks miss: still the
-        # tally's fault, not a traceback.
-        raise _fail("model.tally", f"malformed tally: {exc}") from None
-
-
 def _check_size(dof: Any, pipes: Any) -> int | None:
     """The string's size from [model] dof or pipes, if given: ``dof``."""
     if dof is not None and pipes is not None:
@@ -341,32 +306,6 @@ def _check_friction_pair(axes: dict[str, np.ndarray]) -> None:
             "axes.mu_static",
             f"its smallest value {lowest:g} is not above the largest axes.mu_coulomb "
             f"{highest:g}: every pair of the grid is run, and each needs mu_coulomb < mu_static",
-        )
-
-
-def _check_tally_size(
-    tally_text: str, lump: int, depths: np.ndarray | None, where: str = "axes.depth"
-) -> None:
-    """The deepest string of a tally within MAX_DOF inertias, counted without building it
-    (``Tally.elements``: one per ``lump`` drill-pipe joints, one per other joint)."""
-    from .tally import TallyError, parse_tally
-
-    tally = parse_tally(tally_text)
-    if depths is not None:
-        try:
-            tally = tally.at_depth(float(depths.max()))
-        except TallyError:
-            return  # no drill pipe to lengthen: the corners say so
-    per = {True: lump, False: 1}
-    n = 1 + sum(-(-s.count // per[s.kind == "drill-pipe"]) for s in tally.sections)
-    if n > MAX_DOF:
-        key, where = (
-            (where, f" at {depths.max():g} m") if depths is not None else ("model.tally", "")
-        )
-        raise _fail(
-            key,
-            f"the string{where} has {n} inertias with lump = {lump}, at most {MAX_DOF} are "
-            "allowed: lump more drill-pipe joints (model.lump) or reduce the depth",
         )
 
 
