@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import os
+import sys
 
 from .atlas_summary import model, model_units
 from .cli_atlas import axis_line, model_line
@@ -127,6 +129,9 @@ def dry_run(args: argparse.Namespace, spec) -> int:
         if wall:
             start = "" if args.serial else ", plus Dask's start"
             print(f"  runs    {where}: about {_span(wall[1])} at best{start}")
+            busy = _busy()
+            if busy:  # on stderr, as the other notes: it varies from one minute to the next
+                print(f"pydrill: note: {busy}", file=sys.stderr)
         else:
             print(f"  runs    {where}: that time divided among its workers")
     print(f"  writes  about {_size(plan.atlas_bytes)} of data, before compression")
@@ -164,3 +169,23 @@ def _available() -> int:
     import psutil  # a dependency of distributed's
 
     return int(psutil.virtual_memory().available)
+
+
+def _busy() -> str | None:
+    """What to say when other work holds this machine's cores: the estimate is of the cores as
+    they were while the points were timed, and a sweep of minutes beside a busy machine's
+    other work took 2.2 times it (load 4.5-5.4 on 2 cores). None on an idle machine."""
+    import dask.system
+
+    try:
+        load = os.getloadavg()[0]
+    except OSError:  # not on this platform
+        return None
+    cores = dask.system.CPU_COUNT
+    others = load - 1.0  # this dry run was timing points on one core
+    if others < 0.5 * cores:
+        return None
+    return (
+        f"this machine is busy (load {load:.1f} on {cores} cores, this dry run included): its "
+        "other work will share the cores with the sweep, which may take longer than this"
+    )

@@ -342,3 +342,34 @@ def test_the_dry_run_names_the_string_and_what_the_spec_holds_fixed(tmp_path):
         [*CMD, "atlas", "info", str(out), "--json"], capture_output=True, text=True, check=True
     )
     assert json.loads(info.stdout)["units"]["model"] == doc["units"]["model"]
+
+
+@pytest.mark.parametrize(("load", "said"), [(0.9, False), (5.2, True)])
+def test_a_dry_run_on_a_busy_machine_says_the_estimate_may_be_short(
+    tmp_path, monkeypatch, capsys, load, said
+):
+    """The estimate times the points on the cores as they are while it runs; a sweep beside
+    other work (load 4.5-5.4 on 2 cores) took 2.2 times it, unannounced. A busy machine is
+    said, with its load; an idle one (the dry run's own core alone) is not."""
+    import os
+
+    import dask.system
+
+    from pydrill import cli
+
+    monkeypatch.setattr(os, "getloadavg", lambda: (load, load, load))
+    monkeypatch.setattr(dask.system, "CPU_COUNT", 2)
+    spec = tmp_path / "s.toml"
+    spec.write_text(SMALL)
+    assert cli.main(["sweep", str(spec), "--dry-run", "--workers", "2"]) == 0
+    out, err = capsys.readouterr()
+    notes = [line for line in err.splitlines() if line.startswith("pydrill: note: ")]
+    if said:
+        assert notes == [
+            f"pydrill: note: this machine is busy (load {load:.1f} on 2 cores, this dry run "
+            "included): its other work will share the cores with the sweep, which may take "
+            "longer than this"
+        ]
+    else:
+        assert notes == []
+    assert "  runs    on 2 local workers: about " in out  # the estimate, said either way
