@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from collections.abc import Sequence
 
 from .cli_map import register_map
@@ -22,6 +23,24 @@ from .cli_options import (
 )
 from .cli_string import _string_options, string_json, string_params, string_units
 from .cli_window import register_tally
+
+#: s per inertia squared: what stability's eigenvalues (at n = 4000: 9.4 s) and hopf's
+#: crossings (at n = 8000: 19 s) took on a 2-core development machine; both grow as n^2
+SQUARE_SECONDS = {"stability": 6e-7, "hopf": 3e-7}
+
+
+def slow_note(command: str, dof: int) -> None:
+    """A note on stderr, before the work, when ``command`` on ``dof`` inertias takes a minute
+    or more here: --dof 100000 computed an hour and a half without a word."""
+    from .cli_sweep_report import duration
+
+    seconds = SQUARE_SECONDS[command] * dof**2
+    if seconds >= 60:
+        print(
+            f"pydrill: note: {command} of {dof} inertias takes roughly {duration(seconds)} "
+            "(the time grows as the square of the inertias); --dof N reduces the string",
+            file=sys.stderr,
+        )
 
 
 def counted(n: int, one: str, many: str | None = None) -> str:
@@ -146,6 +165,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
     if args.omega_max is not None and not args.plot:  # it would be ignored
         raise ValueError("--omega-max needs --plot: it is the plot's largest steady velocity")
     params = string_params(args)
+    slow_note("hopf", params.dof)
     crossings = critical_deltas(params)
     if args.plot:
         from .plot import save
@@ -204,6 +224,7 @@ def _cmd_stability(args: argparse.Namespace) -> int:
     from .stability import stability
 
     params = string_params(args)
+    slow_note("stability", params.dof)
     try:
         points = stability(params, args.wob, omega=args.omega, torque=args.torque)
     except ValueError as exc:  # worded for the API: name the option
