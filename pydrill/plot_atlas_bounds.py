@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .plot_atlas import _extent
+from .plot_atlas import _edges, _extent
 
 #: the curves' looks: the stuck boundary in black, the stability boundary in dark red
 STUCK = {"color": "black", "linestyles": "-", "linewidths": 2}
@@ -69,9 +69,14 @@ def _from_grid(atlas, ax, xname: str, yname: str, held: dict[str, float], index:
     if len(x) < 2 or len(y) < 2:  # a line of cells: no curve to find across it
         return []
     handles = []
-    margin = _stuck_margin(atlas, xname, yname, x, y, held)
+    # On the grid and out to its cells' outer edges (exact: the margin is the closed form at
+    # any coordinate): a contour of the grid points alone stopped half a cell short of each
+    # side of a map whose cells are drawn whole (a (depth, W_ob) map's line ran 1000-5000 m
+    # across cells from 750 to 5250 m).
+    xe, ye = (np.concatenate([e[:1], v, e[-1:]]) for v, e in ((x, _edges(x)), (y, _edges(y))))
+    margin = _stuck_margin(atlas, xname, yname, xe, ye, held)
     if _crosses(margin):
-        ax.contour(x, y, margin.T, levels=[0.0], colors=STUCK["color"], linewidths=2)
+        ax.contour(xe, ye, margin.T, levels=[0.0], colors=STUCK["color"], linewidths=2)
         handles.append(Line2D([], [], color="black", lw=2, label=STUCK_LABEL))
     if atlas.spec.record["stability"]:
         order = list(atlas.axes)

@@ -104,3 +104,17 @@ def test_no_stability_boundary_without_recorded_stability(atlases, tmp_path):
     with Atlas(out) as atlas:
         paths, labels = _curves(atlas.plot())
     assert labels[-1] == STUCK and UNSTABLE not in labels and len(paths) == 1
+
+
+def test_the_stuck_boundary_runs_across_whole_cells(atlases):
+    """The stuck boundary's contour was taken over the grid points alone, so it stopped half a
+    cell short of each side of a map drawn in whole cells (a (depth, W_ob) map's line ran
+    1000 ... 5000 m across cells from 750 to 5250 m). It is the closed form, so it is drawn
+    out to the cells' outer edges: half a step beyond the first and last of pipes 1, 3, 6."""
+    with Atlas(atlases["size"]) as atlas:
+        paths, labels = _curves(atlas.plot())
+    assert STUCK in labels
+    pipes = np.concatenate(paths[0])[:, 1]
+    assert pipes.min() == pytest.approx(1 - (3 - 1) / 2) and pipes.max() == pytest.approx(
+        6 + (6 - 3) / 2
+    )
