@@ -127,7 +127,9 @@ Params preset(const std::string& name, int dof) {
     if (dof != 2) {
       throw std::invalid_argument("dof = " + std::to_string(dof) +
                                   " is not allowed for preset 'real-string': it is the paper's 2-DOF "
-                                  "string (Eq. 53); use dof = 2, or build a longer string from a tally");
+                                  "string (Eq. 53); use dof = 2, or give a longer string element by "
+                                  "element (Params::inertias, stiffnesses, dampings; in Python, "
+                                  "from a pipe tally)");
     }
     p.inertias = {2122.0, 471.9698};
     p.stiffnesses = {861.5336};

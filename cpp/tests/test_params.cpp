@@ -48,6 +48,9 @@ TEST_CASE("reduced-scale preset builds the chain of Eq. (14) for any dof", "[par
   CHECK(r.inertias[1] == 471.9698);
   CHECK(r.stiffnesses[0] == 861.5336);
   CHECK_THROWS_AS(preset("real-string", 4), std::invalid_argument);
+  // What a C++ caller can do (the Python-only tally is named as such).
+  CHECK_THROWS_WITH(preset("real-string", 4),
+                    Catch::Contains("element by element (Params::inertias, stiffnesses, dampings"));
   CHECK_THROWS_AS(preset("nonsense", 4), std::invalid_argument);
   CHECK_THROWS_AS(preset("reduced-scale", 1), std::invalid_argument);
 }
