@@ -381,21 +381,9 @@ def test_an_override_of_another_length_than_the_tally_s_string_names_its_option(
 
     string = load_tally(PAPER).at_depth(1000.0).to_params(dof=None if need == 112 else 4)
     size = ["--dof", "4"] if need == 3 else []
-    line = refused(
-        capsys,
-        "simulate",
-        "--tally",
-        PAPER,
-        "--depth",
-        "1000m",
-        *size,
-        option,
-        values,
-        "--wob",
-        "60kN",
-        "--torque",
-        "9kN*m",
-    )
+    run = ["simulate", "--tally", PAPER, "--depth", "1000m", *size, "--wob", "60kN"]
+    run += ["--torque", "9kN*m"]
+    line = refused(capsys, *run, option, values)
     assert line == (
         f"pydrill simulate: error: {option} has 2 values, but the tally's string has "
         f"{string.dof} inertias: give {need} (one per "
@@ -403,23 +391,7 @@ def test_an_override_of_another_length_than_the_tally_s_string_names_its_option(
     )
     assert (string.dof if option == "--inertias" else string.dof - 1) == need
     good = ",".join(["0.5"] * need)
-    code, out, _ = call(
-        capsys,
-        "simulate",
-        "--tally",
-        PAPER,
-        "--depth",
-        "1000m",
-        *size,
-        option,
-        good,
-        "--wob",
-        "60kN",
-        "--torque",
-        "9kN*m",
-        "--t-end",
-        "1",
-    )
+    code, out, _ = call(capsys, *run, option, good, "--t-end", "1")
     assert code == 0 and "regime" in out
 
 
