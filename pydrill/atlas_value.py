@@ -33,6 +33,9 @@ def point_value(atlas: Any, f: Any, idx: tuple[int, ...]) -> dict[str, Any]:
         "status": status,
     }
     if status == "failed":
+        # The messages sit in heaps written late, past what opening checked (OPENING_BYTES):
+        # a damaged one would hang HDF5 here. The whole file once, so only when it is needed.
+        atlas._heap()
         msg = f["message"][idx]
         out["message"] = msg.decode() if isinstance(msg, bytes) else str(msg)
     regimes = f["regime"][idx]

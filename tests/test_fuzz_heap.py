@@ -200,3 +200,52 @@ def test_resume_refuses_an_atlas_whose_heap_hangs_hdf5_without_journal(atlases, 
     assert done.returncode != 0
     assert f"is damaged ({problem}) and has no journal to rebuild it from" in done.stderr
     assert out.read_bytes() == before  # left as it was
+
+
+QUERY = textwrap.dedent(
+    """
+    import sys
+    import pydrill.atlas
+    from pydrill.journal import AtlasError
+    pydrill.atlas.OPENING_BYTES = int(sys.argv[2])  # as if the messages' heap were far in
+    with pydrill.Atlas(sys.argv[1]) as atlas:
+        print("opened")
+        try:
+            atlas.value(wob=atlas.axes["wob"][0], torque=atlas.axes["torque"][0])
+            print("read")
+        except AtlasError as exc:
+            print("refused", exc)
+    """
+)
+
+
+def test_a_failed_points_message_in_a_damaged_heap_past_the_opening_is_refused(atlases, tmp_path):
+    """The failed points' messages are written last, in a heap of their own: on a large atlas
+    past the first OPENING_BYTES, which opening checks. A point query that reads a message
+    from a damaged one hung HDF5; it checks the whole file first, and is refused."""
+    failed = atlases[1]
+    data = failed.read_bytes()
+    for start, p, _ in heap_objects(data):  # noqa: B007 - read after break
+        if b"max_steps" not in data[p + 16 : p + 64]:
+            continue
+        flipped(failed, tmp_path / "a.h5", p + 9)
+        problem = heap_problem(tmp_path / "a.h5")
+        if problem and "has size 0" in problem:
+            break
+    else:
+        pytest.fail("no message whose longer size makes HDF5's walk step by nothing")
+    assert heap_problem(tmp_path / "a.h5", limit=start) is None  # opening cannot see it
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", QUERY, str(tmp_path / "a.h5"), str(start)],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    except subprocess.TimeoutExpired:
+        pytest.fail("the point query hung on the damaged heap")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines() == [
+        "opened",
+        f"refused {tmp_path / 'a.h5'} is damaged: {problem}",
+    ]
