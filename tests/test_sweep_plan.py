@@ -34,24 +34,33 @@ def test_the_estimate_foretells_the_time_of_every_point(tmp_path):
     """A quarter of the points, timed in the sweep's pseudo-random order, foretell the time
     of all of them, timed one by one: the sample spreads over the whole grid."""
     spec = parse_spec(SKEWED)
-    plan = plan_sweep(spec, most=6, budget=60.0)
-    assert (plan.points, plan.todo, plan.sampled, plan.atlas) == (24, 24, 6, "none")
-    assert plan.failed == 0 and plan.message == ""
-    low, estimate, high = plan.compute_seconds
-    assert 0 < low < estimate < high
-    assert plan.wall_seconds(2) == pytest.approx((low / 2, estimate / 2, high / 2))
-    times, lines = [], 0
-    for i in range(spec.size):
-        t0 = time.perf_counter()
-        rec = evaluate_point(spec, i)
-        times.append(time.perf_counter() - t0)
-        lines += len(json.dumps(rec)) + 1  # the point's journal line
-    every = sum(times)
-    # The machine's speed drifts by tens of percent within a minute; a factor of 2 still
-    # tells this estimate from the one the first six points in grid order would give.
-    assert 0.5 * every < estimate < 2 * every, (plan, every)
-    assert 24 * sum(times[:6]) / 6 < 0.5 * every
-    assert plan.journal_bytes == pytest.approx(lines, rel=0.2)
+    # The machine's speed drifts by tens of percent within a minute, and other work on its two
+    # cores can slow the plan's sample or the loop below alone: a factor of 2 still tells
+    # this estimate from the one the first six points in grid order would give (checked on
+    # every attempt), and a fresh plan and loop are timed again, up to three times, before
+    # the estimate is called wrong.
+    for _attempt in range(3):
+        plan = plan_sweep(spec, most=6, budget=60.0)
+        assert (plan.points, plan.todo, plan.sampled, plan.atlas) == (24, 24, 6, "none")
+        assert plan.failed == 0 and plan.message == ""
+        low, estimate, high = plan.compute_seconds
+        assert 0 < low < estimate < high
+        assert plan.wall_seconds(2) == pytest.approx((low / 2, estimate / 2, high / 2))
+        times, lines = [], 0
+        for i in range(spec.size):
+            t0 = time.perf_counter()
+            rec = evaluate_point(spec, i)
+            times.append(time.perf_counter() - t0)
+            lines += len(json.dumps(rec)) + 1  # the point's journal line
+        every = sum(times)
+        assert 24 * sum(times[:6]) / 6 < 0.5 * every
+        assert plan.journal_bytes == pytest.approx(lines, rel=0.2)
+        if 0.5 * every < estimate < 2 * every:
+            break
+    else:
+        pytest.fail(
+            f"three estimates missed the time of every point by a factor 2: {plan}, {every}"
+        )
 
 
 def test_a_dry_run_refuses_what_the_sweep_would_and_writes_nothing(tmp_path):
