@@ -249,3 +249,29 @@ def test_a_failed_points_message_in_a_damaged_heap_past_the_opening_is_refused(a
         "opened",
         f"refused {tmp_path / 'a.h5'} is damaged: {problem}",
     ]
+
+
+def test_xarray_through_the_pydrill_engine_refuses_a_heap_hdf5_hangs_on(atlases, tmp_path):
+    """``xarray.open_dataset(path, engine="h5netcdf")`` hangs on such a file; the pydrill
+    engine checks the heaps first."""
+    problem = hanging_copy(atlases[0], tmp_path / "a.h5")
+    child = (
+        "import sys, xarray\n"
+        "from pydrill.journal import AtlasError\n"
+        "try:\n"
+        "    xarray.open_dataset(sys.argv[1], engine='pydrill').load()\n"
+        "    print('opened')\n"
+        "except AtlasError as exc:\n"
+        "    print('refused', exc)\n"
+    )
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", child, str(tmp_path / "a.h5")],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    except subprocess.TimeoutExpired:
+        pytest.fail("xarray's pydrill engine hung on the damaged heap")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == f"refused {tmp_path / 'a.h5'} is damaged: {problem}\n"
