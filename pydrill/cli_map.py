@@ -11,6 +11,7 @@ from .cli_options import (
     _duration,
     _integer,
     _positive,
+    check_failed,
     check_progress,
     figure_path,
     json_document,
@@ -18,7 +19,13 @@ from .cli_options import (
     print_json,
     shown,
 )
-from .cli_string import _string_options, string_json, string_params, string_units
+from .cli_string import (
+    _string_options,
+    point_command,
+    string_json,
+    string_params,
+    string_units,
+)
 
 
 def register_map(sub, PRESETS: Sequence[str]) -> None:
@@ -67,7 +74,6 @@ def register_map(sub, PRESETS: Sequence[str]) -> None:
 def _cmd_map(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from . import simulate
     from .operating import CATEGORIES, operating_map
     from .stability import critical_deltas
 
@@ -82,15 +88,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     torque = np.linspace(torque_max / 200, torque_max, 200)
     crossings = critical_deltas(params)
     omap = operating_map(params, wob, torque, crossings)
-    checks: list[tuple[float, float, str]] = []
-    if args.check:
-        bar = check_progress(args.check**2, "map --check")
-        for w in np.linspace(wob_max / args.check, wob_max, args.check):
-            for u in np.linspace(torque_max / args.check, torque_max, args.check):
-                r = simulate(params, wob=w, torque=u, t_end=args.t_end or 300.0, n_out=301)
-                checks.append((float(w), float(u), r.regime))
-                bar.update()
-        bar.close()
+    checks = _checks(args, params, wob_max, torque_max) if args.check else []
     if args.plot:
         from .plot import save
         from .plot_map import operating_figure
@@ -140,3 +138,31 @@ def _cmd_map(args: argparse.Namespace) -> int:
     if args.plot:
         print(f"figure: {args.plot}")
     return 0
+
+
+def _checks(args: argparse.Namespace, params, wob_max: float, torque_max: float):
+    """(W_ob, u, regime) of the simulations from rest on the K x K grid of ``--check K``. A
+    failed one is said with its point and the ``pydrill simulate`` line that runs it alone
+    (it said "raise max_steps", which map has not)."""
+    import numpy as np
+
+    from . import SolverError, simulate
+
+    t_end = args.t_end or 300.0
+    big = kilo(wob_max, torque_max)
+    checks: list[tuple[float, float, str]] = []
+    bar = check_progress(args.check**2, "map --check")
+    try:
+        for w in np.linspace(wob_max / args.check, wob_max, args.check):
+            for u in np.linspace(torque_max / args.check, torque_max, args.check):
+                try:
+                    r = simulate(params, wob=w, torque=u, t_end=t_end, n_out=301)
+                except SolverError as exc:
+                    point = f"W_ob = {shown(w, 'N', big, '.4g')}, u = {shown(u, 'N m', big, '.4g')}"
+                    line = point_command(args, float(w), float(u))
+                    raise check_failed(exc, point, line, t_end) from None
+                checks.append((float(w), float(u), r.regime))
+                bar.update()
+    finally:
+        bar.close()
+    return checks

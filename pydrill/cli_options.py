@@ -206,6 +206,32 @@ def as_options(exc: Exception, names: dict[str, str] = OPTION_NAMES) -> Exceptio
     return exc
 
 
+#: the core's advice on a run that reached its step limit, worded for simulate()'s caller
+_STEP_LIMIT_ADVICE = "; raise max_steps or shorten t_end"
+
+
+def check_failed(exc: Exception, point: str, simulate_line: str, t_end: float) -> Exception:
+    """A failed simulation of a ``--check`` (map, window) as the user of that command can act
+    on it: which point failed, and how to run it alone with ``pydrill simulate``, which takes
+    ``--max-steps``. The core's "raise max_steps or shorten t_end" named a parameter these
+    commands do not have. The same exception type, its ``t_reached`` kept."""
+    import re
+
+    message = str(exc)
+    if message.endswith(_STEP_LIMIT_ADVICE):  # the step limit: a shorter run, or more steps
+        message = re.sub(r"^max_steps = (\d+) internal", r"the limit of \1 internal", message)
+        message = (
+            f"{message[: -len(_STEP_LIMIT_ADVICE)]}; shorten --t-end (each check simulates "
+            f"{t_end:g} s), or run that point alone with more steps: {simulate_line} "
+            f"--t-end {t_end:g} --max-steps 100000000"
+        )
+    else:
+        message += f"; to run that point alone: {simulate_line} --t-end {t_end:g}"
+    new = type(exc)(f"the check at {point} failed: {message}")
+    new.t_reached = getattr(exc, "t_reached", None)  # type: ignore[attr-defined]
+    return new
+
+
 # What matplotlib writes with what it installs, chosen by the file's suffix. Checked when the
 # command line is read, so that a long computation does not end in "format not supported".
 FIGURE_SUFFIXES = tuple(".png .pdf .svg .svgz .eps .ps .jpg .jpeg .tif .tiff .webp".split())

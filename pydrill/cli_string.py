@@ -273,6 +273,29 @@ def _say(notes: list[str]) -> None:
         print(f"pydrill: note: {note}", file=sys.stderr)
 
 
+def point_command(args: argparse.Namespace, wob: float, torque: float, **more: Any) -> str:
+    """The ``pydrill simulate`` command line of the string ``args`` name at (``wob``,
+    ``torque``), with ``more`` options (``dof=10``, ``initial="rest"``; None left out): what a
+    failed check advises running alone. A real string's loads in kN and kN m."""
+    import shlex
+
+    options: dict[str, Any] = {}
+    if args.tally is not None:
+        options.update(tally=args.tally, depth=args.depth, lump=args.lump, dof=args.dof)
+    else:
+        options.update(preset=args.preset, dof=args.dof, pipes=args.pipes)
+    options.update(more)
+    if abs(wob) > KILO or abs(torque) > KILO:
+        options.update(wob=f"{wob / 1e3:.8g}kN", torque=f"{torque / 1e3:.8g}kNm")
+    else:
+        options.update(wob=f"{wob:.8g}", torque=f"{torque:.8g}")
+    words = ["pydrill", "simulate"]
+    for key, value in options.items():
+        if value is not None:
+            words += [f"--{key.replace('_', '-')}", shlex.quote(str(value))]
+    return " ".join(words)
+
+
 def string_json(args: argparse.Namespace) -> dict[str, Any]:
     """What ``--json`` adds about a tally's string (nothing for a preset)."""
     if args.tally is None:

@@ -272,7 +272,9 @@ def _checks(tally, depth, args, bar):
     then "steady elsewhere", not "steady"."""
     import numpy as np
 
-    from . import equilibrium_torque, simulate
+    from . import SolverError, equilibrium_torque, simulate
+    from .cli_options import check_failed
+    from .cli_string import point_command
     from .window import RPM, Limits
 
     p = tally.at_depth(depth).to_params(dof=args.check_dof, lump=args.lump)
@@ -284,7 +286,13 @@ def _checks(tally, depth, args, bar):
         for r in (np.arange(k) + 0.5) / k * args.rpm_max:
             u = equilibrium_torque(p, w, r * RPM)
             t_end = args.t_end_given or 120.0
-            res = simulate(p, wob=w, torque=u, initial=args.check_from, t_end=t_end, n_out=2)
+            try:
+                res = simulate(p, wob=w, torque=u, initial=args.check_from, t_end=t_end, n_out=2)
+            except SolverError as exc:  # which point, and what window's user can do
+                point = f"{depth:g} m, W_ob = {w / 1e3:.4g} kN, {r:.4g} rpm"
+                more = {"depth": f"{depth:g}m", "dof": args.check_dof, "initial": args.check_from}
+                line = point_command(_as_tally(args), float(w), float(u), **more)
+                raise check_failed(exc, point, line, t_end) from None
             stable = bool(w < lim.wob_max_stable(r))
             unstuck = bool(w < lim.wob_max_unstuck(r))
             bit_rpm = res.summary.bit_mean / RPM
@@ -294,3 +302,9 @@ def _checks(tally, depth, args, bar):
             out.append((float(w), float(r), outcome, stable, unstuck, float(bit_rpm)))
             bar.update()
     return out
+
+
+def _as_tally(args: argparse.Namespace) -> argparse.Namespace:
+    """window's options as the string options of ``pydrill simulate`` name its string."""
+    lump = None if args.lump == 1 else args.lump  # (1, the default)
+    return argparse.Namespace(tally=args.tally, depth=None, lump=lump, dof=None)
