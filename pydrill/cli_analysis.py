@@ -111,7 +111,12 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         type=_finite("--torque", "torque"),
         help="surface torque u (N m, either sign; or 12kN*m)",
     )
-    stab.add_argument("--json", action="store_true", help="print one JSON object for scripts")
+    stab.add_argument(
+        "--json",
+        action="store_true",
+        help="print one JSON object for scripts (of each steady state the 6 leading "
+        "eigenvalues, and eigenvalue_count, how many in all)",
+    )
     stab.add_argument("--plot", metavar="FILE.png", type=figure_path, help="draw the eigenvalues")
     stab.set_defaults(handler=_cmd_stability)
 

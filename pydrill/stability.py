@@ -112,7 +112,8 @@ class StabilityPoint:
 
     def to_dict(self, n_eigenvalues: int | None = 6) -> dict:
         """Plain JSON-ready data (``pydrill stability --json``), eigenvalues as ``[re, im]``
-        pairs: the leading ``n_eigenvalues`` of them (an integer >= 0), or all with ``None``."""
+        pairs: the leading ``n_eigenvalues`` of them (an integer >= 0), or all with ``None``;
+        ``eigenvalue_count`` says how many there are in all (2 dof - 1)."""
         ev = self.eigenvalues
         if n_eigenvalues is not None:
             n = _plain(n_eigenvalues)
@@ -135,6 +136,7 @@ class StabilityPoint:
             "unstable_eigenvalues": self.unstable,
             "delta_margin": self.delta_margin,
             "spectral_abscissa": self.spectral_abscissa,
+            "eigenvalue_count": len(self.eigenvalues),
             "eigenvalues": [[z.real, z.imag] for z in ev],
         }
 

@@ -136,3 +136,33 @@ def test_the_dry_runs_time_ranges_list_their_ends_in_one_order(atlas_dir, tmp_pa
     data = run_json("sweep", "s.toml", "--dry-run", "--workers", "2", cwd=tmp_path)
     ranges = [data[k] for k in ("point_seconds", "compute_seconds", "wall_seconds")]
     assert [list(r) for r in ranges] == [["low", "estimate", "high"]] * 3
+
+
+def test_stability_json_says_how_many_eigenvalues_it_leaves_out(tmp_path):
+    """stability --json lists a steady state's leading eigenvalues: a tally's string at
+    3000 m has 667 and listed 6, without a word that there were more. eigenvalue_count is
+    checked against the string's own size (2 dof - 1 states) and the list against the API's
+    full list."""
+    from pydrill.stability import stability
+    from pydrill.tally import load_tally
+
+    data = run_json(
+        "stability",
+        "--tally",
+        PAPER,
+        "--depth",
+        "3000m",
+        "--wob",
+        "60kN",
+        "--omega",
+        "60rpm",
+        cwd=tmp_path,
+    )
+    params = load_tally(PAPER).at_depth(3000.0).to_params()
+    (point,) = data["equilibria"]
+    assert point["eigenvalue_count"] == 2 * params.dof - 1 == 667
+    (full,) = stability(params, 60e3, omega=60 * 3.141592653589793 / 30)
+    assert len(full.eigenvalues) == 667
+    shown = [complex(re, im) for re, im in point["eigenvalues"]]
+    assert shown == pytest.approx(list(full.eigenvalues[: len(shown)]), rel=1e-9)
+    assert len(shown) < 667
