@@ -34,7 +34,7 @@ from .sweep_points import (  # noqa: F401 (re-exported: pydrill.sweep.evaluate_p
     evaluate_batch,
     evaluate_point,
 )
-from .sweep_results import (  # noqa: F401 (re-exported: pydrill.sweep.SweepReport and kin)
+from .sweep_results import (  # re-exported too: pydrill.sweep.SweepReport and kin
     ClusterInfo,
     SchedulerError,
     SweepInterrupted,
@@ -308,6 +308,22 @@ def _sweep_locked(
                 write_time=write_time,
                 failed_in_atlas=n_failed,
                 first_failure=first,
+            ) from None
+        except SchedulerError as exc:
+            if not computed:
+                if fresh:  # e.g. no scheduler at that address: leave no trace
+                    out.unlink(missing_ok=True)
+                    jp.unlink(missing_ok=True)
+                raise
+            # Lost midway: what was absorbed is in the journal; the flush lets the atlas show
+            # it, as after Ctrl-C, and --resume computes the rest once a cluster runs again.
+            with stop.hold():
+                write_atlas(out, table)
+            saved = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
+            raise SchedulerError(
+                f"{exc}: the sweep stopped with {saved} of {spec.size} points saved in {out}. "
+                "Start the scheduler and its workers again (or leave --scheduler out to run "
+                "here), then run the same command with --resume (resume=True)"
             ) from None
         except Exception:
             if fresh and computed == 0:  # e.g. no scheduler at that address: leave no trace

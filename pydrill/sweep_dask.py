@@ -63,8 +63,23 @@ def run_dask(
     from .fork_stdio import forking_workers
 
     local = not hasattr(scheduler, "submit") and not scheduler  # a cluster of this sweep's
-    with forking_workers() if local else contextlib.nullcontext():
+    with forking_workers() if local else contextlib.nullcontext(), quiet_client():
         _run_dask(spec, todo, workers, scheduler, absorb, dashboard, on_cluster, starting)
+
+
+@contextlib.contextmanager
+def quiet_client() -> Any:
+    """Dask's client logs, while the sweep runs, only what is fatal: a scheduler lost midway
+    printed a page of tracebacks from the client's attempts to reconnect before the sweep
+    could say in one line what happened (``_run_dask``). Whatever fails reaches the sweep
+    through its futures."""
+    log = logging.getLogger("distributed.client")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        log.setLevel(level)
 
 
 def _run_dask(
@@ -85,6 +100,7 @@ def _run_dask(
     starts inside ``starting()``: a Ctrl-C then waits for it to be up (a second), and the
     cluster is closed whole, not half started (Dask then printed tracebacks at exit)."""
     from distributed import Client, KilledWorker, LocalCluster, as_completed
+    from distributed.client import FutureCancelledError
 
     from . import batching
     from .sweep import ClusterInfo, SchedulerError, evaluate_batch
@@ -225,6 +241,18 @@ def _run_dask(
                     running.update(submit(worker_count(client)))
                 absorb(done)
                 next_suspect()
+        except FutureCancelledError as exc:
+            # The scheduler went away (killed, its machine down, the network cut) or another
+            # client cancelled the tasks: what was absorbed is saved (run_sweep says how much).
+            where = scheduler if cluster is None and not hasattr(scheduler, "submit") else None
+            where = where or getattr(client.scheduler, "address", None) or "?"
+            if exc.reason == "scheduler-connection-lost" or client.status != "running":
+                raise SchedulerError(
+                    f"lost the connection to the Dask scheduler at {where}"
+                ) from None
+            raise SchedulerError(
+                f"the Dask cluster at {where} cancelled the sweep's tasks ({exc.reason})"
+            ) from None
         finally:
             if watch is not None:
                 watch.stop()

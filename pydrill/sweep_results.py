@@ -12,7 +12,9 @@ from pathlib import Path
 class SchedulerError(ConnectionError):
     """No Dask cluster to run on: the scheduler given (``--scheduler``) did not answer, or the
     local workers did not start. Nothing is written (an atlas and journal that this sweep
-    created are removed)."""
+    created are removed). Or the scheduler was lost midway: the points computed until then
+    are saved (journal and atlas), and the message says how many; ``resume=True`` computes
+    the rest."""
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,19 @@ from pathlib import Path
 import dask
 import distributed  # noqa: F401 - its config defaults, before any dask.config.set
 import pytest
-from sweeping import CMD, ROOT, SMALL, dask_process, free_port, stop_processes
+from sweeping import (
+    CMD,
+    LONGER,
+    ROOT,
+    SMALL,
+    dask_process,
+    free_port,
+    same_atlas,
+    stop_processes,
+    wait_for_journal,
+)
 
+from pydrill.atlas import Atlas
 from pydrill.dask_connect import unanswered
 from pydrill.spec import load_spec, parse_spec
 from pydrill.sweep import run_sweep
@@ -153,3 +164,58 @@ def test_a_scheduler_that_starts_while_the_sweep_waits_runs_it(tmp_path):
     # Addresses it cannot probe are left to Dask: a scheduler file, another protocol.
     assert unanswered(str(tmp_path / "scheduler.json")) is None
     assert unanswered("inproc://10.0.0.1/1/2") is None
+
+
+@pytest.mark.slow
+def test_a_scheduler_lost_midway_is_one_clear_error_and_resume_completes_the_atlas(tmp_path):
+    """The scheduler killed mid-sweep (its machine down, the job ended): a page of Dask's
+    reconnection tracebacks, then FutureCancelledError's, and exit 1. Now one line saying
+    how many points are saved and what to do; the atlas holds them (flushed, as after
+    Ctrl-C), and --resume on local workers completes it as an uninterrupted sweep would."""
+    port = free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    scheduler = dask_process("scheduler", "--host", "127.0.0.1", "--port", str(port),
+                             "--dashboard-address", ":0")  # fmt: skip
+    procs = [scheduler]
+    spec_file, out = tmp_path / "s.toml", tmp_path / "a.h5"
+    spec_file.write_text(LONGER)
+    journal = Path(str(out) + ".journal")
+    try:
+        procs.append(dask_process("worker", address, "--nthreads", "1", "--no-nanny"))
+        sweep = subprocess.Popen(
+            [*CMD, "sweep", str(spec_file), "--out", str(out), "--scheduler", address],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "30s"},
+        )
+        wait_for_journal(journal, 20, sweep)
+        stop_processes([scheduler])
+        _, stderr = sweep.communicate(timeout=120)
+    finally:
+        if sweep.poll() is None:
+            sweep.kill()
+            sweep.wait()
+        stop_processes(procs)
+    assert sweep.returncode == 2 and "Traceback" not in stderr, stderr
+    size = parse_spec(LONGER).size
+    saved = journal.read_text().count("\n") - 1  # the header, then a line a point
+    assert 20 <= saved < size
+    assert stderr.splitlines()[-1] == (
+        f"pydrill sweep: error: lost the connection to the Dask scheduler at {address}: the "
+        f"sweep stopped with {saved} of {size} points saved in {out}. Start the scheduler and "
+        "its workers again (or leave --scheduler out to run here), then run the same command "
+        "with --resume (resume=True)"
+    )
+    with Atlas(out) as atlas:
+        assert atlas.summary()["status"] == {"missing": size - saved, "done": saved, "failed": 0}
+    resumed = subprocess.run(
+        [*CMD, "sweep", str(spec_file), "--out", str(out), "--resume", "--workers", "2"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert resumed.returncode == 0, resumed.stderr
+    reference = tmp_path / "ref.h5"
+    run_sweep(parse_spec(LONGER), reference, serial=True)
+    same_atlas(out, reference)
