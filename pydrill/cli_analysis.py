@@ -66,7 +66,9 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         "criticality (the first Lyapunov coefficient l1 of each Hopf crossing): subcritical "
         "(l1 > 0): past it the bit jumps to stick-slip, and before it the two coexist; "
         "supercritical (l1 < 0): a small stable oscillation is born.\n"
-        "units: delta N*m*s/rad, frequency rad/s, lyapunov 1/s per amplitude^2.",
+        "units: delta N*m*s/rad, frequency rad/s, lyapunov 1/s per amplitude^2 (its sign is what "
+        "counts: its size depends on how the critical eigenvector is scaled, so compare sizes "
+        "only between crossings of one string).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _string_options(hopf, PRESETS)
@@ -131,7 +133,8 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         "  pydrill bifurcation --dof 4 --vary torque --wob 100 --json\n\n"
         "criticality: supercritical (l1 < 0): a small stable oscillation is born; subcritical "
         "(l1 > 0): the motion jumps to a large oscillation or stick-slip, with hysteresis.\n"
-        "units: wob N, torque N*m, omega and frequency rad/s.",
+        "units: wob N, torque N*m, omega and frequency rad/s, lyapunov 1/s per amplitude^2 (its "
+        "sign is what counts; see pydrill hopf --help).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _string_options(bif, PRESETS)
@@ -262,6 +265,7 @@ def _cmd_stability(args: argparse.Namespace) -> int:
             "wob": "N",
             "torque": "N·m",
             "delta": "N·m·s/rad",
+            "delta_margin": "N·m·s/rad",
             "eigenvalues": "1/s",
             "spectral_abscissa": "1/s",
             **string_units(args),
@@ -340,7 +344,8 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
             "omega": "rad/s",
             "frequency": "rad/s",
             "delta": "N·m·s/rad",
-            "lyapunov": "1/s per (rad/s)²",
+            "lyapunov": "1/s per amplitude²",  # as hopf's: the same l1 (was "per (rad/s)²")
+            "fixed": "N·m" if b.vary == "wob" else "N",
             **string_units(args),
         }
         print_json(json_document(inputs, results, units, args.plot))

@@ -118,6 +118,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
             "torque": "N·m",
             "wob_max": "N",
             "torque_max": "N·m",
+            "safe_torque_min": "N·m",
             "t_end": "s",
             **string_units(args),
         }

@@ -166,3 +166,61 @@ def test_stability_json_says_how_many_eigenvalues_it_leaves_out(tmp_path):
     shown = [complex(re, im) for re, im in point["eigenvalues"]]
     assert shown == pytest.approx(list(full.eigenvalues[: len(shown)]), rel=1e-9)
     assert len(shown) < 667
+
+
+#: keys of a float (or floats) without a unit: fractions of a map's area
+DIMENSIONLESS = {"fractions"}
+
+
+def _float_keys(data, found=None):
+    """The keys under which ``data`` holds a float, at any depth (not ints, bools, strings)."""
+    found = set() if found is None else found
+    if isinstance(data, dict):
+        for key, value in data.items():
+            if key == "units" or key in DIMENSIONLESS:
+                continue
+            if isinstance(value, float) or (
+                isinstance(value, list) and any(isinstance(v, float) for v in value)
+            ):
+                found.add(key)
+            _float_keys(value, found)
+    elif isinstance(data, list):
+        for value in data:
+            _float_keys(value, found)
+    return found
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("map", "--dof", "4", "--check", "2"),
+        ("hopf", "--preset", "real-string"),
+        ("stability", "--dof", "4", "--wob", "40", "--torque", "8.3"),
+        ("bifurcation", "--preset", "real-string", "--vary", "wob", "--torque", "10kN*m"),
+        ("bifurcation", "--preset", "real-string", "--vary", "torque", "--wob", "100kN"),
+    ],
+    ids=lambda a: " ".join(a[:1] + a[-2:]),
+)
+def test_every_number_of_the_analysis_json_has_its_unit(args, tmp_path):
+    """bifurcation's 'fixed' (a torque or a weight, by --vary) and map's safe_torque_min had
+    none; a script had to know them from the text."""
+    data = run_json(*args, cwd=tmp_path)
+    missing = _float_keys(data) - set(data["units"])
+    assert not missing, missing
+    if args[0] == "bifurcation":
+        assert data["units"]["fixed"] == {"wob": "N·m", "torque": "N"}[data["vary"]]
+
+
+def test_hopf_and_bifurcation_give_one_lyapunov_coefficient_one_unit(tmp_path):
+    """The same crossing's l1 in hopf --json and bifurcation --json is the same number, so in
+    the same unit (bifurcation said 1/s per (rad/s)², hopf 1/s per amplitude²)."""
+    hopf = run_json("hopf", "--preset", "real-string", cwd=tmp_path)
+    branch = run_json(
+        "bifurcation", "--preset", "real-string", "--vary", "torque", "--wob", "100kN", cwd=tmp_path
+    )
+    l1 = {round(c["frequency"], 6): c["lyapunov"] for c in hopf["crossings"] if c["lyapunov"]}
+    hb = [p for p in branch["points"] if p["type"] == "HB"]
+    assert len(hb) == 2
+    for p in hb:
+        assert p["lyapunov"] == pytest.approx(l1[round(p["frequency"], 6)], rel=1e-9)
+    assert branch["units"]["lyapunov"] == hopf["units"]["lyapunov"]
