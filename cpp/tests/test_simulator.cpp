@@ -490,4 +490,9 @@ TEST_CASE("a stiff tally string (overdamped joints, a short BHA): BDF's switches
   // The bit's row is refreshed at every solve; the rest of I − γJ only when γ moves (before:
   // every Stribeck-slope change refactored it, in half of all steps; measured now: 386 in 4135).
   CHECK(r.stats.jac_evals * 4 < r.stats.steps);
+  // Those refactorisations are the linear solver's setups (it reported 0: CVODES never calls
+  // a setup for a matrix-embedded solver), at most one per step attempt.
+  CHECK(r.stats.lin_setups == r.stats.jac_evals);
+  CHECK(r.stats.lin_setups > r.stats.reinits);
+  CHECK(r.stats.lin_setups <= r.stats.steps + r.stats.err_test_fails + r.stats.nonlin_conv_fails);
 }

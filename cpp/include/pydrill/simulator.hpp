@@ -104,8 +104,10 @@ struct SolverStats {
   long jac_evals = 0;          // BDF: Newton matrices I − γJ formed and factored, one per new γ
                                // (the bit's row, which the state and mode change, is refreshed
                                // at every solve without a new factorisation)
-  long lin_setups = 0;         // BDF: CVODES's linear-solver setups; 0, as the chain solver
-                               // factors inside its solves when γ moved
+  long lin_setups = 0;         // BDF: setups of the chain solver, the times it refactored
+                               // I − γJ (at a solve that found γ moved, or after a failed
+                               // factorisation): what jac_evals counts, as forming the matrix
+                               // and factoring it are one operation here
   long lin_solves = 0;         // BDF: linear solves with the chain solver
   long nonlin_iters = 0, nonlin_conv_fails = 0;  // BDF's Newton or Adams's fixed-point iterations
                                                  // and their convergence failures
