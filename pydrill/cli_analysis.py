@@ -154,7 +154,8 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
     bif.add_argument(
         "--omega-max",
         type=_positive("--omega-max", "velocity"),
-        help="largest Omega on the branch (rad/s, > 0; default: with --vary wob, u / (c_r + c_b), "
+        help="largest Omega on the branch (rad/s, > 0; or 200rpm; default: with --vary wob, "
+        "u / (c_r + c_b), "
         "where W_ob reaches 0; with --vary torque, 40)",
     )
     bif.add_argument("--json", action="store_true", help="print one JSON object for scripts")

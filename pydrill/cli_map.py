@@ -46,12 +46,13 @@ def register_map(sub, PRESETS: Sequence[str]) -> None:
     omap.add_argument(
         "--wob-max",
         type=_positive("--wob-max", "force"),
-        help="largest W_ob (N, > 0; default 250 for reduced-scale, 2e5 for real-string)",
+        help="largest W_ob (N, > 0; or 200kN; default 250 N for reduced-scale, 200 kN for "
+        "real-string or a tally)",
     )
     omap.add_argument(
         "--torque-max",
         type=_positive("--torque-max", "torque"),
-        help="largest u (N m, > 0; default 0.1 * wob-max)",
+        help="largest u (N m, > 0; or 20kN*m; default a tenth of --wob-max: 25 N m at 250 N)",
     )
     omap.add_argument(
         "--check",

@@ -174,3 +174,36 @@ def test_a_check_that_fails_otherwise_gives_the_line_to_run_it_alone(capsys, mon
     err = capsys.readouterr().err
     assert "chattering" in err and "to run that point alone: pydrill simulate --dof 4" in err
     assert advice_faults("map", err) == []
+
+
+#: a value with a unit of each kind, as a help text would show one
+UNIT_SAMPLES = ("100kN", "12kN*m", "120rpm", "3000m", "60klbf", "2rad/s")
+SINGLE_RUN = ("simulate", "map", "stability", "hopf", "bifurcation", "window", "string")
+
+
+def _takes(action: argparse.Action, text: str) -> bool:
+    try:
+        action.type(text)  # type: ignore[misc]
+    except (argparse.ArgumentTypeError, ValueError, TypeError):
+        return False
+    return True
+
+
+@pytest.mark.parametrize("command", SINGLE_RUN)
+def test_an_option_that_takes_units_shows_one_in_its_help(command):
+    """map's --wob-max took 200kN, and its help said "N" alone: an engineer typed 200000. Each
+    option whose type takes a value with a unit shows such a value in its help, and each such
+    value shown, the option takes."""
+    faults = []
+    for action in commands()[command]._actions:
+        if action.type is None or not action.help or not callable(action.type):
+            continue
+        takes = [s for s in UNIT_SAMPLES if _takes(action, s)]
+        shown = re.findall(
+            r"(?<![\w.])\d+(?:\.\d+)?(?:kN\*m|kNm|kN|klbf|lbf|rpm|rad/s|ft|m)\b", action.help
+        )
+        name = action.option_strings[0] if action.option_strings else action.dest
+        if takes and not shown:
+            faults.append(f"{name} takes {takes[0]}, its help shows no unit")
+        faults += [f"{name} shows {s} and refuses it" for s in shown if not _takes(action, s)]
+    assert faults == []
