@@ -87,17 +87,22 @@ CHILD = textwrap.dedent(
 )
 
 
-def opened_in_a_child(paths: list[str]) -> list[str]:
-    """What opening each of ``paths`` (check, to_xarray) came to, in a child process: a hang
-    there fails the test (after a minute) instead of hanging the suite."""
+def in_a_child(code: str, *args: str, doing: str) -> list[str]:
+    """The lines ``code`` printed, run with ``args`` in a child process: a hang there fails the
+    test (after a minute, naming what it was ``doing``) instead of hanging the suite."""
     try:
         done = subprocess.run(
-            [sys.executable, "-c", CHILD, *paths], capture_output=True, text=True, timeout=60
+            [sys.executable, "-c", code, *args], capture_output=True, text=True, timeout=60
         )
     except subprocess.TimeoutExpired:
-        pytest.fail("opening a damaged atlas hung")
+        pytest.fail(f"{doing} hung")
     assert done.returncode == 0, done.stderr
     return done.stdout.splitlines()
+
+
+def opened_in_a_child(paths: list[str]) -> list[str]:
+    """What opening each of ``paths`` (check, to_xarray) came to, in a child process."""
+    return in_a_child(CHILD, *paths, doing="opening a damaged atlas")
 
 
 def test_a_heap_object_a_bit_longer_is_refused_not_a_hang(atlases, tmp_path):
@@ -235,20 +240,8 @@ def test_a_failed_points_message_in_a_damaged_heap_past_the_opening_is_refused(a
     else:
         pytest.fail("no message whose longer size makes HDF5's walk step by nothing")
     assert heap_problem(tmp_path / "a.h5", limit=start) is None  # opening cannot see it
-    try:
-        done = subprocess.run(
-            [sys.executable, "-c", QUERY, str(tmp_path / "a.h5"), str(start)],
-            capture_output=True,
-            text=True,
-            timeout=60,
-        )
-    except subprocess.TimeoutExpired:
-        pytest.fail("the point query hung on the damaged heap")
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.splitlines() == [
-        "opened",
-        f"refused {tmp_path / 'a.h5'} is damaged: {problem}",
-    ]
+    lines = in_a_child(QUERY, str(tmp_path / "a.h5"), str(start), doing="the point query")
+    assert lines == ["opened", f"refused {tmp_path / 'a.h5'} is damaged: {problem}"]
 
 
 def test_xarray_through_the_pydrill_engine_refuses_a_heap_hdf5_hangs_on(atlases, tmp_path):
@@ -264,14 +257,5 @@ def test_xarray_through_the_pydrill_engine_refuses_a_heap_hdf5_hangs_on(atlases,
         "except AtlasError as exc:\n"
         "    print('refused', exc)\n"
     )
-    try:
-        done = subprocess.run(
-            [sys.executable, "-c", child, str(tmp_path / "a.h5")],
-            capture_output=True,
-            text=True,
-            timeout=60,
-        )
-    except subprocess.TimeoutExpired:
-        pytest.fail("xarray's pydrill engine hung on the damaged heap")
-    assert done.returncode == 0, done.stderr
-    assert done.stdout == f"refused {tmp_path / 'a.h5'} is damaged: {problem}\n"
+    lines = in_a_child(child, str(tmp_path / "a.h5"), doing="xarray's pydrill engine")
+    assert lines == [f"refused {tmp_path / 'a.h5'} is damaged: {problem}"]
