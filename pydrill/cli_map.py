@@ -132,6 +132,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
     )
     for name, frac in omap.fractions().items():
         print(f"  {100 * frac:5.1f} %  {name}")
+    _print_safe(params, crossings, wob_max, big)
     if checks:
         counts: dict[str, int] = {}
         for _, _, regime in checks:
@@ -168,3 +169,32 @@ def _checks(args: argparse.Namespace, params, wob_max: float, torque_max: float)
     finally:
         bar.close()
     return checks
+
+
+def _print_safe(params, crossings, wob_max: float, big: bool) -> None:
+    """The torques that drill safely at five weights on bit, exact (the sliding boundary T_s
+    and the stable intervals of the steady states): what an engineer reads the map for. The
+    percentages above are of the rectangle drawn, and answered no question of a driller."""
+    import numpy as np
+
+    from .operating import stable_torques
+
+    k, force, torque = (1e3, "kN", "kN m") if big else (1.0, "N", "N m")
+    print(
+        "safe u at each W_ob: steady drilling is stable (from 'stable from' up) and u > T_s "
+        "(the bit cannot stay stuck)"
+    )
+    print(
+        f"  {f'W_ob ({force})':>10s} {f'T_s ({torque})':>11s} {'stable from':>12s}  "
+        f"safe u ({torque})"
+    )
+    for w in np.linspace(wob_max / 5, wob_max, 5):
+        ts = params.mu_static * w * params.bit_radius
+        pieces = stable_torques(params, float(w), crossings)
+        safe = [(max(lo, ts), hi) for lo, hi in pieces if hi > ts]
+        text = ", ".join(
+            f"> {lo / k:.4g}" if hi == np.inf else f"{lo / k:.4g} ... {hi / k:.4g}"
+            for lo, hi in safe
+        )
+        start = f"{pieces[0][0] / k:12.4g}" if pieces else f"{'-':>12s}"
+        print(f"  {w / k:10.4g} {ts / k:11.4g} {start}  {text or 'none'}")

@@ -1,0 +1,49 @@
+"""pydrill map's text answers an engineer's question: at a given weight on bit, which surface
+torques drill safely (a stable steady state, and the bit unable to stay stuck). It gave only
+the percentages of the rectangle drawn in each category."""
+
+import re
+
+import pytest
+
+import pydrill
+from pydrill.cli import main
+from pydrill.stability import stability
+
+
+def rows(text: str) -> list[list[str]]:
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("safe u at each W_ob"))
+    return [line.split() for line in lines[start + 2 : start + 7]]
+
+
+@pytest.mark.parametrize(
+    ("argv", "name", "dof", "scale"),
+    [
+        (["--dof", "4"], "reduced-scale", 4, 1.0),
+        (["--dof", "12", "--wob-max", "100"], "reduced-scale", 12, 1.0),
+        (["--preset", "real-string"], "real-string", 2, 1e3),
+    ],
+)
+def test_map_says_the_safe_torques_at_five_weights(argv, name, dof, scale, capsys):
+    assert main(["map", *argv]) == 0
+    table = rows(capsys.readouterr().out)
+    assert len(table) == 5
+    p = pydrill.preset(name, dof=dof)
+
+    def stable_at(wob, torque):
+        return any(pt.stable for pt in stability(p, wob, torque=torque))
+
+    for w, ts, start, gt, safe in table:
+        wob, ts, start, safe = (float(v) * scale for v in (w, ts, start, safe))
+        assert gt == ">"
+        assert ts == pytest.approx(p.mu_static * wob * p.bit_radius, rel=1e-3)  # T_s (Eq. 38)
+        # 'stable from': the eigenvalues of the steady states (not the crossings) say so
+        assert stable_at(wob, start * 1.002) and not stable_at(wob, start * 0.998)
+        assert safe == pytest.approx(max(ts, start), rel=1e-3)
+
+
+def test_map_safe_torques_are_in_kilo_units_for_a_real_string(capsys):
+    assert main(["map", "--preset", "real-string"]) == 0
+    out = capsys.readouterr().out
+    assert re.search(r"W_ob \(kN\)\s+T_s \(kN m\)\s+stable from\s+safe u \(kN m\)", out)
