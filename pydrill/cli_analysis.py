@@ -21,7 +21,7 @@ from .cli_options import (
     print_json,
     shown,
 )
-from .cli_string import _string_options, string_json, string_params, string_units
+from .cli_string import _string_options, string_inputs, string_params, string_units
 from .cli_window import register_tally
 
 #: s per inertia squared: what stability's eigenvalues (at n = 4000: 9.4 s) and hopf's
@@ -182,7 +182,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
 
         save(hopf_figure(params, crossings, omega_max=args.omega_max or 20.0), args.plot)
     if args.json:
-        inputs = {"preset": params.name, **string_json(args), "dof": params.dof}
+        inputs = {**string_inputs(args, params), "dof": params.dof}
         results = {
             "crossings": [
                 {
@@ -253,8 +253,7 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         save(eigenvalue_figure(params, points), args.plot)
     if args.json:
         inputs = {
-            "preset": params.name,
-            **string_json(args),
+            **string_inputs(args, params),
             "dof": params.dof,
             "wob": args.wob,
             # the one given of the two; the other (null) is each steady state's, below
@@ -333,8 +332,7 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
     if args.json:
         results = b.to_dict()
         inputs = {
-            "preset": params.name,
-            **string_json(args),
+            **string_inputs(args, params),
             "dof": params.dof,
             "vary": results.pop("vary"),
             "fixed": results.pop("fixed"),  # the torque (N·m) or weight on bit (N) held

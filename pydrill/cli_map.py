@@ -22,7 +22,7 @@ from .cli_options import (
 from .cli_string import (
     _string_options,
     point_command,
-    string_json,
+    string_inputs,
     string_params,
     string_units,
 )
@@ -97,8 +97,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
         save(operating_figure(params, omap, crossings, checks), args.plot)
     if args.json:
         inputs = {
-            "preset": params.name,
-            **string_json(args),
+            **string_inputs(args, params),
             "dof": params.dof,
             "wob_max": wob_max,
             "torque_max": torque_max,

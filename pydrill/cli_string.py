@@ -306,6 +306,15 @@ def string_json(args: argparse.Namespace) -> dict[str, Any]:
     return {"tally": {"file": args.tally, "depth": depth, "lump": args.lump or 1}}
 
 
+def string_inputs(args: argparse.Namespace, params: Any) -> dict[str, Any]:
+    """The string as the analysis commands' ``--json`` echo it, as simulate's does: a preset's
+    name under ``preset``; a tally's file, depth and lump under ``tally`` and the string it made
+    under ``string``, with ``preset`` null (it held "paper-eq53 at 3001.5 m", no preset)."""
+    if args.tally is None:
+        return {"preset": params.name}
+    return {"preset": None, **string_json(args), "string": params.name}
+
+
 def string_units(args: argparse.Namespace) -> dict[str, str]:
     """The unit of what :func:`string_json` echoes (nothing for a preset)."""
     return {} if args.tally is None else {"depth": "m"}

@@ -224,3 +224,29 @@ def test_hopf_and_bifurcation_give_one_lyapunov_coefficient_one_unit(tmp_path):
     for p in hb:
         assert p["lyapunov"] == pytest.approx(l1[round(p["frequency"], 6)], rel=1e-9)
     assert branch["units"]["lyapunov"] == hopf["units"]["lyapunov"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("hopf",),
+        ("stability", "--wob", "60kN", "--omega", "60rpm"),
+        ("bifurcation", "--vary", "wob", "--torque", "10kN*m"),
+        ("map",),
+    ],
+    ids=lambda a: a[0],
+)
+def test_a_tallys_string_is_echoed_as_simulate_echoes_it(args, tmp_path):
+    """'preset' held "paper-eq53 at 1003.5 m", no preset: a script reading it as one was
+    misled. Now null, with the tally under 'tally' and the string under 'string', as
+    simulate --json gives them (the same string: the tally's own length at that depth)."""
+    from pydrill.tally import load_tally
+
+    string = ("--tally", PAPER, "--depth", "1000m")
+    data = run_json(args[0], *string, *args[1:], cwd=tmp_path)
+    sim = run_json("simulate", *string, "--wob", "60kN", "--torque", "9kN*m", cwd=tmp_path)
+    length = load_tally(PAPER).at_depth(1000.0).length
+    assert data["preset"] is None
+    assert data["string"] == sim["string"] == f"paper-eq53 at {length:.1f} m"
+    assert data["tally"] == sim["tally"] == {"file": PAPER, "depth": 1000.0, "lump": 1}
+    assert list(data).index("string") < list(data).index("dof")

@@ -348,7 +348,8 @@ def test_stability_and_hopf_commands_take_a_tally():
     p = load_tally(PAPER).at_depth(3000.0).to_params()
     assert data["dof"] == p.dof == 334
     assert data["tally"] == {"file": str(PAPER), "depth": 3000.0, "lump": 1}
-    assert data["preset"] == "paper-eq53 at 3001.5 m"  # whole joints: the string's own length
+    assert data["string"] == "paper-eq53 at 3001.5 m"  # whole joints: the string's own length
+    assert data["preset"] is None
     (want,) = stability(p, 60e3, omega=2 * math.pi)
     (got,) = data["equilibria"]
     assert got["delta"] == pytest.approx(want.delta, rel=1e-14)
