@@ -8,7 +8,7 @@ import itertools
 import math
 from typing import TYPE_CHECKING
 
-from .plot import plt, quantity, scale_ticks, unit_scale
+from .plot import clear_inset, place_legend, plt, quantity, scale_ticks, unit_scale
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -198,7 +198,10 @@ def bifurcation_figure(params, branch) -> Figure:
     # (axes, text, (x, y), colour) of each label: placed once the figure is laid out
     labels: list[tuple] = []
 
-    def draw(ax, label: bool, short: bool = False) -> None:
+    def draw(ax, label: bool, short: bool = False, into: list | None = None) -> None:
+        """The branch on ``ax``; with ``label``, the names of its points go ``into`` a list
+        (``labels`` by default) for ``_place_labels``."""
+        names = labels if into is None else into
         stable = branch.unstable == 0
         for mask, style, name in (
             (stable, "-", "stable steady state"),
@@ -217,40 +220,18 @@ def bifurcation_figure(params, branch) -> Figure:
                     if short
                     else f"HB{i + 1} ({pt.criticality[:3]}), frequency {pt.frequency:.3g} rad/s"
                 )
-                labels.append((ax, text, (px, pt.omega), color))
+                names.append((ax, text, (px, pt.omega), color))
         for pt in branch.points:
             if pt.type == "LP":
                 px = pt.wob if branch.vary == "wob" else pt.torque
                 ax.plot(px, pt.omega, "D", color="black", ms=7, zorder=5)
                 if label:
-                    labels.append((ax, "LP", (px, pt.omega), "black"))
+                    names.append((ax, "LP", (px, pt.omega), "black"))
 
     xs = np.array([pt.wob if branch.vary == "wob" else pt.torque for pt in branch.points])
     zoom = len(xs) > 1 and np.ptp(xs) < 0.15 * np.ptp(x)
     draw(ax, label=not zoom)
     scale_ticks(ax.xaxis, scale)
-    if zoom:
-        # The special points sit within a few per cent of the range: zoom in on them.
-        pad = max(0.15 * np.ptp(xs), 0.01 * xs.max())
-        top = max(pt.omega for pt in branch.points)
-        ins = ax.inset_axes(
-            (0.5, 0.4, 0.47, 0.42) if branch.vary == "wob" else (0.5, 0.08, 0.47, 0.42)
-        )
-        draw(ins, label=True, short=True)
-        ins.set_xlim(xs.min() - pad, xs.max() + 2 * pad)
-        ins.set_ylim(0, top * 1.25 + 0.3)
-        scale_ticks(ins.xaxis, scale)
-        ins.tick_params(labelsize=7)
-        ins.grid(alpha=0.3)
-        # HB1's place on the axis (Ω) and its oscillation's frequency: both in rad/s.
-        first = (
-            f"; HB1 at Ω = {hb[0].omega:.3g} rad/s\n"
-            f"(frequency {hb[0].frequency:.3g} rad/s, {hb[0].criticality})"
-            if hb
-            else ""
-        )
-        ins.set_title(f"{len(hb)} Hopf point{'s' if len(hb) != 1 else ''}{first}", fontsize=8)
-        ax.indicate_inset_zoom(ins, edgecolor="0.4")
     if branch.vary == "wob":
         ax.set_xlabel(f"weight on bit $W_{{ob}}$ ({unit})")
         fixed = f"$u$ = {quantity(branch.fixed, 'N·m', scale)}"
@@ -260,12 +241,51 @@ def bifurcation_figure(params, branch) -> Figure:
     ax.set_ylabel("steady bit velocity $\\Omega$ (rad/s)")
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
-    sub = sum(pt.criticality == "subcritical" for pt in hb)
-    ax.plot([], [], "s", color="#c0392b", label=f"Hopf point, subcritical ({sub})")
-    ax.plot([], [], "s", color="#27ae60", label=f"Hopf point, supercritical ({len(hb) - sub})")
-    ax.plot([], [], "D", color="black", label="limit point (fold)")
-    ax.legend(fontsize=9, loc="upper left" if zoom else "best")
     ax.set_title(f"{params.name}, dof {params.dof}, {fixed}", fontsize=10)
+    if zoom:
+        # The special points sit within a few per cent of the range: zoom in on them.
+        pad = max(0.15 * np.ptp(xs), 0.01 * xs.max())
+        top = max(pt.omega for pt in branch.points)
+        # Where it hides none of the branch: the lower left when W_ob varies (the branch falls
+        # from the upper left; at (0.5, 0.4) the inset hid the stable branch's middle).
+        spots = [
+            (x0, y0, w, h)
+            for w, h in ((0.47, 0.42), (0.4, 0.36), (0.34, 0.3))
+            for x0 in ((0.97 - w, 0.08) if branch.vary == "torque" else (0.08, 0.97 - w))
+            for y0 in (0.4, 0.08, 0.92 - h)
+        ]
+
+        def decorate(ins) -> list[tuple]:
+            names: list[tuple] = []
+            draw(ins, label=True, short=True, into=names)
+            ins.set_xlim(xs.min() - pad, xs.max() + 2 * pad)
+            ins.set_ylim(0, top * 1.25 + 0.3)
+            scale_ticks(ins.xaxis, scale)
+            ins.tick_params(labelsize=7)
+            ins.grid(alpha=0.3)
+            # HB1's place on the axis (Ω) and its oscillation's frequency: both in rad/s.
+            first = (
+                f"; HB1 at Ω = {hb[0].omega:.3g} rad/s\n"
+                f"(frequency {hb[0].frequency:.3g} rad/s, {hb[0].criticality})"
+                if hb
+                else ""
+            )
+            ins.set_title(f"{len(hb)} Hopf point{'s' if len(hb) != 1 else ''}{first}", fontsize=8)
+            return names
+
+        ins, names = clear_inset(ax, spots, decorate)
+        labels.extend(names)
+        ax.indicate_inset_zoom(ins, edgecolor="0.4")
+    sub = sum(pt.criticality == "subcritical" for pt in hb)
+    # Only the kinds there are ("supercritical (0)" named a marker the figure has not).
+    if sub:
+        ax.plot([], [], "s", color="#c0392b", label=f"Hopf point, subcritical ({sub})")
+    if len(hb) > sub:
+        ax.plot([], [], "s", color="#27ae60", label=f"Hopf point, supercritical ({len(hb) - sub})")
+    if any(pt.type == "LP" for pt in branch.points):
+        ax.plot([], [], "D", color="black", label="limit point (fold)")
+    # Clear of the branch and the inset (upper left hid the stable branch's start at W_ob = 0).
+    place_legend(ax, fontsize=9)
     # Varying the torque, the stable branch leaves HB1 to the upper right: labels go left.
     _place_labels(fig, labels, right=branch.vary == "wob")
     return fig

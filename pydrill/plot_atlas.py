@@ -207,6 +207,8 @@ def atlas_figure(
     string, count = context(atlas, held, scales)
     after = "" if metric in fmt.EQ_FIELDS else f" after {atlas.spec.simulation['t_end']:g} s"
     ax.set_title(title(string, f"{what}{after} ({count})"), fontsize=10)
+    if metric is not None:
+        _fit_bar_label(fig, fig.axes[1])  # the colour bar's axes
     keep_title_inside(fig, ax)
     return fig
 
@@ -305,6 +307,22 @@ def _extent(v) -> tuple[float, float]:
         e = _edges(v)
         return float(e[0]), float(e[-1])
     return float(min(v)), float(max(v))
+
+
+def _fit_bar_label(fig, bar) -> None:
+    """Wrap the label of the colour bar's axes ``bar`` onto as many lines as keep it within
+    the bar's height: on one line, bit_top_ratio's (110 characters) ran off the top of the
+    figure. Last, once the legend below the map has shortened the bar."""
+    import textwrap
+
+    fig.draw_without_rendering()
+    label = bar.yaxis.label
+    room = 0.98 * bar.get_window_extent().height
+    long = label.get_window_extent().height
+    if long > room:
+        text = label.get_text()
+        width = max(20, int(0.9 * len(text) * room / long))  # words break early
+        label.set_text("\n".join(textwrap.wrap(text, width)))
 
 
 def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tuple[list, str]:

@@ -21,7 +21,10 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
 
     from .operating import CATEGORIES, hopf_curve_wu
 
-    colors = ["#abebc6", "#d6eaf8", "#f8c471", "#d5d8dc"]
+    # Stable but the bit can stay stuck: the safe green, paler and hatched grey (both may
+    # happen). It was light blue, the colour the atlas maps give "no steady state".
+    colors = ["#abebc6", "#e3f7ea", "#f8c471", "#d5d8dc"]
+    hatch = "//"
     fig, ax = plt.subplots(figsize=(10, 6.5), layout="constrained")
     ax.pcolormesh(
         omap.wob,
@@ -32,6 +35,16 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
         shading="nearest",
         rasterized=True,
     )
+    if (omap.category == 1).any():
+        with plt.rc_context({"hatch.color": "0.6", "hatch.linewidth": 0.6}):
+            ax.contourf(
+                omap.wob,
+                omap.torque,
+                (omap.category == 1).astype(float),
+                levels=[0.5, 1.5],
+                colors="none",
+                hatches=[hatch],
+            )
     ax.plot(
         omap.wob,
         omap.static_torque,
@@ -77,7 +90,10 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
     ax.set_xlabel(f"weight on bit $W_{{ob}}$ ({xunit})")
     ax.set_ylabel(f"surface torque $u$ ({yunit})")
     handles, labels = ax.get_legend_handles_labels()
-    handles += [Patch(color=c) for c in colors]
+    handles += [
+        Patch(facecolor=c, edgecolor="0.6", lw=0, hatch=hatch if k == 1 else None)
+        for k, c in enumerate(colors)
+    ]
     labels += list(CATEGORIES)
     ax.legend(handles, labels, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     # Over the whole figure, wrapped to fit: over the axes alone a tally's longer name pushed

@@ -114,10 +114,14 @@ def fig5(out: Path, n: dict[str, Any], runs: dict[str, Any]) -> Path:
     )
     cmap = plt.cm.viridis
     wobs = sorted(runs["orbits"])
+    # The whole colour map over the orbits drawn (a stuck bit's is the point ★, drawn grey):
+    # spread over all seven W_ob, 90 N and 100 N were two near-identical purples.
+    moving = [w for w in wobs if runs["orbits"][w].summary.regime != "stuck"]
     for i, w in enumerate(wobs):
         r = runs["orbits"][w]
         keep = r.t >= r.t[-1] - 40.0
-        color = cmap(i / max(len(wobs) - 1, 1))
+        k = moving.index(w) if w in moving else None
+        color = "0.55" if k is None else cmap(0.85 * k / max(len(moving) - 1, 1))
         reg = r.summary.regime
         ax.plot(
             r.twist[keep, 0],
@@ -134,7 +138,7 @@ def fig5(out: Path, n: dict[str, Any], runs: dict[str, Any]) -> Path:
             x, y, z = r.twist[idx, 0], r.omega[idx, 0], r.omega[idx, -1]
             ax.plot(x, y, z, marker, color="black", ms=5, ls="none")
     qe = n["quasi_equilibrium_twist"]
-    ax.plot([qe], [0], [0], "*", color="black", ms=14, label="quasi-equilibrium (u/$k_t$, 0, 0)")
+    ax.plot([qe], [0], [0], "*", color="black", ms=14, label="quasi-equilibrium ($u/k_t$, 0, 0)")
     ax.plot([], [], "o", color="black", ms=5, ls="none", label="$x_{in}$")
     ax.plot([], [], "D", color="black", ms=5, ls="none", label="$x_{out}$")
     # Beside the 3-D box, not on it: inside the axes it hid the box's upper corner.
@@ -157,7 +161,8 @@ def fig5(out: Path, n: dict[str, Any], runs: dict[str, Any]) -> Path:
     iv = n["interval"]
     ax_b.set_title(
         f"(b) stick-slip from rest for {iv['lower']:.1f} < $W_{{ob}}$ < {iv['upper']:.1f} N, "
-        f"stuck above ($W^*_{{ob}}$ = u/(μ_sb R_b) = {iv['wob_star']:.2f} N)",
+        "stuck above\n(a start-up overshoots the static limit "
+        f"$W^*_{{ob}} = u/(\\mu_{{sb}} R_b)$ = {iv['wob_star']:.2f} N)",
         fontsize=10,
     )
     fig.suptitle(

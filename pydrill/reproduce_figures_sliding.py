@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from .plot import plt, save
+from .plot import place_legend, plt, save
 
 # The line styles, markers and 3-D axes come from reproduce_figures, imported inside each
 # figure: that module imports these figures at its top (to draw and re-export them).
@@ -72,7 +72,7 @@ def fig7(out: Path, n: dict[str, Any], runs: dict[str, Any]) -> Path:
         "*",
         color="black",
         ms=14,
-        label="quasi-equilibrium $\\tilde x$ = (u/k_tb, 0, 0)",
+        label="quasi-equilibrium $\\tilde x$ = ($u/k_{tb}$, 0, 0)",
     )
     ax.plot([], [], color=SIGMA, lw=8, alpha=0.4, label="sliding region $\\tilde\\Sigma$ (Eq. 22)")
     ax.legend(fontsize=8, loc="upper left")
@@ -82,7 +82,7 @@ def fig7(out: Path, n: dict[str, Any], runs: dict[str, Any]) -> Path:
     keep = r.t <= 60
     ax_b.plot(r.t[keep], r.reaction_torque[keep], color=TOP, label="reaction torque $T_e$")
     ax_b.axhline(n["static_torque"], color=BIT, ls=":", label="$T_s = \\mu_{sb} W_{ob} R_b$")
-    ax_b.axhline(8.3, color="0.4", ls="-.", label="surface torque u")
+    ax_b.axhline(8.3, color="0.4", ls="-.", label="surface torque $u$")
     ax_b.set_xlabel("time (s)")
     ax_b.set_ylabel("torque at the bit (N·m)")
     ax_b.grid(alpha=0.3)
@@ -91,12 +91,13 @@ def fig7(out: Path, n: dict[str, Any], runs: dict[str, Any]) -> Path:
     ax2.set_ylabel("bit velocity (rad/s)", color=BIT)
     h1, l1 = ax_b.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
-    ax_b.legend(h1 + h2, l1 + l2, fontsize=9, loc="center right")
     ax_b.set_title(
         f"(b) stuck at t = {n['t_in']:.2f} s; $T_e$ settles to u = 8.3 < $T_s$ = "
         f"{n['static_torque']:.3g} N·m",
         fontsize=10,
     )
+    # Clear of both axes' curves: at "center right" it hid the reaction torque's last swings.
+    place_legend(ax_b, h1 + h2, l1 + l2, twins=(ax2,), fontsize=9)
     fig.suptitle(
         "Fig. 7 — permanently stuck bit, n = 8 (dof 4), $W_{ob}$ = 160 N, u = 8.3 N·m "
         "(drilling at 100 N, then loaded to 160 N)",

@@ -10,10 +10,12 @@ import numpy as np
 
 from .model import preset
 from .operating import hopf_curve_wu, operating_map
-from .plot import REGIME_COLORS, plt, save
+from .plot import place_legend, plt, save
+from .plot_atlas import MAP_COLORS
+from .reproduce_plots_branch import FOLD, SUB, SUPER, _branch_panel, name_points
 from .stability import boundary_wob
 
-SUB, SUPER, FOLD, SLIDE = "#c0392b", "#27ae60", "#1f618d", "black"
+SLIDE = "black"
 REGIME_ORDER = ("steady", "stick-slip", "stuck", "oscillation", "no-steady-state")
 
 
@@ -23,7 +25,10 @@ def _regime_image(ax, x, y, regimes) -> None:
     codes = np.vectorize(lambda r: REGIME_ORDER.index(r) if r in REGIME_ORDER else 4)(
         np.asarray(regimes, dtype=object)
     )
-    colors = [REGIME_COLORS[r] for r in REGIME_ORDER[:4]] + ["#d6eaf8"]
+    # The colours of `pydrill atlas plot`'s maps, opaque: the same regimes looked different in
+    # the two figures of the same atlas, and REGIME_COLORS at 55 % left steady and stuck 13
+    # CIELAB units apart to a deuteranope (21 or more apart now).
+    colors = [MAP_COLORS[r] for r in REGIME_ORDER]
     ax.pcolormesh(
         x,
         y,
@@ -32,7 +37,6 @@ def _regime_image(ax, x, y, regimes) -> None:
         vmin=-0.5,
         vmax=4.5,
         shading="nearest",
-        alpha=0.55,
         rasterized=True,
     )
 
@@ -65,14 +69,23 @@ def fig6b(out: Path, numbers: dict[str, Any]) -> Path:
             "Fig. 7": (160, 8.3),
         }.items():
             ax.plot(ww, uu, "o", mfc="white", mec="black", ms=8)
-            ax.annotate(case, (ww, uu), xytext=(5, 6), textcoords="offset points", fontsize=9)
+            # On a white ground: the line u+ ran through "Fig. 4".
+            ax.annotate(
+                case,
+                (ww, uu),
+                xytext=(6, 7),
+                textcoords="offset points",
+                fontsize=9,
+                bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.85},
+            )
         ax.set_xlim(wob.min() - 2.5, wob.max() + 2.5)
         ax.set_ylim(torque.min() - 0.25, torque.max() + 0.25)
         ax.set_xlabel("weight on bit $W_{ob}$ (N)")
         ax.set_title(title, fontsize=10)
-    axes[0].set_ylabel("surface torque u (N·m)")
-    handles = [Patch(color=REGIME_COLORS[r], alpha=0.55, label=r) for r in REGIME_ORDER[:4]]
-    handles.append(Patch(color="#d6eaf8", label="no steady state to start from"))
+    axes[0].set_ylabel("surface torque $u$ (N·m)")
+    handles = [Patch(color=MAP_COLORS[r], label=r) for r in REGIME_ORDER[:4]]
+    blank = MAP_COLORS["no-steady-state"]
+    handles.append(Patch(color=blank, label="no steady state to start from"))
     handles += axes[0].get_legend_handles_labels()[0]
     axes[1].legend(handles=handles, fontsize=9, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     s = numbers["fig06b_band"]
@@ -144,7 +157,8 @@ def fig10(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> Path:
         ax.set_xlabel("steady rotary velocity Ω (rad/s)")
         ax.set_ylabel("weight on bit $W_{ob}$ (" + ("kN" if scale != 1.0 else "N") + ")")
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=8, loc="upper left")
+        # Clear of the curves: in the upper left the fold and H1 lines of (a) ran under it.
+        place_legend(ax, fontsize=8)
         ax.set_title(
             "(a) laboratory string, Eq. (14)"
             if name == "reduced-scale"
@@ -160,121 +174,19 @@ def fig10(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> Path:
     return save(fig, out / "fig10_stability_region.png")
 
 
-def _draw_branch(ax, b: dict[str, Any], labels: bool) -> None:
-    """Steady states (stable thick, unstable thin dashed) with their HB and LP points."""
-    x = np.array(b["branch"]["x"])
-    omega = np.array(b["branch"]["omega"])
-    stable = np.array(b["branch"]["unstable"]) == 0
-    ax.plot(x, np.where(stable, omega, np.nan), color=FOLD, lw=3, label="stable steady state")
-    ax.plot(
-        x,
-        np.where(~stable, omega, np.nan),
-        "--",
-        color="#922b21",
-        lw=1.2,
-        label="unstable steady state",
-    )
-    key = "wob" if b["vary"] == "wob" else "torque"
-    hb = sorted((pt for pt in b["points"] if pt["type"] == "HB"), key=lambda q: -q["omega"])
-    for i, pt in enumerate(hb):
-        color = SUB if pt["criticality"] == "subcritical" else SUPER
-        ax.plot(pt[key], pt["omega"], "s", color=color, ms=6, zorder=6)
-        if labels and (i == 0 or b["dof"] <= 4):
-            ax.annotate(
-                f"HB{i + 1}",
-                (pt[key], pt["omega"]),
-                xytext=(7, 5 - 10 * (i % 3)),
-                textcoords="offset points",
-                fontsize=7,
-                color=color,
-            )
-    if b["fold"]:
-        ax.plot(b["fold"][key], b["fold"]["omega"], "D", color="black", ms=6, zorder=6)
-        if labels:
-            ax.annotate(
-                "LP",
-                (b["fold"][key], b["fold"]["omega"]),
-                xytext=(6, -10),
-                textcoords="offset points",
-                fontsize=8,
-            )
-
-
-def _branch_panel(ax, b: dict[str, Any], atlas: dict[str, Any] | None, letter: str) -> None:
-    """One bifurcation diagram: the branch, the attractors the simulations found (the paper's
-    circles), and an inset around the Hopf and fold points."""
-    _draw_branch(ax, b, labels=False)
-    key = "wob" if b["vary"] == "wob" else "torque"
-    special = [pt for pt in b["points"]] + ([b["fold"]] if b["fold"] else [])
-    if special:
-        xs = [pt[key] for pt in special]
-        pad = max(0.15 * (max(xs) - min(xs)), 0.01 * max(xs))
-        top = max(pt["omega"] for pt in special)
-        where = [0.5, 0.4, 0.47, 0.42] if key == "wob" else [0.08, 0.5, 0.4, 0.42]
-        ins = ax.inset_axes(where)
-        _draw_branch(ins, b, labels=True)
-        ins.set_xlim(min(xs) - pad, max(xs) + 2 * pad)
-        ins.set_ylim(-0.3, top * 1.25 + 0.3)
-        ins.tick_params(labelsize=7)
-        ins.grid(alpha=0.3)
-        ins.set_title("Hopf and fold points", fontsize=7)
-        ax.indicate_inset_zoom(ins, edgecolor="0.4")
-    if atlas is not None:
-        ax_x = np.array(atlas["axes"][key])
-        for init, marker, label in (("rest", "o", "from rest"), ("equilibrium", "^", "from Ω")):
-            reg = np.array(atlas[init]["regime"], dtype=object)
-            top = np.array(atlas[init]["bit_max"], dtype=float)
-            osc = (reg == "stick-slip") | (reg == "oscillation")
-            ax.plot(
-                ax_x[osc],
-                top[osc],
-                marker,
-                mfc="none",
-                mec="#d35400",
-                ms=6,
-                label=f"periodic orbit {label}: max $\\dot\\varphi_b$",
-            )
-            stuck = reg == "stuck"
-            ax.plot(
-                ax_x[stuck],
-                np.zeros(stuck.sum()),
-                marker,
-                color="0.45",
-                ms=4,
-                label=f"stuck bit {label}" if stuck.any() else None,
-            )
-        ax.set_xlim(ax_x.min(), ax_x.max())
-    ax.plot([], [], "s", color=SUB, label="Hopf point, subcritical ($l_1$ > 0)")
-    if any(pt["criticality"] == "supercritical" for pt in b["points"]):
-        ax.plot([], [], "s", color=SUPER, label="Hopf point, supercritical ($l_1$ < 0)")
-    ax.plot([], [], "D", color="black", label="limit point (fold)")
-    ax.set_ylim(bottom=-1.5)
-    ax.set_xlabel("weight on bit $W_{ob}$ (N)" if key == "wob" else "surface torque u (N·m)")
-    ax.set_ylabel("bit velocity (rad/s)")
-    ax.grid(alpha=0.3)
-    fixed = f"u = {b['fixed']:g} N·m" if key == "wob" else f"$W_{{ob}}$ = {b['fixed']:g} N"
-    first = b["first_hopf"]
-    text = ""
-    if first:
-        text = (
-            f"; HB1 at {first[key]:.5g} {'N' if key == 'wob' else 'N·m'}, "
-            f"$l_1$ = {first['lyapunov']:.2g}"
-            if first["lyapunov"] is not None
-            else ""
-        )
-    ax.set_title(f"({letter}) n' = {2 * b['dof'] - 1} (dof {b['dof']}), {fixed}{text}", fontsize=10)
-
-
 def fig11(out: Path, numbers: dict[str, Any]) -> Path:
     fig, axes = plt.subplots(2, 2, figsize=(15, 10.5), layout="constrained")
-    for ax, letter in zip(axes.ravel(), "abcd", strict=True):
+    panels = [
         _branch_panel(ax, numbers[f"fig11{letter}"], numbers.get(f"atlas_fig11{letter}"), letter)
+        for ax, letter in zip(axes.ravel(), "abcd", strict=True)
+    ]
     axes[0, 1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle(
         "Fig. 11 — bifurcation diagrams of steady drilling (Eq. 14): Hopf points (squares) with "
         "their criticality;\nstick-slip (circles) coexists with the stable branch below HB1",
         fontweight="bold",
     )
+    name_points(fig, panels)
     return save(fig, out / "fig11_bifurcation.png")
 
 
@@ -317,7 +229,7 @@ def _hopf_wu(ax, p, curves, fold_delta, wob_max, torque_max, first_only=False) -
     ax.set_xlim(0, wob_max)
     ax.set_ylim(0, torque_max)
     ax.set_xlabel("weight on bit $W_{ob}$ (N)")
-    ax.set_ylabel("surface torque u (N·m)")
+    ax.set_ylabel("surface torque $u$ (N·m)")
     ax.grid(alpha=0.3)
 
 
@@ -348,8 +260,8 @@ def fig12(out: Path, numbers: dict[str, Any]) -> Path:
         ax.legend(fontsize=8, loc="upper left")
         ax.set_title(f"({letter}) n' = {2 * dof - 1} (dof {dof})", fontsize=10)
     fig.suptitle(
-        "Fig. 12 — (W_ob, u) at which a Hopf point appears (Eq. 14): one curve per critical "
-        "slope δ_k, each of one criticality",
+        "Fig. 12 — ($W_{ob}$, $u$) at which a Hopf point appears (Eq. 14): one curve per "
+        "critical slope $\\delta_k$, each of one criticality",
         fontweight="bold",
     )
     return save(fig, out / "fig12_hopf_wob_torque.png")

@@ -11,16 +11,18 @@ import numpy as np
 from .model import preset
 from .operating import hopf_curve_wu
 from .plot import fit_suptitle, plt, save
-from .reproduce_plots import FOLD, SUPER, _branch_panel, _hopf_wu
+from .reproduce_plots import FOLD, SUPER, _branch_panel, _hopf_wu, name_points
 
 
 def fig11_long(out: Path, numbers: dict[str, Any], pipes: int) -> Path:
     n = numbers[f"pipes{pipes}"]
     fig, axes = plt.subplots(1, 2, figsize=(15, 5.8), layout="constrained")
-    for ax, letter in zip(axes, "cd", strict=True):
+    panels = [
         _branch_panel(
             ax, n[f"fig11{letter}"], numbers.get(f"atlas_pipes{pipes}-fig11{letter}"), letter
         )
+        for ax, letter in zip(axes, "cd", strict=True)
+    ]
     axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     s = n["summary"]
     fig.suptitle(
@@ -28,6 +30,7 @@ def fig11_long(out: Path, numbers: dict[str, Any], pipes: int) -> Path:
         f"{s['hopf']} Hopf crossings, up to {s['max_unstable']} unstable eigenvalues",
         fontweight="bold",
     )
+    name_points(fig, panels)
     return save(fig, out / f"fig11_pipes{pipes}.png")
 
 

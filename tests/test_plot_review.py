@@ -1,0 +1,321 @@
+"""A reviewer's checks of pydrill's figures, on the drawn artists rather than the pixels: every
+text on the canvas, no legend or inset over the data it explains, names that do not overlap,
+regime colours a colour-blind reader tells apart, one meaning per colour across figures."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+matplotlib.use("Agg")
+
+import pydrill
+
+SMALL = """
+[model]
+preset = "reduced-scale"
+dof = 4
+[axes]
+wob = { start = 20.0, stop = 200.0, num = 6 }
+torque = { start = 3.0, stop = 15.0, num = 5 }
+[simulation]
+t_end = 100.0
+initial = ["rest", "equilibrium"]
+[record]
+stability = true
+"""
+
+
+def drawn(fig):
+    """Draw ``fig`` on an Agg canvas (tests/conftest.py closes the figures after each test,
+    which leaves the module's figures a bare canvas) and return its renderer."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if not hasattr(fig.canvas, "get_renderer"):
+        FigureCanvasAgg(fig)
+    fig.canvas.draw()
+    return fig.canvas.get_renderer()
+
+
+def outside_canvas(fig) -> list[str]:
+    """What ``fig`` draws (partly) off its canvas, after a draw: each axes with its tick
+    labels, axis labels and title (a colour bar's label too), legend and figure text that is
+    not wholly on it, named; [] when everything is."""
+    renderer = drawn(fig)
+    frame = fig.bbox.padded(1.0)
+    off = []
+    for artist in fig.get_default_bbox_extra_artists():
+        box = artist.get_tightbbox(renderer)
+        if box is None or box.width == 0 or not np.isfinite(box.extents).all():
+            continue  # nothing drawn (an empty collection's box is infinite)
+        if not (frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1)):
+            name = getattr(artist, "get_title", lambda: "")() or getattr(artist, "get_text", str)()
+            off.append(f"{type(artist).__name__} {name!r}: {box.extents.round()}")
+    return off
+
+
+def data_points(ax, step: float = 2.0) -> np.ndarray:
+    """Display pixels where ``ax`` draws data: line vertices, points along line segments every
+    ``step`` pixels, and scatter points."""
+    from matplotlib.collections import PathCollection
+
+    out = [np.empty((0, 2))]
+    for line in ax.get_lines():
+        xy = np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float)
+        if not len(xy):
+            continue
+        px = line.get_transform().transform(xy)
+        good = np.isfinite(px).all(axis=1)
+        out.append(px[good])
+        if line.get_linestyle() in ("None", "", " "):
+            continue
+        for a, b, ok in zip(px[:-1], px[1:], good[:-1] & good[1:], strict=True):
+            if ok:
+                n = int(np.hypot(*(b - a)) // step) + 1
+                out.append(a + (b - a) * (np.arange(n)[:, None] / n))
+    for c in ax.collections:
+        if isinstance(c, PathCollection) and len(c.get_offsets()):
+            out.append(c.get_offset_transform().transform(np.asarray(c.get_offsets(), float)))
+    return np.concatenate(out)
+
+
+def hidden_by(box, points) -> int:
+    """How many of ``points`` (display pixels) lie inside ``box``."""
+    return int(
+        np.sum(
+            (points[:, 0] > box.x0)
+            & (points[:, 0] < box.x1)
+            & (points[:, 1] > box.y0)
+            & (points[:, 1] < box.y1)
+        )
+    )
+
+
+@pytest.fixture(scope="module")
+def reproduced(tmp_path_factory):
+    """Every figure ``pydrill reproduce --quick`` draws, as matplotlib figures: the numbers of
+    one quick run, drawn again with ``save`` keeping the figures open."""
+    from pydrill import (
+        reproduce_figures,
+        reproduce_figures_sliding,
+        reproduce_plots,
+        reproduce_plots_long,
+    )
+    from pydrill import reproduce_sims as rs
+
+    out = tmp_path_factory.mktemp("reproduce")
+    cmd = [sys.executable, "-m", "pydrill", "reproduce", "--out", str(out), "--quick"]
+    proc = subprocess.run([*cmd, "--no-progress"], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    numbers = json.loads((out / "numbers.json").read_text())
+    figures: dict[str, object] = {}
+
+    def keep(fig, path):
+        figures[Path(path).stem] = fig
+        return Path(path)
+
+    modules = (reproduce_figures, reproduce_figures_sliding, reproduce_plots, reproduce_plots_long)
+    saved = [m.save for m in modules]
+    for m in modules:
+        m.save = keep
+    try:
+        pipes = tuple(int(k[5:]) for k in numbers if k.startswith("pipes"))
+        reproduce_plots.draw_analysis(out, numbers, pipes)
+        n5, runs5 = rs.fig5()
+        reproduce_figures.fig5(out, n5, runs5)
+        n7, runs7 = rs.fig7()
+        reproduce_figures_sliding.fig7(out, n7, runs7)
+    finally:
+        for m, s in zip(modules, saved, strict=True):
+            m.save = s
+    yield figures
+    import matplotlib.pyplot as plt
+
+    for fig in figures.values():
+        plt.close(fig)
+
+
+def test_reproduced_figures_keep_every_text_on_the_canvas(reproduced):
+    # Fig. 5(b)'s title ran off the right edge ("... = 1" of "101.25 N").
+    assert {"fig05_wob_steps", "fig07_stuck", "fig10_stability_region", "fig11_bifurcation"} <= set(
+        reproduced
+    )
+    for name, fig in reproduced.items():
+        assert outside_canvas(fig) == [], name
+
+
+def test_fig11_insets_hide_no_orbit_nor_branch_and_their_names_do_not_overlap(reproduced):
+    panels = [
+        ax
+        for name, fig in reproduced.items()
+        if name.startswith("fig11")
+        for ax in fig.axes
+        if ax.child_axes
+    ]
+    assert len(panels) >= 4
+    for ax in panels:
+        renderer = drawn(ax.figure)
+        (inset,) = ax.child_axes
+        # The inset with its tick labels and title: at a fixed place it hid the first
+        # periodic orbits found from rest in Fig. 11(b) and (d).
+        box = inset.get_tightbbox(renderer)
+        assert hidden_by(box, data_points(ax)) == 0, ax.get_title()
+        names = [t for t in inset.texts if t.get_text() in ("LP",) or t.get_text().startswith("HB")]
+        assert names, ax.get_title()
+        boxes = [t.get_window_extent(renderer) for t in names]
+        for (a, ta), (b, tb) in itertools.combinations(zip(boxes, names, strict=True), 2):
+            # HB2 and LP of Fig. 11(a), 0.1 N apart, were written over one another.
+            assert not a.overlaps(b), (ax.get_title(), ta.get_text(), tb.get_text())
+
+
+def test_fig7_and_fig10_legends_hide_no_curve(reproduced):
+    fig7 = reproduced["fig07_stuck"]
+    (torque_ax,) = [a for a in fig7.axes if a.get_legend() is not None and a.name == "rectilinear"]
+    twins = [a for a in fig7.axes if a is not torque_ax and a.bbox.bounds == torque_ax.bbox.bounds]
+    drawn(fig7)
+    points = np.concatenate([data_points(a) for a in (torque_ax, *twins)])
+    # At "center right" it hid the reaction torque's last swings; the twin's bit velocity too.
+    assert twins and len(torque_ax.get_legend().get_texts()) == 4
+    assert hidden_by(torque_ax.get_legend().get_window_extent(), points) == 0
+    fig10 = reproduced["fig10_stability_region"]
+    drawn(fig10)
+    for ax in fig10.axes:
+        # In the upper left, the fold and H1 lines of (a) ran under it.
+        assert hidden_by(ax.get_legend().get_window_extent(), data_points(ax)) == 0, ax.get_title()
+
+
+def test_fig6b_regimes_have_the_atlas_maps_colours(reproduced):
+    from matplotlib.colors import to_rgba
+
+    from pydrill.plot_atlas import MAP_COLORS
+    from pydrill.reproduce_plots import REGIME_ORDER
+
+    fig = reproduced["fig06b_regime_map"]
+    for ax in fig.axes[:2]:
+        mesh = ax.collections[0]
+        cmap = mesh.get_cmap()
+        drawn = [tuple(cmap(k)) for k in range(cmap.N)]
+        assert drawn == [to_rgba(MAP_COLORS[r]) for r in REGIME_ORDER]
+        assert mesh.get_alpha() in (None, 1.0)
+
+
+# Machado, Oliveira & Fernandes (2009), full severity, on linear RGB.
+CVD = {
+    "deuteranopia": [
+        [0.367322, 0.860646, -0.227968],
+        [0.280085, 0.672501, 0.047413],
+        [-0.011820, 0.042940, 0.968881],
+    ],
+    "protanopia": [
+        [0.152286, 1.052583, -0.204868],
+        [0.114503, 0.786281, 0.099216],
+        [-0.003882, -0.048116, 1.051998],
+    ],
+    "tritanopia": [
+        [1.255528, -0.076749, -0.178779],
+        [-0.078411, 0.930809, 0.147602],
+        [0.004733, 0.691367, 0.303900],
+    ],
+}
+
+
+def _lab(color, vision: str | None = None) -> np.ndarray:
+    """CIELAB (D65) of an sRGB colour, as a reader with ``vision`` sees it."""
+    from matplotlib.colors import to_rgb
+
+    c = np.array(to_rgb(color))
+    c = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    if vision:
+        c = np.clip(np.array(CVD[vision]) @ c, 0, 1)
+    xyz = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]])
+    x = xyz @ c / np.array([0.95047, 1.0, 1.08883])
+    f = np.where(x > 0.008856, np.cbrt(x), 7.787 * x + 16 / 116)
+    return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
+
+
+@pytest.mark.parametrize("vision", [None, *CVD])
+def test_regime_colours_differ_for_colour_blind_readers(vision):
+    from pydrill.plot import REGIME_COLORS
+    from pydrill.plot_atlas import MAP_COLORS
+
+    for palette in (MAP_COLORS, REGIME_COLORS):
+        regimes = [r for r in palette if r not in ("missing", "failed")]
+        for a, b in itertools.combinations(regimes, 2):
+            gap = np.linalg.norm(_lab(palette[a], vision) - _lab(palette[b], vision))
+            assert gap > 15, (vision, a, b, gap)  # CIELAB units: 2.3 is just noticeable
+
+
+def test_operating_map_gives_no_category_the_colour_of_no_steady_state():
+    from matplotlib.colors import to_rgba
+
+    from pydrill.operating import operating_map
+    from pydrill.plot_atlas import MAP_COLORS
+    from pydrill.plot_map import operating_figure
+    from pydrill.stability import critical_deltas
+
+    p = pydrill.preset("reduced-scale", dof=4)
+    omap = operating_map(p, np.linspace(1, 250, 60), np.linspace(0.1, 25, 60))
+    fig = operating_figure(p, omap, critical_deltas(p))
+    cmap = fig.axes[0].collections[0].get_cmap()
+    drawn = [tuple(cmap(k)) for k in range(cmap.N)]
+    # "stable steady state, can stay stuck" was the light blue that means "no steady state"
+    # on the atlas maps.
+    assert to_rgba(MAP_COLORS["no-steady-state"]) not in drawn
+    assert outside_canvas(fig) == []
+
+
+def test_bifurcation_figure_legend_and_inset_hide_none_of_the_branch():
+    from pydrill.bifurcation import branch
+    from pydrill.plot_analysis import bifurcation_figure
+
+    for dof, vary, fixed in ((2, "wob", 8.1), (4, "torque", 60.0)):
+        p = pydrill.preset("reduced-scale", dof=dof)
+        b = branch(p, vary=vary, **({"torque": fixed} if vary == "wob" else {"wob": fixed}))
+        fig = bifurcation_figure(p, b)
+        ax = fig.axes[0]
+        renderer = drawn(fig)
+        points = data_points(ax)
+        # Upper left, the legend hid where the stable branch starts (W_ob = 0, Ω = 43 rad/s);
+        # at (0.5, 0.4), the inset hid the stable branch's middle.
+        assert hidden_by(ax.get_legend().get_window_extent(), points) == 0, (dof, vary)
+        (inset,) = ax.child_axes
+        assert hidden_by(inset.get_tightbbox(renderer), points) == 0, (dof, vary)
+        labels = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert not [t for t in labels if t.endswith("(0)")], labels  # no kind it has not
+        assert outside_canvas(fig) == []
+
+
+@pytest.fixture(scope="module")
+def small_atlas(tmp_path_factory):
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    out = tmp_path_factory.mktemp("atlas") / "small.h5"
+    run_sweep(parse_spec(SMALL), out, serial=True)
+    return out
+
+
+def test_every_metric_map_and_profile_keeps_its_text_on_the_canvas(small_atlas):
+    import matplotlib.pyplot as plt
+
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import METRICS, atlas_figure
+
+    with Atlas(small_atlas) as atlas:
+        for initial in ("rest", "equilibrium"):
+            for metric in [None, *METRICS]:
+                fig = atlas_figure(atlas, initial=initial, metric=metric)
+                # bit_top_ratio's colour-bar label (110 characters) ran off the top.
+                assert outside_canvas(fig) == [], (initial, metric)
+                plt.close(fig)
+        for metric in (None, "severity", "spectral_abscissa"):
+            fig = atlas_figure(atlas, metric=metric, profile=True, at={"torque": 9.0})
+            assert outside_canvas(fig) == [], metric
+            plt.close(fig)
