@@ -69,10 +69,14 @@ def stable_torques(
     ends = [0.0, *cuts, np.inf]
     c_total = p.top_damping + p.bit_damping
     omega_c = omega_at(c_total) if 0 < c_total < top else 0.0
+    pieces = list(itertools.pairwise(ends))
+    # Every piece's count at once: one call per piece checked the whole list of crossings
+    # each time, O(crossings²) per W_ob, and map --dof 2000 took 100 s, nearly all of it here.
+    mids = np.array([a + 1.0 if b == np.inf else 0.5 * (a + b) for a, b in pieces])
+    counts = unstable_count(crossings, stribeck_slope(p, wob, mids))
     intervals: list[tuple[float, float]] = []
-    for a, b in itertools.pairwise(ends):
-        mid = a + 1.0 if b == np.inf else 0.5 * (a + b)
-        if unstable_count(crossings, stribeck_slope(p, wob, mid)) != 0:
+    for (a, b), count in zip(pieces, counts, strict=True):
+        if count != 0:
             continue
         lo = _steady_torque(p, wob, min(max(omega_c, a), b))
         hi = np.inf if b == np.inf else max(_steady_torque(p, wob, a), _steady_torque(p, wob, b))
