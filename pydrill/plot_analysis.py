@@ -165,8 +165,13 @@ def eigenvalue_figure(params, points) -> Figure:
     # Beside the axes: eigenvalues may sit anywhere in the plane, the legend covers none.
     ax.legend(fontsize=9, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     if points:
+        # The operating point whole: W_ob and the surface torque that holds the steady state
+        # (the title said W_ob alone, and the figure could be of any u).
+        pt = points[0]
+        scale, _ = unit_scale([pt.wob, pt.torque], "N·m")
         ax.set_title(
-            f"{params.name}, dof {params.dof}, $W_{{ob}}$ = {quantity(points[0].wob, 'N')}",
+            f"{params.name}, dof {params.dof}, $W_{{ob}}$ = {quantity(pt.wob, 'N', scale)}, "
+            f"$u$ = {quantity(pt.torque, 'N·m', scale)}",
             fontsize=10,
         )
     return fig

@@ -82,6 +82,15 @@ def profile_figure(
             label = "fastest steady state" if steady else f"from {s}"
             (line,) = ax.plot(x, values, marker=marker, ms=3, color=color, lw=1.2, label=label)
             lines.append(line)
+            stuck = read("regime", columns[s]) == fmt.REGIMES["stuck"]
+            if not steady and stuck.any():
+                # A stuck bit's severity is 0, as steady drilling's: crossed out, as the maps
+                # hatch those cells (a profile drew them as plain points on the zero line).
+                cross = ax.scatter(
+                    x[stuck], values[stuck], marker="x", color=color, s=64, lw=1.6, zorder=4
+                )
+                cross.set_label(f"from {s}: bit stuck")
+                lines.append(cross)
         if metric in ("spectral_abscissa", "hopf_margin"):
             ax.axhline(0.0, color="0.4", lw=0.8, ls=":")  # the stability boundary
         shown = "" if unit == "1" else f" ({unit.replace(' ', '·')})"

@@ -319,3 +319,32 @@ def test_every_metric_map_and_profile_keeps_its_text_on_the_canvas(small_atlas):
             fig = atlas_figure(atlas, metric=metric, profile=True, at={"torque": 9.0})
             assert outside_canvas(fig) == [], metric
             plt.close(fig)
+
+
+def test_a_metric_profile_crosses_out_the_stuck_points(small_atlas):
+    from pydrill.atlas import Atlas
+    from pydrill.plot_atlas import atlas_figure
+
+    with Atlas(small_atlas) as atlas:
+        fig = atlas_figure(atlas, metric="severity", profile=True, at={"torque": 9.0})
+        k = list(atlas.axes["torque"]).index(9.0)
+        stuck = atlas.regimes("rest")[:, k] == "stuck"
+        wob = np.asarray(atlas.axes["wob"])
+    assert stuck.any() and not stuck.all()
+    ax = fig.axes[0]
+    # A stuck bit's severity is 0, as steady drilling's: it was drawn as a plain point there.
+    (cross,) = [c for c in ax.collections if c.get_label() == "from rest: bit stuck"]
+    np.testing.assert_array_equal(np.asarray(cross.get_offsets())[:, 0], wob[stuck])
+    assert "from rest: bit stuck" in [t.get_text() for t in ax.get_legend().get_texts()]
+
+
+def test_eigenvalue_figure_names_the_whole_operating_point():
+    from pydrill.plot_analysis import eigenvalue_figure
+    from pydrill.stability import stability
+
+    p = pydrill.preset("reduced-scale", dof=4)
+    title = eigenvalue_figure(p, stability(p, 40.0, torque=8.3)).axes[0].get_title()
+    assert "$W_{ob}$ = 40 N" in title and "$u$ = 8.3 N·m" in title  # u was missing
+    real = pydrill.preset("real-string", dof=2)
+    title = eigenvalue_figure(real, stability(real, 60e3, torque=9e3)).axes[0].get_title()
+    assert "$W_{ob}$ = 60 kN" in title and "$u$ = 9 kN·m" in title
