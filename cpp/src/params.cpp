@@ -37,6 +37,64 @@ void check_list(const std::string& name, const std::vector<double>& values, bool
   }
 }
 
+// The rates of the model: at inertia i the decay rate (c_r + c_{i-1} + c_i + c_b) / I_i (1/s,
+// c_r at the top, c_b at the bit) and the squared frequency (k_{i-1} + k_i) / I_i (1/s²), the
+// diagonal of M⁻¹C and M⁻¹K, which are the Jacobian's entries. The solvers square rates: the
+// error norms square rate × step × state, the starting-step estimates (CVODES, DOP853) and the
+// Newton matrix form second derivatives ~ rate² × state. A double overflows at 1.8e308, a rate
+// at its square root, 1.3e154 /s; kMaxRate leaves four decades for the state it multiplies.
+// Measured before this check: top_damping = 1e300 ground through max_steps at t = 1e-13 s,
+// an inertia of 1e-300 failed at t = 0 with CVODES's "h = nan", stiffnesses 1e300 with
+// DOP853's "step size fell" at t = 0, bit_damping 1e300 as "chattering". No drill string
+// comes near: a real string's rates, element by element down to a 1.5 m stabilizer, are
+// below 1e7 /s. Slow rates (an inertia of 1e300, a stiffness of 1e-300) are not refused: the
+// string barely moves, and the runs end at once.
+void check_rates(const Params& p) {
+  const std::size_t N = p.inertias.size();
+  static_assert(kMaxRate == 1e150, "the message below writes it out");
+  const double max_rate = kMaxRate, max_rate2 = kMaxRate * kMaxRate;
+  for (std::size_t i = 0; i < N; ++i) {
+    const double I = p.inertias[i];
+    const double k_above = i > 0 ? p.stiffnesses[i - 1] : 0.0, k_below = i + 1 < N ? p.stiffnesses[i] : 0.0;
+    const double c_above = i == 0 ? p.top_damping : p.dampings[i - 1];
+    const double c_below = i + 1 == N ? p.bit_damping : p.dampings[i];
+    const double decay = (c_above + c_below) / I, freq2 = (k_above + k_below) / I;
+    if (decay <= max_rate && freq2 <= max_rate2) continue;  // (NaN cannot arise: all finite, I > 0)
+    // Names: the row's two terms and its inertia; the message starts with whichever of the
+    // largest term and the inertia is further from 1 in decades (the absurd one, usually).
+    const std::string inertia = "inertias[" + std::to_string(i) + "]";
+    auto name = [&](bool above, bool spring) -> std::string {
+      if (!spring && above && i == 0) return "top_damping";
+      if (!spring && !above && i + 1 == N) return "bit_damping";
+      const std::size_t j = above ? i - 1 : i;
+      return std::string(spring ? "stiffnesses[" : "dampings[") + std::to_string(j) + "]";
+    };
+    const bool spring = !(decay > max_rate);
+    const bool has_above = spring ? i > 0 : true, has_below = spring ? i + 1 < N : true;
+    const double above = spring ? k_above : c_above, below = spring ? k_below : c_below;
+    const bool big_is_above = has_above && (!has_below || above >= below);
+    const std::string big = name(big_is_above, spring);
+    const double big_value = big_is_above ? above : below;
+    const std::string sum = has_above && has_below ? name(true, spring) + " + " + name(false, spring) : big;
+    const bool inertia_first = std::fabs(std::log10(I)) > std::fabs(std::log10(big_value));
+    const std::string first = inertia_first ? inertia : big, second = inertia_first ? big : inertia;
+    const double first_value = inertia_first ? I : big_value, second_value = inertia_first ? big_value : I;
+    std::ostringstream o;
+    o << first << " = " << shortest(first_value) << " is not allowed with " << second << " = "
+      << shortest(second_value) << ": ";
+    o.precision(3);
+    if (!spring) {
+      o << "the decay rate at inertia " << i << ", (" << sum << ") / " << inertia << " = " << decay
+        << " /s, must be <= 1e150 /s";
+    } else {
+      o << "the frequency at inertia " << i << ", sqrt(" << (has_above && has_below ? "(" + sum + ")" : sum)
+        << " / " << inertia << ") = " << std::sqrt(freq2) << " rad/s, must be <= 1e150 rad/s";
+    }
+    o << " (the solvers square the model's rates, and a double overflows at 1.8e308)";
+    throw std::invalid_argument(o.str());
+  }
+}
+
 }  // namespace
 
 void Params::validate() const {
@@ -72,6 +130,7 @@ void Params::validate() const {
     allowed << "need 0 < mu_coulomb (" << mu_coulomb << ") < mu_static";
     refuse("mu_static", mu_static, allowed.str());
   }
+  check_rates(*this);
 }
 
 void check_operating_point(double wob, double torque) {

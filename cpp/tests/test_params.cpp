@@ -117,3 +117,50 @@ TEST_CASE("every public function that reads a string checks it first", "[params]
   CHECK(f.static_torque() == Approx(0.8 * 100.0 * 0.1));
   CHECK(f.magnitude(1.0) == Approx(100.0 * 0.1 * (0.5 + 0.3 * std::exp(-0.9))));
 }
+
+TEST_CASE("rates a double cannot square are refused, naming the parameter and the inertia",
+          "[params]") {
+  // Measured before: top_damping = 1e300 ground through max_steps at t = 1e-13 s, an inertia of
+  // 1e-300 failed at t = 0 with "h = nan", stiffnesses 1e300 with "step size fell" at t = 0.
+  const Params base = preset("reduced-scale", 4);
+  Params p = base;
+  p.top_damping = 1e300;
+  CHECK(refusal(p) ==
+        "top_damping = 1e+300 is not allowed with inertias[0] = 0.518: the decay rate at inertia "
+        "0, (top_damping + dampings[0]) / inertias[0] = 1.93e+300 /s, must be <= 1e150 /s (the "
+        "solvers square the model's rates, and a double overflows at 1.8e308)");
+  p = base;
+  p.inertias[0] = 1e-300;  // the absurd one of the two is named first
+  CHECK_THAT(refusal(p), Catch::StartsWith("inertias[0] = 1e-300 is not allowed with top_damping = 0.18: "
+                                           "the decay rate at inertia 0"));
+  p = base;
+  p.stiffnesses[1] = 1e300;
+  CHECK_THAT(refusal(p), Catch::StartsWith("stiffnesses[1] = 1e+300 is not allowed with inertias[1] = 0.025: "
+                                           "the frequency at inertia 1, sqrt((stiffnesses[0] + "
+                                           "stiffnesses[1]) / inertias[1]) = 6.32e+150 rad/s"));
+  p = base;
+  p.bit_damping = 1e300;
+  CHECK_THAT(refusal(p), Catch::StartsWith("bit_damping = 1e+300 is not allowed with inertias[3] = 0.0318"));
+  p = base;
+  p.dampings[2] = 1e300;  // acts on inertias 2 and 3: the first one found is named
+  CHECK_THAT(refusal(p), Catch::StartsWith("dampings[2] = 1e+300 is not allowed with inertias[2] = 0.0318"));
+  // At the limit and below it, accepted: 1e150 /s exactly, as both sums give it.
+  p = base;
+  p.top_damping = 0.999e150 * p.inertias[0];
+  CHECK_NOTHROW(p.validate());
+  p.top_damping = 1.001e150 * p.inertias[0];
+  CHECK_THROWS_AS(p.validate(), std::invalid_argument);
+  p = base;
+  p.stiffnesses[0] = 0.998e300 * p.inertias[1];  // frequency 0.999e150 rad/s at inertia 1
+  CHECK_NOTHROW(p.validate());
+  p.stiffnesses[0] = 1.002e300 * p.inertias[1];
+  CHECK_THROWS_AS(p.validate(), std::invalid_argument);
+  // Slow rates are not refused: the string barely moves, and a run ends at once.
+  p = base;
+  p.inertias[0] = 1e300;
+  p.stiffnesses[2] = 1e-300;
+  CHECK_NOTHROW(p.validate());
+  // Nor is anything of the paper's strings, nor of a real one element by element.
+  CHECK_NOTHROW(preset("real-string", 2).validate());
+  CHECK_NOTHROW(preset("reduced-scale", 100000).validate());
+}
