@@ -24,9 +24,10 @@ from .cli_options import (
 from .cli_string import _string_options, string_inputs, string_params, string_units
 from .cli_window import register_tally
 
-#: s per inertia squared: what stability's eigenvalues (at n = 4000: 9.4 s) and hopf's
-#: crossings (at n = 8000: 19 s) took on a 2-core development machine; both grow as n^2
-SQUARE_SECONDS = {"stability": 6e-7, "hopf": 3e-7}
+#: s per inertia squared: what stability's eigenvalues (at n = 4000: 9.4 s), hopf's crossings
+#: (at n = 8000: 19-23 s), bifurcation's branch (at n = 8000: 54 s) and map without --check
+#: (at n = 8000: 23 s, its crossings) took on a 2-core development machine; all grow as n^2
+SQUARE_SECONDS = {"stability": 6e-7, "hopf": 3e-7, "bifurcation": 8.5e-7, "map": 3.6e-7}
 
 
 def slow_note(command: str, dof: int) -> None:
@@ -323,6 +324,7 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
     if args.vary == "torque" and args.torque is not None:
         raise ValueError("--torque is not allowed with --vary torque: the branch varies it")
     params = string_params(args)
+    slow_note("bifurcation", params.dof)
     b = branch(params, vary=args.vary, torque=args.torque, wob=args.wob, omega_max=args.omega_max)
     if args.plot:
         from .plot import save

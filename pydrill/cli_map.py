@@ -83,6 +83,9 @@ def _cmd_map(args: argparse.Namespace) -> int:
     if not args.check and args.t_end is not None:
         raise ValueError("--t-end needs --check K: it is the simulated time of each check")
     params = string_params(args)
+    from .cli_analysis import slow_note  # (not at the top: cli_analysis registers map)
+
+    slow_note("map", params.dof)
     wob_max = args.wob_max or (250.0 if params.name == "reduced-scale" else 2e5)
     torque_max = args.torque_max or 0.1 * wob_max
     wob = np.linspace(wob_max / 200, wob_max, 200)

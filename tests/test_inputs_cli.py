@@ -395,15 +395,18 @@ def test_an_override_of_another_length_than_the_tally_s_string_names_its_option(
     assert code == 0 and "regime" in out
 
 
-@pytest.mark.parametrize("command", ["stability", "hopf"])
+@pytest.mark.parametrize("command", ["stability", "hopf", "bifurcation", "map"])
 def test_an_analysis_of_minutes_says_so_before_it_starts(capsys, monkeypatch, command):
     """stability and hopf grow as the square of the inertias: --dof 100000 computed for an
-    hour and a half without a word. A run of a minute or more is noted first (its time from
-    the constant measured, here made large enough for 4 inertias to take 100 s); the work then
-    runs as asked."""
+    hour and a half without a word (bifurcation and map too: 54 s and 23 s at 8000). A run of
+    a minute or more is noted first (its time from the constant measured, here made large
+    enough for 4 inertias to take 100 s); the work then runs as asked."""
     from pydrill import cli_analysis
 
-    extra = ["--wob", "100", "--torque", "8.3"] if command == "stability" else []
+    extra = {
+        "stability": ["--wob", "100", "--torque", "8.3"],
+        "bifurcation": ["--vary", "wob", "--torque", "8.1"],
+    }.get(command, [])
     code, out, err = call(capsys, command, "--dof", "4", *extra)
     assert code == 0 and out and err == []  # a laboratory string: no note
     monkeypatch.setitem(cli_analysis.SQUARE_SECONDS, command, 100.0 / 16)
