@@ -263,6 +263,14 @@ def place_legend(ax, *args, twins=(), outside: str = "right", **kwargs):
     fig.draw_without_rendering()
     pad = 3 * fig.dpi / 72
     points = np.concatenate([data_pixels(a) for a in (ax, *twins)])
+    # Not what lies on the frame (a curve held at the axis limit runs under the spine).
+    frame = ax.get_window_extent().padded(-1.5)
+    points = points[
+        (points[:, 0] > frame.x0)
+        & (points[:, 0] < frame.x1)
+        & (points[:, 1] > frame.y0)
+        & (points[:, 1] < frame.y1)
+    ]
     insets = [c.get_window_extent().padded(14 * pad / 3) for c in ax.child_axes]
     for loc, anchor in LEGEND_SPOTS:
         legend = ax.legend(*args, loc=loc, bbox_to_anchor=anchor, **kwargs)

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .plot import REGIME_COLORS, plt
+from .plot import REGIME_COLORS, place_legend, plt
 from .units import FT, LBF
 
 if TYPE_CHECKING:
@@ -273,39 +273,46 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
     x_w = wob_max / 1e3
     names_w: list = []  # (text, x, depth, colour) of each curve: named once laid out
     names_r: list = []
+    # A few depths: a dot on each one computed (two depths drew a straight line between them,
+    # read off at depths never computed as if it were the window there).
+    few = depth.size <= 12
+    mark = {"marker": "o", "ms": 4.5, "clip_on": False} if few else {}  # end dots whole
+    dots = "; dots: depths computed" if few else ""
     colors = plt.cm.viridis(np.linspace(0.0, 0.8, max(dw.rpm.size, 2)))
     for k, r in enumerate(dw.rpm):
         w = np.minimum(dw.wob_max[:, k] / 1e3, x_w)
         ax_w.fill_betweenx(depth, 0, w, color=SAFE, alpha=0.22, lw=0)
-        ax_w.plot(w, depth, color=colors[k], lw=2.6)
+        ax_w.plot(w, depth, color=colors[k], lw=2.6, **mark)
         stable = dw.wob_max_stable[:, k] / 1e3
         ax_w.plot(np.where(stable < x_w, stable, np.nan), depth, color=colors[k], lw=0.9, ls=":")
         if w[-1] < 0.97 * x_w:
             names_w.append((f"{r:g} rpm", w, depth, colors[k]))
-    ax_w.plot([], [], color="#555555", lw=2.6, label="heaviest safe W_ob (left of it: safe)")
+    safe = f"heaviest safe W_ob (left of it: safe){dots}"
+    key = {"marker": "o", "ms": 4.5} if few else {}  # the legend's (an unclipped empty line
+    # has an infinite extent, which collapsed the figure's layout)
+    ax_w.plot([], [], color="#555555", lw=2.6, label=safe, **key)
     ax_w.plot([], [], color="#555555", lw=0.9, ls=":", label="stick-slip edge alone")
     ax_w.set_xlim(0, x_w)
     ax_w.set_xlabel("weight on bit (kN)")
     _klbf_axis(ax_w)
     ax_w.set_ylabel("bit depth (m)")
     ax_w.set_title("heaviest safe weight on bit at each surface speed", fontsize=10.5)
-    ax_w.legend(loc="upper right", fontsize=8.5, framealpha=0.95)
     colors = plt.cm.plasma(np.linspace(0.0, 0.8, max(dw.wob.size, 2)))
     for k, w in enumerate(dw.wob):
         r = np.minimum(dw.rpm_min[:, k], rpm_max)
         ax_r.fill_betweenx(depth, r, rpm_max, color=SAFE, alpha=0.22, lw=0)
-        ax_r.plot(r, depth, color=colors[k], lw=2.6)
+        ax_r.plot(r, depth, color=colors[k], lw=2.6, **mark)
         ax_r.plot(
             np.minimum(dw.rpm_min_stable[:, k], rpm_max), depth, color=colors[k], lw=0.9, ls=":"
         )
         if r[-1] < 0.97 * rpm_max:
             names_r.append((f"{w / 1e3:g} kN ({w / LBF / 1e3:.3g} klbf)", r, depth, colors[k]))
-    ax_r.plot([], [], color="#555555", lw=2.6, label="slowest safe speed (right of it: safe)")
+    safe = f"slowest safe speed (right of it: safe){dots}"
+    ax_r.plot([], [], color="#555555", lw=2.6, label=safe, **key)
     ax_r.plot([], [], color="#555555", lw=0.9, ls=":", label="stick-slip edge alone")
     ax_r.set_xlim(0, rpm_max)
     ax_r.set_xlabel("surface speed (rpm)")
     ax_r.set_title("slowest safe surface speed at each weight on bit", fontsize=10.5)
-    ax_r.legend(loc="upper right", fontsize=8.5, framealpha=0.95)
     sec = ax_r.secondary_yaxis("right", functions=(lambda m: m / FT, lambda f: f * FT))
     sec.set_ylabel("bit depth (ft)")
     for ax in (ax_w, ax_r):
@@ -318,6 +325,10 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
         "where a line bends, the stick-slip edge has taken over from the stall edge",
         fontsize=11.5,
     )
+    # Clear of the curves (upper right hid the top of a 120 rpm line at 210 kN), else below;
+    # once the axes are final (depth runs downwards).
+    for ax in (ax_w, ax_r):
+        place_legend(ax, fontsize=8.5, framealpha=0.95, outside="below")
     _curve_labels(fig, ax_w, names_w)
     _curve_labels(fig, ax_r, names_r)
     return fig

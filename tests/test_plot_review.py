@@ -348,3 +348,33 @@ def test_eigenvalue_figure_names_the_whole_operating_point():
     real = pydrill.preset("real-string", dof=2)
     title = eigenvalue_figure(real, stability(real, 60e3, torque=9e3)).axes[0].get_title()
     assert "$W_{ob}$ = 60 kN" in title and "$u$ = 9 kN·m" in title
+
+
+def test_depth_window_dots_the_depths_computed_and_its_legends_hide_no_curve():
+    from pydrill.plot_window import window_depth_figure
+    from pydrill.tally_parse import load_tally
+    from pydrill.window import window_against_depth
+
+    tally = load_tally(Path(__file__).resolve().parents[1] / "examples/tallies/paper-eq53.toml")
+    rpm, wob = [40.0, 120.0], [10e3, 30e3, 100e3]
+    for depths in ([1524.0, 4572.0], np.linspace(500.0, 5000.0, 30)):
+        fig = window_depth_figure(window_against_depth(tally, depths, rpm, wob), 300e3, 200.0)
+        drawn(fig)
+        for ax in fig.axes[:2]:
+            lines = ax.get_lines()
+            thick = [x for x in lines if x.get_linewidth() > 2 and len(x.get_ydata())]
+            assert thick
+            # Two depths drew a bare straight line between them, read as the window between.
+            for line in thick:
+                assert (line.get_marker() not in ("None", "", None)) == (len(depths) <= 12)
+            frame = ax.get_window_extent().padded(-1.5)
+            points = data_points(ax)
+            inside = points[
+                (points[:, 0] > frame.x0)
+                & (points[:, 0] < frame.x1)
+                & (points[:, 1] > frame.y0)
+                & (points[:, 1] < frame.y1)
+            ]
+            # Upper right, the legend hid the top of the 120 rpm line (at 210 kN).
+            assert hidden_by(ax.get_legend().get_window_extent(), inside) == 0
+        assert outside_canvas(fig) == []
