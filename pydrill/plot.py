@@ -25,6 +25,7 @@ if TYPE_CHECKING:
 BIT = "#c0392b"
 TOP = "#2c3e50"
 STICK = "#f5b041"
+HELD = "#9c640c"  #: the torque held by the rock, drawn over the stick shading
 EQUILIBRIUM = "#27ae60"
 
 REGIME_COLORS = {
@@ -124,7 +125,8 @@ def simulation_figure(result: SimulationResult) -> Figure:
         ax_t.axhline(-s.static_torque, color=BIT, ls=":", lw=1.2, label="$-T_s$")
     ax_t.axhline(result.torque, color="0.4", ls="-.", lw=1, label="surface torque $u$")
     if held.any():
-        ax_t.plot(t[held], te[held], ".", color=STICK, ms=2, label="held by the rock")
+        # Darker than the stick shading it lies on (the shading's own orange was 1.6:1 on it).
+        ax_t.plot(t[held], te[held], ".", color=HELD, ms=2, label="held by the rock")
     # A real string's torques in kN·m, even a light one's 3.8 kN·m beside its W_ob = 30 kN
     # (was "u = 3800 N·m" in the title beside "W_ob = 30 kN", and an axis in N·m).
     scale, unit = unit_scale([result.wob, result.torque, s.static_torque], "N·m")

@@ -118,7 +118,7 @@ def window_figure(
         zorder=0,
     )
     ax.plot(w_hopf, rpm, color=HOPF_EDGE, lw=2.2, label="stick-slip edge (first Hopf)")
-    ax.plot(w_stall, rpm, color=STALL_EDGE, lw=2.2, ls="--", label="stall edge (torque = T_s)")
+    ax.plot(w_stall, rpm, color=STALL_EDGE, lw=2.2, ls="--", label="stall edge (torque = $T_s$)")
     # Steady surface torque inside the window: what the torque gauge should read there.
     gw, gr = np.meshgrid(np.linspace(x_max / 300, x_max, 300), np.linspace(1.0, rpm_max, 300))
     tq = limits.torque(gw * 1e3, gr) / 1e3
@@ -205,7 +205,7 @@ def window_figure(
     ax.set_title(
         f"{name} at {depth:,.0f} m ({depth / FT:,.0f} ft): operating window\n"
         f"lumped model {p.dof} inertias, bit {2 * p.bit_radius / 0.0254:.4g} in, "
-        f"first destabilising slope δ_c = {limits.delta_limit:.4g} N·m·s/rad",
+        f"first destabilising slope $\\delta_c$ = {limits.delta_limit:.4g} N·m·s/rad",
         fontsize=10.5,
     )
     return fig

@@ -378,3 +378,20 @@ def test_depth_window_dots_the_depths_computed_and_its_legends_hide_no_curve():
             # Upper right, the legend hid the top of the 120 rpm line (at 210 kN).
             assert hidden_by(ax.get_legend().get_window_extent(), inside) == 0
         assert outside_canvas(fig) == []
+
+
+def test_simulation_figure_torque_held_stands_out_on_the_stick_shading():
+    from matplotlib.colors import to_rgb
+
+    from pydrill.plot import simulation_figure
+    from pydrill.plot_atlas import contrast
+
+    r = pydrill.simulate(preset="reduced-scale", dof=4, wob=100.0, torque=8.3, t_end=60.0)
+    fig = simulation_figure(r)
+    ax_t = fig.axes[1]
+    (held,) = [x for x in ax_t.get_lines() if x.get_label() == "held by the rock"]
+    shade = next(p for p in ax_t.patches if p.get_alpha() and p.get_alpha() > 0.2)
+    ground = shade.get_alpha() * np.array(shade.get_facecolor()[:3]) + (1 - shade.get_alpha())
+    # Drawn in the shading's own orange, the held torque was 1.6:1 on it.
+    assert contrast(to_rgb(held.get_color()), ground) >= 3.0
+    assert outside_canvas(fig) == []
