@@ -165,13 +165,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--rtol",
         type=_positive("--rtol"),
         default=1e-8,
-        help="relative tolerance (default 1e-8; 1e-14 ... < 1)",
+        help="relative tolerance (default 1e-8; 1e-14 ... 0.01)",
     )
     run.add_argument(
         "--atol",
         type=_positive("--atol"),
         default=1e-8,
-        help="absolute tolerance (rad and rad/s; default 1e-8; >= 1e-20)",
+        help="absolute tolerance (rad and rad/s; default 1e-8; 1e-20 ... 0.001)",
     )
     run.add_argument(
         "--n-out",

@@ -81,8 +81,9 @@ def simulate(
       None (default) for ``n_out`` uniform times from 0 to ``t_end``.
     - ``n_out``: how many uniform output times, 2 ... 1e8 (without ``t_out``). The output,
       2·dof − 1 numbers of 8 bytes at each output time, must fit in the machine's memory.
-    - ``rtol`` (1e-14 <= rtol < 1), ``atol`` (>= 1e-20, in the state's units: rad and
-      rad/s): the integrator's relative and absolute error tolerances per step.
+    - ``rtol`` (1e-14 <= rtol <= 0.01), ``atol`` (1e-20 <= atol <= 0.001, in the state's
+      units: rad and rad/s): the integrator's relative and absolute error tolerances per
+      step. Looser ones misjudge the regime (at rtol 0.05 a steady case was judged stick-slip).
     - ``max_step`` (s): the longest internal step; 0 (default) for no limit.
     - ``max_order``: the highest order of ``"bdf"`` (1 ... 5) or ``"adams"`` (1 ... 12);
       0 (default) for the method's own. Other methods take only 0.

@@ -26,10 +26,11 @@ def with_defaults(doc: dict[str, Any], section: str, defaults: dict[str, Any]) -
     return {**defaults, **doc}
 
 
-#: The simulator's tolerance floors (kMinRtol, kMinAtol in cpp/include/pydrill/simulator.hpp;
-#: tests/test_spec.py checks that simulate refuses just below them and accepts them).
-RTOL_MIN = 1e-14
-ATOL_MIN = 1e-20
+#: The simulator's tolerance floors and ceilings (kMinRtol, kMaxRtol, kMinAtol, kMaxAtol in
+#: cpp/include/pydrill/simulator.hpp; tests/test_spec.py checks that simulate refuses just
+#: beyond them and accepts them). Beyond the ceilings a step's error misjudges the regime.
+RTOL_MIN, RTOL_MAX = 1e-14, 1e-2
+ATOL_MIN, ATOL_MAX = 1e-20, 1e-3
 
 
 def simulation(doc: dict[str, Any]) -> dict[str, Any]:
@@ -58,8 +59,8 @@ def simulation(doc: dict[str, Any]) -> dict[str, Any]:
             lambda v: 0 < v <= MAX_T_END,
             f"0 < t_end <= {longest} s (simulate's limit)",
         ),
-        ("rtol", lambda v: RTOL_MIN <= v < 1, f"{RTOL_MIN:g} <= rtol < 1"),
-        ("atol", lambda v: v >= ATOL_MIN, f"a finite number >= {ATOL_MIN:g}"),
+        ("rtol", lambda v: RTOL_MIN <= v <= RTOL_MAX, f"{RTOL_MIN:g} <= rtol <= {RTOL_MAX:g}"),
+        ("atol", lambda v: ATOL_MIN <= v <= ATOL_MAX, f"{ATOL_MIN:g} <= atol <= {ATOL_MAX:g}"),
     ):
         v = sim[key]
         if not _is_number(v) or not ok(v):

@@ -85,7 +85,10 @@ def test_window_must_be_a_number(value):
 
 @pytest.mark.parametrize(
     ("key", "refuse", "accept"),
-    [("rtol", [2.0, 1.0, 9.9e-15, 1e-20], [1e-14, 0.5]), ("atol", [9.9e-21, 1e-30], [1e-20, 1e-3])],
+    [
+        ("rtol", [2.0, 1.0, 0.0101, 9.9e-15, 1e-20], [1e-14, 0.01]),
+        ("atol", [9.9e-21, 1e-30, 0.00101, 1.0], [1e-20, 1e-3]),
+    ],
 )
 def test_tolerances_are_refused_exactly_where_simulate_refuses_them(key, refuse, accept):
     """A spec simulate would refuse at every point (so that every point of a sweep fails) is
