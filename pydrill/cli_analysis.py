@@ -358,10 +358,13 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         f"u = {b.fixed / k:g} {torque}" if b.vary == "wob" else f"W_ob = {b.fixed / k:g} {force}"
     )
     print(f"{params.name}, dof {params.dof}: steady states as {b.vary} varies at {fixed}")
-    print(
-        f"{'point':5s} {f'wob ({force})':>12s} {f'torque ({torque})':>13s} {'omega (rad/s)':>14s} "
-        f"{'freq (rad/s)':>13s} {'lyapunov':>11s}  criticality"
-    )
+    if not b.points:  # the header of an empty table said nothing; the branch's stability does
+        print(_no_points(b))
+    else:
+        print(
+            f"{'point':5s} {f'wob ({force})':>12s} {f'torque ({torque})':>13s} "
+            f"{'omega (rad/s)':>14s} {'freq (rad/s)':>13s} {'lyapunov':>11s}  criticality"
+        )
     for pt in b.points:
         freq = f"{pt.frequency:13.6g}" if pt.frequency else f"{'-':>13s}"
         l1 = f"{pt.lyapunov:11.4g}" if pt.lyapunov is not None else f"{'-':>11s}"
@@ -372,8 +375,25 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
             f"{pt.type:5s} {pt.wob / k:12.8g} {pt.torque / k:13.8g} {pt.omega:14.8g} {freq} {l1}  "
             + " ".join(x for x in (pt.criticality, others) if x)
         )
-    if not b.points:
-        print("no Hopf or fold point on this branch")
     if args.plot:
         print(f"figure: {args.plot}")
     return 0
+
+
+def _no_points(b) -> str:
+    """What a branch without Hopf or fold points says: its extent and its stability (it
+    printed the header of an empty table, and "no Hopf or fold point on this branch")."""
+    if b.omega.size == 0:
+        return "no Hopf or fold point: no steady state on this branch"
+    unstable = int((b.unstable > 0).sum())
+    state = (
+        "stable along all of it"
+        if unstable == 0
+        else "unstable along all of it"
+        if unstable == b.unstable.size
+        else "stable in part"
+    )
+    return (
+        f"no Hopf or fold point on this branch (Omega {b.omega.min():.4g} ... "
+        f"{b.omega.max():.4g} rad/s): the steady state is {state}"
+    )

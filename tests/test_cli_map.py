@@ -70,3 +70,35 @@ def test_the_map_counts_unstable_eigenvalues_once_per_weight_not_once_per_piece(
         for i, u in enumerate(m.torque):
             stable = any(pt.stable for pt in stability.stability(p, w, torque=u))
             assert (m.category[i, j] in (0, 1)) == stable, (w, u)
+
+
+@pytest.mark.parametrize(
+    ("argv", "stable"),
+    [
+        (["--vary", "wob", "--torque", "0.01"], True),
+        (["--vary", "torque", "--wob", "100", "--omega-max", "2"], False),
+    ],
+)
+def test_a_branch_without_special_points_says_its_stability(argv, stable, capsys):
+    """bifurcation printed the header of an empty table and "no Hopf or fold point on this
+    branch": nothing of whether the steady states along it drill steadily. Now their Omega
+    range and stability, checked here against the eigenvalues (stability()) at its ends."""
+    from pydrill.bifurcation import branch
+
+    assert main(["bifurcation", "--dof", "2", *argv]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert len(out) == 2, out
+    m = re.fullmatch(
+        r"no Hopf or fold point on this branch \(Omega (\S+) \.\.\. (\S+) rad/s\): "
+        r"the steady state is (stable|unstable) along all of it",
+        out[1],
+    )
+    assert m, out[1]
+    assert (m.group(3) == "stable") == stable
+    p = pydrill.preset("reduced-scale", dof=2)
+    fixed = {"torque": 0.01} if argv[1] == "wob" else {"wob": 100.0, "omega_max": 2.0}
+    b = branch(p, vary=argv[1], **fixed)
+    for i in (b.omega.argmin(), b.omega.argmax()):
+        assert f"{b.omega[i]:.4g}" == m.group(1 if i == b.omega.argmin() else 2)
+        (pt,) = stability(p, b.wob[i], omega=b.omega[i])
+        assert pt.stable == stable, (b.omega[i], pt)
