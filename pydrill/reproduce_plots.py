@@ -257,13 +257,14 @@ def fig12(out: Path, numbers: dict[str, Any]) -> Path:
             )
         _hopf_wu(ax, p, f12["curves"], f12["fold_delta"], 200, 16)
         ax.plot([], [], color="#d5f5e3", lw=8, label="a stable steady state exists")
-        ax.legend(fontsize=8, loc="upper left")
         ax.set_title(f"({letter}) n' = {2 * dof - 1} (dof {dof})", fontsize=10)
     fig.suptitle(
         "Fig. 12 — ($W_{ob}$, $u$) at which a Hopf point appears (Eq. 14): one curve per "
         "critical slope $\\delta_k$, each of one criticality",
         fontweight="bold",
     )
+    for ax in axes:  # upper left, (b)'s hid the stick-slip points of W_ob 90-103 N above 10.6 N·m
+        place_legend(ax, fontsize=8)
     return save(fig, out / "fig12_hopf_wob_torque.png")
 
 

@@ -175,7 +175,7 @@ def test_fig11_insets_hide_no_orbit_nor_branch_and_their_names_do_not_overlap(re
             assert not a.overlaps(b), (ax.get_title(), ta.get_text(), tb.get_text())
 
 
-def test_fig7_and_fig10_legends_hide_no_curve(reproduced):
+def test_fig7_fig10_and_fig12_legends_hide_no_curve_nor_point(reproduced):
     fig7 = reproduced["fig07_stuck"]
     (torque_ax,) = [a for a in fig7.axes if a.get_legend() is not None and a.name == "rectilinear"]
     twins = [a for a in fig7.axes if a is not torque_ax and a.bbox.bounds == torque_ax.bbox.bounds]
@@ -188,6 +188,11 @@ def test_fig7_and_fig10_legends_hide_no_curve(reproduced):
     drawn(fig10)
     for ax in fig10.axes:
         # In the upper left, the fold and H1 lines of (a) ran under it.
+        assert hidden_by(ax.get_legend().get_window_extent(), data_points(ax)) == 0, ax.get_title()
+    fig12 = reproduced["fig12_hopf_wob_torque"]
+    drawn(fig12)
+    for ax in fig12.axes:
+        # In the upper left, (b)'s hid the stick-slip points at W_ob = 90-103 N above 10.6 N·m.
         assert hidden_by(ax.get_legend().get_window_extent(), data_points(ax)) == 0, ax.get_title()
 
 
