@@ -67,6 +67,13 @@ def window_json(tally, dw, grid, checks, args) -> dict:
         "min_rpm": "rpm",
         "wob_max": "N",
         "rpm_min": "rpm",
+        # the edges each (were without a unit), the checks' points and the depth of each window
+        "wob_max_stable": "N",
+        "wob_max_unstuck": "N",
+        "rpm_min_stable": "rpm",
+        "rpm_min_unstuck": "rpm",
+        "depth": "m",
+        "bit_rpm": "rpm",
         "delta_limit": "N·m·s/rad",
     }
     return json_document(inputs, results, units, args.plot)

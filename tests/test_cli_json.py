@@ -168,8 +168,8 @@ def test_stability_json_says_how_many_eigenvalues_it_leaves_out(tmp_path):
     assert len(shown) < 667
 
 
-#: keys of a float (or floats) without a unit: fractions of a map's area
-DIMENSIONLESS = {"fractions"}
+#: keys of a float (or floats) without a unit: fractions of a map's or a chart's area
+DIMENSIONLESS = {"fractions", "safe_fraction"}
 
 
 def _float_keys(data, found=None):
@@ -198,12 +198,14 @@ def _float_keys(data, found=None):
         ("stability", "--dof", "4", "--wob", "40", "--torque", "8.3"),
         ("bifurcation", "--preset", "real-string", "--vary", "wob", "--torque", "10kN*m"),
         ("bifurcation", "--preset", "real-string", "--vary", "torque", "--wob", "100kN"),
+        ("window", PAPER, "--depth", "1000m,3000m", "--check", "2", "--check-dof", "10"),
     ],
     ids=lambda a: " ".join(a[:1] + a[-2:]),
 )
 def test_every_number_of_the_analysis_json_has_its_unit(args, tmp_path):
-    """bifurcation's 'fixed' (a torque or a weight, by --vary) and map's safe_torque_min had
-    none; a script had to know them from the text."""
+    """bifurcation's 'fixed' (a torque or a weight, by --vary), map's safe_torque_min and
+    window's edges (wob_max_stable, rpm_min_unstuck, ...) and checks had none; a script had to
+    know them from the text."""
     data = run_json(*args, cwd=tmp_path)
     missing = _float_keys(data) - set(data["units"])
     assert not missing, missing
