@@ -22,6 +22,13 @@ units: depth m or ft (500m:5000m:10 = 10 depths, ends included); wob in kN (a ba
 or with its unit (60klbf); speeds in rpm."""
 
 
+#: what the positional TALLY.toml is (its help was empty)
+TALLY_HELP = (
+    "the string's pipe tally: a TOML file of its top drive, bit and sections (pipe, collars; "
+    "count, length, od, id); examples/tallies/ has two, docs/guide/real-strings.md explains them"
+)
+
+
 def register_tally(sub) -> None:
     string = sub.add_parser(
         "string",
@@ -34,7 +41,7 @@ def register_tally(sub) -> None:
         "units in the tally: m, ft, in; Pa, GPa, psi; kg/m3. Output is SI.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    string.add_argument("tally", metavar="TALLY.toml")
+    string.add_argument("tally", metavar="TALLY.toml", help=TALLY_HELP)
     string.add_argument(
         "--dof",
         type=_whole("--dof", "2 ... one per element"),
@@ -63,7 +70,7 @@ def register_tally(sub) -> None:
         epilog=WINDOW_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    win.add_argument("tally", metavar="TALLY.toml")
+    win.add_argument("tally", metavar="TALLY.toml", help=TALLY_HELP)
     win.add_argument(
         "--depth",
         required=True,
