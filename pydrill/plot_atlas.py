@@ -15,6 +15,15 @@ METRICS = {
     **{n: (f[2], f[3]) for n, f in fmt.RUN_FIELDS.items()},
     **{n: (f[2], f[3].replace(", fastest first", "")) for n, f in fmt.EQ_FIELDS.items()},
 }
+#: what a map's title calls a metric whose field name says little to a driller
+WORDS = {
+    "spectral_abscissa": "growth rate",
+    "hopf_margin": "stability margin",
+    "unstable": "unstable eigenvalues",
+    "omega_eq": "steady bit velocity",
+    "delta": "Stribeck slope",
+    "bit_top_ratio": "bit over top-drive speed",
+}
 #: why a steady state's metric (``omega_eq``, ``hopf_margin``, ...) cannot be mapped
 NO_STABILITY = "this atlas did not record stability ([record] stability = false)"
 # Signed: zero is the stability boundary, so the colours diverge there.
@@ -374,4 +383,6 @@ def _metric_mesh(fig, ax, x, y, grid, metric: str, init: str, stuck=None) -> tup
     if stuck is not None and stuck.any():
         handles.append(_hatch_cells(ax, mesh, stuck, "////", "bit stuck"))
     steady = metric in fmt.EQ_FIELDS
-    return handles, f"{metric} " + ("of the fastest steady state" if steady else f"from {init}")
+    # A driller's words first, the field's name (what --metric takes) after them.
+    name = f"{WORDS[metric]} ({metric})" if metric in WORDS else metric
+    return handles, f"{name} " + ("of the fastest steady state" if steady else f"from {init}")

@@ -311,7 +311,7 @@ def test_every_metric_map_and_profile_keeps_its_text_on_the_canvas(small_atlas):
     import matplotlib.pyplot as plt
 
     from pydrill.atlas import Atlas
-    from pydrill.plot_atlas import METRICS, atlas_figure
+    from pydrill.plot_atlas import METRICS, WORDS, atlas_figure
 
     with Atlas(small_atlas) as atlas:
         for initial in ("rest", "equilibrium"):
@@ -319,6 +319,8 @@ def test_every_metric_map_and_profile_keeps_its_text_on_the_canvas(small_atlas):
                 fig = atlas_figure(atlas, initial=initial, metric=metric)
                 # bit_top_ratio's colour-bar label (110 characters) ran off the top.
                 assert outside_canvas(fig) == [], (initial, metric)
+                if metric in WORDS:  # "spectral_abscissa of ..." said nothing to a driller
+                    assert f"{WORDS[metric]} ({metric})" in fig.axes[0].get_title()
                 plt.close(fig)
         for metric in (None, "severity", "spectral_abscissa"):
             fig = atlas_figure(atlas, metric=metric, profile=True, at={"torque": 9.0})
