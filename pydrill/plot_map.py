@@ -26,13 +26,24 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
     colors = ["#abebc6", "#e3f7ea", "#f8c471", "#d5d8dc"]
     hatch = "//"
     fig, ax = plt.subplots(figsize=(10, 6.5), layout="constrained")
+    from .plot_atlas import _edges
+
+    def edges(v):
+        """Cell edges about the grid ``v``, the first at 0 when the grid starts within a step
+        of it (the command's grids start at 1/200 of their range): the axes then start at
+        zero, with a 0 on each (they began at 1.25 N and 0.125 N·m, unlabelled)."""
+        e = _edges(v)
+        if len(v) > 1 and 0 < v[0] <= v[1] - v[0]:
+            e[0] = 0.0
+        return e
+
+    x_edges, y_edges = edges(omap.wob), edges(omap.torque)
     ax.pcolormesh(
-        omap.wob,
-        omap.torque,
+        x_edges,
+        y_edges,
         omap.category,
         cmap=ListedColormap(colors),
         norm=BoundaryNorm(np.arange(-0.5, 4.5), 4),
-        shading="nearest",
         rasterized=True,
     )
     if (omap.category == 1).any():
@@ -81,8 +92,8 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
                     zorder=5,
                     clip_on=False,  # the check grid ends on the map's edges: markers whole
                 )
-    ax.set_xlim(omap.wob.min(), omap.wob.max())
-    ax.set_ylim(omap.torque.min(), omap.torque.max())
+    ax.set_xlim(min(x_edges[0], omap.wob.min()), omap.wob.max())
+    ax.set_ylim(min(y_edges[0], omap.torque.min()), omap.torque.max())
     xscale, xunit = unit_scale(omap.wob, "N")
     yscale, yunit = unit_scale(omap.torque, "N·m")
     scale_ticks(ax.xaxis, xscale)
@@ -90,11 +101,13 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
     ax.set_xlabel(f"weight on bit $W_{{ob}}$ ({xunit})")
     ax.set_ylabel(f"surface torque $u$ ({yunit})")
     handles, labels = ax.get_legend_handles_labels()
+    # The categories the map shows (the legend named one the real string's map has not).
+    shown = [k for k in range(len(colors)) if (omap.category == k).any()]
     handles += [
-        Patch(facecolor=c, edgecolor="0.6", lw=0, hatch=hatch if k == 1 else None)
-        for k, c in enumerate(colors)
+        Patch(facecolor=colors[k], edgecolor="0.6", lw=0, hatch=hatch if k == 1 else None)
+        for k in shown
     ]
-    labels += list(CATEGORIES)
+    labels += [list(CATEGORIES)[k] for k in shown]
     ax.legend(handles, labels, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     # Over the whole figure, wrapped to fit: over the axes alone a tally's longer name pushed
     # the line off the figure's left edge. Stick-slip along the boundary is said where the

@@ -260,13 +260,14 @@ def test_regime_colours_differ_for_colour_blind_readers(vision):
 def test_operating_map_gives_no_category_the_colour_of_no_steady_state():
     from matplotlib.colors import to_rgba
 
-    from pydrill.operating import operating_map
+    from pydrill.operating import CATEGORIES, operating_map
     from pydrill.plot_atlas import MAP_COLORS
     from pydrill.plot_map import operating_figure
     from pydrill.stability import critical_deltas
 
     p = pydrill.preset("reduced-scale", dof=4)
     omap = operating_map(p, np.linspace(1, 250, 60), np.linspace(0.1, 25, 60))
+    omap.category[omap.category == 2] = 3  # a map without one of the categories
     fig = operating_figure(p, omap, critical_deltas(p))
     cmap = fig.axes[0].collections[0].get_cmap()
     drawn = [tuple(cmap(k)) for k in range(cmap.N)]
@@ -274,6 +275,12 @@ def test_operating_map_gives_no_category_the_colour_of_no_steady_state():
     # on the atlas maps.
     assert to_rgba(MAP_COLORS["no-steady-state"]) not in drawn
     assert outside_canvas(fig) == []
+    # The grid starts at 1/250 of its range: the axes start at zero, with a 0 written there.
+    ax = fig.axes[0]
+    assert ax.get_xlim()[0] == 0.0 and ax.get_ylim()[0] == 0.0
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    for k, name in enumerate(CATEGORIES):  # a category in the legend only where it is drawn
+        assert (name in labels) == bool((omap.category == k).any()), name
 
 
 def test_bifurcation_figure_legend_and_inset_hide_none_of_the_branch():
