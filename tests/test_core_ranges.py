@@ -146,3 +146,15 @@ def test_tolerances_looser_than_the_regimes_allow_are_refused(method):
         with pytest.raises(ValueError, match=r"need 1e-20 <= atol <= 0\.001 \(rad and rad/s"):
             pydrill.simulate(**kw, atol=atol)
     assert pydrill.simulate(**kw, rtol=0.01, atol=0.001).t[-1] == 2.0
+
+
+@pytest.mark.parametrize(("dof", "rtol"), [(2, 1e-2), (4, 1e-3), (10, 1e-4)])
+def test_dop853_at_a_loose_tolerance_does_not_run_away_at_a_break_away(dof, rtol):
+    """Within the tolerances allowed, DOP853's bit velocity reached 1e10 ... 1e11 rad/s in the
+    paper's stick-slip (the step of a long stick carried over to the break-away, and the error
+    test, scaled by the new state, accepted the runaway). Against the same run at 1e-10."""
+    kw = dict(wob=100.0, torque=8.3, dof=dof, method="dop853", n_out=301)
+    ref = pydrill.simulate(**kw, rtol=1e-10, atol=1e-10).summary
+    s = pydrill.simulate(**kw, rtol=rtol).summary
+    assert s.regime == ref.regime == "stick-slip"
+    assert s.bit_max < 1.1 * ref.bit_max
