@@ -51,11 +51,11 @@ class SolverStats:
     stiffness_ratio: float  #: the stiffness estimate ``"auto"`` used
     steps: int  #: internal steps taken
     rhs_evals: int  #: right-hand side evaluations
-    jac_evals: int  #: Jacobian evaluations (bdf, adams)
-    lin_setups: int  #: linear solver setups (bdf, adams)
-    lin_solves: int  #: linear solves (bdf, adams)
-    nonlin_iters: int  #: nonlinear solver iterations (bdf, adams)
-    nonlin_conv_fails: int  #: nonlinear solver convergence failures (bdf, adams)
+    jac_evals: int  #: Jacobian evaluations (bdf)
+    lin_setups: int  #: refactorisations of the Newton matrix I - gamma*J (bdf)
+    lin_solves: int  #: linear solves (bdf)
+    nonlin_iters: int  #: nonlinear iterations: Newton's (bdf), fixed-point (adams)
+    nonlin_conv_fails: int  #: nonlinear convergence failures (bdf, adams)
     err_test_fails: int  #: steps refused by the error test, then retried smaller
     root_evals: int  #: evaluations of the switching functions (rootfinding)
     reinits: int  #: restarts of the integrator, one at each friction switch
@@ -260,11 +260,7 @@ class SimulationResult:
             "window": [s.window_start, s.window_end],
             "note": s.note or None,
             "caveat": s.caveat or None,
-            "solver": {
-                k: v
-                for k, v in asdict(self.stats).items()
-                if k not in ("lin_setups", "nonlin_conv_fails")
-            },
+            "solver": asdict(self.stats),
             "inputs": self.inputs(),
             "units": {
                 "bit_velocity": "rad/s",
