@@ -187,6 +187,14 @@ def build_parser() -> argparse.ArgumentParser:
         "run of a stiff or chattering string may need more",
     )
     run.add_argument(
+        "--max-switch-rate",
+        type=_positive("--max-switch-rate"),
+        default=1e4,
+        metavar="RATE",
+        help="stick/slip switches per simulated second beyond which a burst of them is "
+        "stopped as chattering (default 1e4; > 0)",
+    )
+    run.add_argument(
         "--window",
         type=_fraction("--window"),
         default=0.5,
@@ -239,6 +247,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             atol=args.atol,
             n_out=args.n_out,
             max_steps=args.max_steps,
+            max_switch_rate=args.max_switch_rate,
             window_fraction=args.window,
         )
     except (ValueError, SolverError) as exc:  # worded for the API: name the options instead

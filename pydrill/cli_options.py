@@ -188,6 +188,7 @@ OPTION_NAMES = {
     "window_fraction": "--window",
     "n_out": "--n-out",
     "max_steps": "--max-steps",
+    "max_switch_rate": "--max-switch-rate",
     "t_end": "--t-end",
     "rtol": "--rtol",
     "atol": "--atol",
@@ -217,7 +218,7 @@ def check_failed(exc: Exception, point: str, simulate_line: str, t_end: float) -
     commands do not have. The same exception type, its ``t_reached`` kept."""
     import re
 
-    message = str(exc)
+    message = re.sub(r"\(limit max_switch_rate = (\S+) /s\)", r"(more than \1 a second)", str(exc))
     if message.endswith(_STEP_LIMIT_ADVICE):  # the step limit: a shorter run, or more steps
         message = re.sub(r"^max_steps = (\d+) internal", r"the limit of \1 internal", message)
         message = (

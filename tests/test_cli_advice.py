@@ -23,7 +23,15 @@ ROOT = Path(__file__).resolve().parents[1]
 PAPER = str(ROOT / "examples" / "tallies" / "paper-eq53.toml")
 
 #: simulate()'s parameters that its command line spells otherwise
-API_NAMES = ("max_steps", "t_end", "n_out", "window_fraction", "max_step", "t_out")
+API_NAMES = (
+    "max_steps",
+    "t_end",
+    "n_out",
+    "window_fraction",
+    "max_step",
+    "t_out",
+    "max_switch_rate",
+)
 
 
 def commands() -> dict[str, argparse.ArgumentParser]:
@@ -207,3 +215,23 @@ def test_an_option_that_takes_units_shows_one_in_its_help(command):
             faults.append(f"{name} takes {takes[0]}, its help shows no unit")
         faults += [f"{name} shows {s} and refuses it" for s in shown if not _takes(action, s)]
     assert faults == []
+
+
+@pytest.mark.parametrize(
+    ("limit", "words"),
+    [
+        (["--max-steps", "20"], "--max-steps = 20 internal steps reached"),
+        (["--max-switch-rate", "0.001", "--t-end", "3000"], "(limit --max-switch-rate = 0.001 /s)"),
+    ],
+)
+def test_simulate_at_a_limit_names_the_option_that_sets_it(limit, words, capsys):
+    """simulate's chattering guard said "limit max_switch_rate = ...", a parameter of the
+    Python API the command line did not take; --max-switch-rate now sets it. Both limits are
+    the core's own failures, at the values given."""
+    argv = ["simulate", "--wob", "100", "--torque", "8.3", *limit]
+    assert main(argv) == 3
+    err = capsys.readouterr().err
+    assert words in err
+    assert advice_faults("simulate", err) == []
+    # the same run within the default limits runs
+    assert main([*argv[:5], "--t-end", "3000"] if "3000" in argv else argv[:5]) == 0
