@@ -293,3 +293,15 @@ def test_simulation_figure_torque_held_stands_out_on_the_stick_shading():
     # Drawn in the shading's own orange, the held torque was 1.6:1 on it.
     assert contrast(to_rgb(held.get_color()), ground) >= 3.0
     assert outside_canvas(fig) == []
+
+
+def test_simulation_figure_of_steady_drilling_keeps_zero_velocity_in_view():
+    from pydrill.plot import simulation_figure
+
+    r = pydrill.simulate(
+        preset="reduced-scale", dof=4, wob=40.0, torque=8.3, t_end=60.0, initial="equilibrium"
+    )
+    assert r.regime == "steady"
+    lo, hi = simulation_figure(r).axes[0].get_ylim()
+    # Autoscaled to the data alone, a wobble of 0.02 rad/s about 33.16 filled the panel.
+    assert lo <= 0.0 < r.summary.bit_mean < hi
