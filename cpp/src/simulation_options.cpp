@@ -1,0 +1,130 @@
+// The simulation options' names (method, regime, friction law, initial state, switch kind),
+// their parsers, and SimulationOptions::validate: what simulate refuses before it starts.
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "pydrill/simulator.hpp"
+#include "shortest.hpp"
+
+namespace pydrill {
+
+const char* method_name(Method m) noexcept {
+  switch (m) {
+    case Method::Auto: return "auto";
+    case Method::BDF: return "bdf";
+    case Method::Adams: return "adams";
+    case Method::ERK: return "erk";
+    case Method::DOP853: return "dop853";
+  }
+  return "?";
+}
+
+const char* regime_name(Regime r) noexcept {
+  switch (r) {
+    case Regime::Steady: return "steady";
+    case Regime::StickSlip: return "stick-slip";
+    case Regime::Stuck: return "stuck";
+    case Regime::Oscillation: return "oscillation";
+  }
+  return "?";
+}
+
+Regime parse_regime(const std::string& s) {
+  if (s == "steady") return Regime::Steady;
+  if (s == "stick-slip") return Regime::StickSlip;
+  if (s == "stuck") return Regime::Stuck;
+  if (s == "oscillation") return Regime::Oscillation;
+  throw std::invalid_argument("regime = '" + s +
+                              "' is not allowed: choose 'steady', 'stick-slip', 'stuck' or 'oscillation'");
+}
+
+const char* switch_kind_name(SwitchKind k) noexcept {
+  switch (k) {
+    case SwitchKind::Stick: return "stick";
+    case SwitchKind::Slip: return "slip";
+    case SwitchKind::Reversal: return "reversal";
+    case SwitchKind::BandEnter: return "band-enter";
+    case SwitchKind::BandLeave: return "band-leave";
+  }
+  return "?";
+}
+
+Method parse_method(const std::string& s) {
+  if (s == "auto") return Method::Auto;
+  if (s == "bdf") return Method::BDF;
+  if (s == "adams") return Method::Adams;
+  if (s == "erk") return Method::ERK;
+  if (s == "dop853") return Method::DOP853;
+  throw std::invalid_argument("method = '" + s +
+                              "' is not allowed: choose 'auto', 'bdf', 'adams', 'erk' or 'dop853'");
+}
+
+FrictionLaw parse_friction(const std::string& s) {
+  if (s == "exact") return FrictionLaw::Exact;
+  if (s == "karnopp") return FrictionLaw::Karnopp;
+  throw std::invalid_argument("friction = '" + s + "' is not allowed: choose 'exact' or 'karnopp'");
+}
+
+Initial parse_initial(const std::string& s) {
+  if (s == "rest") return Initial::Rest;
+  if (s == "equilibrium") return Initial::Equilibrium;
+  if (s == "state") return Initial::State;
+  throw std::invalid_argument("initial = '" + s +
+                              "' is not allowed: choose 'rest', 'equilibrium' or a state vector");
+}
+
+void SimulationOptions::validate(int dof) const {
+  auto refuse = [](const std::string& what) { throw std::invalid_argument(what); };
+  const auto num = detail::shortest;
+  if (!std::isfinite(t_end) || !(t_end > 0)) refuse("t_end = " + num(t_end) + " is not allowed: must be a finite time > 0 s");
+  // Below kMinRtol a step's error is rounding: CVODES and ARKODE stop with "too much
+  // accuracy requested" at 1e-16, DOP853 grinds on. Below kMinAtol the weight 1/atol of a
+  // component sitting at 0 swamps the error norm: BDF took 3.7 million steps at 1e-30 and
+  // every method failed with NaN step sizes at 1e-300.
+  // Above kMaxRtol and kMaxAtol a step's error misjudges the regime (simulator.hpp).
+  if (!(rtol >= kMinRtol) || !(rtol <= kMaxRtol)) refuse("rtol = " + num(rtol) + " is not allowed: need " + num(kMinRtol) + " <= rtol <= " + num(kMaxRtol) + " (a double resolves ~2.2e-16; a looser tolerance misjudges the regime)");
+  if (!(atol >= kMinAtol) || !(atol <= kMaxAtol)) refuse("atol = " + num(atol) + " is not allowed: need " + num(kMinAtol) + " <= atol <= " + num(kMaxAtol) + " (rad and rad/s; a looser tolerance misjudges the regime)");
+  if (!(max_step >= 0) || !std::isfinite(max_step)) refuse("max_step = " + num(max_step) + " is not allowed: must be >= 0 (0 = no limit)");
+  // An enum holds any value of its type: a cast (static_cast<Method>(42)) ran as if it
+  // were a method and reported "?".
+  if (std::string(method_name(method)) == "?") refuse("method = " + std::to_string(static_cast<int>(method)) + " is not a pydrill::Method");
+  if (friction != FrictionLaw::Exact && friction != FrictionLaw::Karnopp) refuse("friction = " + std::to_string(static_cast<int>(friction)) + " is not a pydrill::FrictionLaw");
+  if (initial != Initial::Rest && initial != Initial::Equilibrium && initial != Initial::State) refuse("initial = " + std::to_string(static_cast<int>(initial)) + " is not a pydrill::Initial");
+  if (max_steps < 1) refuse("max_steps = " + std::to_string(max_steps) + " is not allowed: must be >= 1");
+  // CVODES caps BDF at order 5 and Adams at 12; the explicit methods have a fixed order, so
+  // a max_order there would be silently ignored. "auto" may pick either family: it takes
+  // no order.
+  if (max_order != 0) {
+    const int cap = method == Method::BDF ? 5 : method == Method::Adams ? 12 : 0;
+    if (cap == 0) {
+      refuse("max_order = " + std::to_string(max_order) + " is not allowed with method '" + method_name(method) +
+             "': only 'bdf' (1..5) and 'adams' (1..12) take an order; use 0 (the method's default)");
+    }
+    if (max_order < 1 || max_order > cap) {
+      refuse("max_order = " + std::to_string(max_order) + " is not allowed with method '" + method_name(method) +
+             "': need 0 (the method's default) or 1.." + std::to_string(cap));
+    }
+  }
+  if (!(window_fraction > 0) || !(window_fraction <= 1)) refuse("window_fraction = " + num(window_fraction) + " is not allowed: need 0 < window_fraction <= 1");
+  if (!(max_switch_rate > 0) || std::isnan(max_switch_rate)) refuse("max_switch_rate = " + num(max_switch_rate) + " is not allowed: must be > 0 switches/s");
+  if (!std::isfinite(perturbation) || std::fabs(perturbation) >= 1) refuse("perturbation = " + num(perturbation) + " is not allowed: need |perturbation| < 1 (relative to the steady bit velocity)");
+  if (t_out.empty()) {
+    if (n_out < 2 || n_out > 100'000'000) refuse("n_out = " + std::to_string(n_out) + " is not allowed: need 2 <= n_out <= 1e8");
+  } else {
+    for (std::size_t i = 0; i < t_out.size(); ++i) {
+      const double t = t_out[i];
+      if (!std::isfinite(t) || t < 0 || t > t_end) refuse("t_out[" + std::to_string(i) + "] = " + num(t) + " is not allowed: output times must lie in [0, t_end = " + num(t_end) + "]");
+      if (i > 0 && !(t > t_out[i - 1])) refuse("t_out[" + std::to_string(i) + "] = " + num(t) + " is not allowed: output times must increase strictly");
+    }
+  }
+  if (initial == Initial::State) {
+    const std::size_t n = static_cast<std::size_t>(2 * dof - 1);
+    if (state.size() != n) refuse("state has " + std::to_string(state.size()) + " entries: dof = " + std::to_string(dof) + " needs 2*dof-1 = " + std::to_string(n) + " (w_0, theta_0, ..., theta_{N-2}, w_bit)");
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(state[i])) refuse("state[" + std::to_string(i) + "] = " + num(state[i]) + " is not allowed: must be finite");
+    }
+  }
+}
+
+}  // namespace pydrill
