@@ -1,0 +1,297 @@
+// Where the steady states' stability changes as the Stribeck slope δ grows: the crossings
+// (critical_deltas: the fold and the Hopf points, found on the bit impedance's phase), the
+// first Lyapunov coefficient at a Hopf point, and the count of unstable eigenvalues they give.
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "band_lu.hpp"
+#include "interrupt_poll.hpp"
+#include "pydrill/stability.hpp"
+#include "shortest.hpp"
+#include "stability_internal.hpp"
+
+namespace pydrill {
+
+using detail::bit_fraction;
+using detail::check_delta;
+using detail::Fraction;
+using detail::impedance;
+using detail::jacobian_entries;
+
+namespace {
+
+// Natural frequencies of the undamped chain, with the bit clamped (the poles
+// of Z_b, nearly) or free (its zeros, nearly): symmetric tridiagonal, O(dof²).
+std::vector<double> undamped_frequencies(const Params& p, bool clamped, detail::InterruptPoll& poll) {
+  const int n = clamped ? p.dof() - 1 : p.dof();
+  Eigen::VectorXd diag(n), sub(std::max(n - 1, 1));
+  for (int i = 0; i < n; ++i) {
+    double k = 0.0;
+    if (i > 0) k += p.stiffnesses[i - 1];
+    if (i < p.dof() - 1) k += p.stiffnesses[i];  // the last spring holds a clamped bit
+    diag(i) = k / p.inertias[i];
+    if (i + 1 < n) sub(i) = -p.stiffnesses[i] / std::sqrt(p.inertias[i] * p.inertias[i + 1]);
+  }
+  const Eigen::VectorXd ev = detail::tridiagonal_eigenvalues(diag, sub.head(std::max(n - 1, 0)), poll);
+  std::vector<double> w;
+  for (int i = 0; i < n; ++i) w.push_back(std::sqrt(std::max(ev(i), 0.0)));
+  return w;
+}
+
+// arg Z_b(iω) in (−π, π].
+double phase(const Params& p, double omega) {
+  const Fraction f = bit_fraction(p, complex(0.0, omega));
+  return std::arg(f.num * std::conj(f.den));
+}
+
+// Brent's method on a bracket [a, b] with f(a)·f(b) < 0.
+template <typename F>
+double brent(F f, double a, double b, double fa, double fb) {
+  double c = a, fc = fa, d = b - a, e = d;
+  for (int it = 0; it < 200; ++it) {
+    if ((fb > 0) == (fc > 0)) {
+      c = a;
+      fc = fa;
+      d = e = b - a;
+    }
+    if (std::fabs(fc) < std::fabs(fb)) {
+      a = b; b = c; c = a;
+      fa = fb; fb = fc; fc = fa;
+    }
+    const double tol = 2 * std::numeric_limits<double>::epsilon() * std::fabs(b);
+    const double m = 0.5 * (c - b);
+    if (std::fabs(m) <= tol || fb == 0.0) return b;
+    if (std::fabs(e) >= tol && std::fabs(fa) > std::fabs(fb)) {
+      double s = fb / fa, pp, q;
+      if (a == c) {
+        pp = 2 * m * s;
+        q = 1 - s;
+      } else {
+        const double r = fb / fc, t = fa / fc;
+        pp = s * (2 * m * t * (t - r) - (b - a) * (r - 1));
+        q = (t - 1) * (r - 1) * (s - 1);
+      }
+      if (pp > 0) q = -q; else pp = -pp;
+      if (2 * pp < std::min(3 * m * q - std::fabs(tol * q), std::fabs(e * q))) {
+        e = d;
+        d = pp / q;
+      } else {
+        d = m;
+        e = d;
+      }
+    } else {
+      d = m;
+      e = d;
+    }
+    a = b;
+    fa = fb;
+    b += std::fabs(d) > tol ? d : (m > 0 ? tol : -tol);
+    fb = f(b);
+  }
+  return b;
+}
+
+// dλ/dδ = 1/Z_b'(λ) on the imaginary axis; its real part says which way the
+// eigenvalues cross as δ grows.
+int crossing_direction(const Params& p, double omega) {
+  const double h = 1e-6 * std::max(omega, 1e-3);
+  const complex dz = (impedance(p, complex(h, omega)) - impedance(p, complex(-h, omega))) / (2 * h);
+  const double re = std::real(1.0 / dz);
+  return re > 0 ? 1 : (re < 0 ? -1 : 0);
+}
+
+}  // namespace
+
+std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool()>& interrupt) {
+  p.validate();
+  const int N = p.dof();
+  std::vector<Crossing> out;
+  // Nearly all the time goes into O(dof) evaluations of the phase, thousands of them on a
+  // long string; the poll hears of them once per grid point (below).
+  detail::InterruptPoll poll(interrupt);
+
+  // Fold: λ = 0 is an eigenvalue when δ = Z_b(0) = c_r + c_b.
+  const double fold = p.top_damping + p.bit_damping;
+  if (fold > 0) {
+    const double h = 1e-7 * std::max(fold, 1e-12);
+    const double dz = (std::real(impedance(p, complex(h, 0))) - std::real(impedance(p, complex(-h, 0)))) / (2 * h);
+    out.push_back({CrossingType::Fold, fold, 0.0, dz > 0 ? 1 : -1, 1});
+  }
+
+  // Hopf: zeros of Im Z_b(iω) with Re Z_b > 0. No zero lies above the
+  // highest natural frequency of the chain, where J_b ω dominates.
+  double w2max = 0.0, rate = 0.0;
+  double compliance = 0.0, inertia = 0.0;
+  for (int i = 0; i < N; ++i) {
+    double ks = 0.0, cs = (i == 0 ? p.top_damping : 0.0) + (i == N - 1 ? p.bit_damping : 0.0);
+    if (i > 0) { ks += p.stiffnesses[i - 1]; cs += p.dampings[i - 1]; }
+    if (i < N - 1) { ks += p.stiffnesses[i]; cs += p.dampings[i]; }
+    w2max = std::max(w2max, 2.0 * ks / p.inertias[i]);
+    rate = std::max(rate, 2.0 * cs / p.inertias[i]);
+    if (i < N - 1) { compliance += 1.0 / p.stiffnesses[i]; inertia += p.inertias[i]; }
+  }
+  const double w_hi = 2.0 * std::sqrt(w2max) + rate + 1e-9;
+  const double w_lo = 1e-4 * std::sqrt(1.0 / (compliance * inertia));
+  // Start from a uniform grid (the dense upper spectrum) merged with a
+  // geometric one (the low modes of long strings), then split every interval
+  // over which arg Z_b turns by more than π/4 until it does not: a zero of
+  // Im Z_b is a turn through a multiple of π, so none can hide inside.
+  const int m = std::max(1000, 6 * N);
+  std::vector<double> grid;
+  grid.reserve(2 * static_cast<std::size_t>(m));
+  for (int i = 1; i <= m; ++i) grid.push_back(w_hi * i / m);
+  for (int i = 0; i < m; ++i) grid.push_back(w_lo * std::pow(w_hi / w_lo, static_cast<double>(i) / m));
+  // Seed the resonances and anti-resonances of the undamped chain, and the
+  // midpoints between them, so that clustered modes get their own intervals.
+  std::vector<double> seeds = undamped_frequencies(p, true, poll);
+  const std::vector<double> free = undamped_frequencies(p, false, poll);
+  seeds.insert(seeds.end(), free.begin(), free.end());
+  std::sort(seeds.begin(), seeds.end());
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    if (seeds[i] > w_lo && seeds[i] < w_hi) grid.push_back(seeds[i]);
+    if (i + 1 < seeds.size() && seeds[i] > 0) grid.push_back(0.5 * (seeds[i] + seeds[i + 1]));
+  }
+  std::sort(grid.begin(), grid.end());
+  grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
+
+  constexpr double pi = 3.14159265358979323846;
+  auto turn = [&](double a, double b) {  // phase change from a to b, unwrapped to (−π, π]
+    double d = b - a;
+    while (d > pi) d -= 2 * pi;
+    while (d <= -pi) d += 2 * pi;
+    return d;
+  };
+  // Evaluations of the phase since the poll last heard of them, counted in a plain integer:
+  // a call to the poll beside each one cost 5 % on a short string (the phase was no longer
+  // inlined).
+  long evaluations = 0;
+  auto g = [&](double w) {  // Im Z_b / |Z_b| = sin(arg Z_b)
+    ++evaluations;
+    return std::sin(phase(p, w));
+  };
+  auto consider = [&](double wa, double pa, double wb, double pb) {
+    const double ga = std::sin(pa), gb = std::sin(pb);
+    // A zero of Im Z_b with Re Z_b > 0: the phase passes through 0.
+    if ((ga < 0) == (gb < 0) || std::cos(pa) + std::cos(pb) <= 0) return;
+    const double w = brent(g, wa, wb, ga, gb);
+    const complex z = impedance(p, complex(0.0, w));
+    if (std::real(z) > 0 && std::fabs(std::imag(z)) <= 1e-6 * std::abs(z)) {
+      out.push_back({CrossingType::Hopf, std::real(z), w, crossing_direction(p, w), 2});
+    }
+  };
+  struct Piece {
+    double wa, pa, wb, pb;
+    int depth;
+  };
+  std::vector<Piece> stack;
+  double w_prev = grid.front(), p_prev = phase(p, w_prev);
+  for (std::size_t i = 1; i < grid.size(); ++i) {
+    poll.tick(++evaluations * N);
+    evaluations = 0;
+    const double w = grid[i], ph = phase(p, w);
+    stack.push_back({w_prev, p_prev, w, ph, 0});
+    while (!stack.empty()) {
+      Piece c = stack.back();
+      stack.pop_back();
+      if (std::fabs(turn(c.pa, c.pb)) > pi / 4 && c.depth < 40) {
+        ++evaluations;
+        const double wm = 0.5 * (c.wa + c.wb), pm = phase(p, wm);
+        stack.push_back({wm, pm, c.wb, c.pb, c.depth + 1});  // right half after the left
+        stack.push_back({c.wa, c.pa, wm, pm, c.depth + 1});
+        continue;
+      }
+      consider(c.wa, c.pa, c.wb, c.pb);
+    }
+    w_prev = w;
+    p_prev = ph;
+  }
+  std::sort(out.begin(), out.end(), [](const Crossing& a, const Crossing& b) { return a.delta < b.delta; });
+  return out;
+}
+
+double first_lyapunov_coefficient(const Params& p, double delta, double w) {
+  if (!std::isfinite(w) || !(w > 0)) {
+    std::ostringstream o;
+    o << "frequency = " << detail::shortest(w) << " is not allowed: a Hopf point needs a finite frequency > 0 rad/s";
+    throw std::invalid_argument(o.str());
+  }
+  p.validate();
+  check_delta(delta);
+  const int n = 2 * p.dof() - 1, b = n - 1;
+  // The Jacobian's band alone, J(r, c) at band[5r + c − r + 2]: built dense, it cost O(n'²)
+  // time and memory (1.1 s and 1.2 GB at 6000 pipes).
+  std::vector<double> band(static_cast<std::size_t>(n) * 5, 0.0);
+  jacobian_entries(p, delta, [&](int r, int c) -> double& { return band[static_cast<std::size_t>(r) * 5 + (c - r + 2)]; });
+  auto J = [&](int r, int c) { return band[static_cast<std::size_t>(r) * 5 + (c - r + 2)]; };
+  using CVec = std::vector<complex>;
+  const complex iw(0.0, w);
+  // Every matrix below is s·A (or s·Aᵀ) + shift·I: banded like A (two neighbours either
+  // side in the interleaved coordinates), so each solve is O(n'), not a dense O(n'³) LU
+  // (2.6 s at 500 pipes).
+  auto banded = [&](bool transpose, double scale, complex shift) {
+    BandLU<complex> lu(n, 2, 2);
+    for (int r = 0; r < n; ++r) {
+      for (int c = std::max(0, r - 2); c <= std::min(n - 1, r + 2); ++c) {
+        const double a = transpose ? J(c, r) : J(r, c);
+        lu.at(r, c) = scale * a + (r == c ? shift : complex(0.0));
+      }
+    }
+    lu.factor();
+    return lu;
+  };
+  auto dot = [](const CVec& x, const CVec& y) {  // x̄ᵀy
+    complex s(0.0);
+    for (std::size_t i = 0; i < x.size(); ++i) s += std::conj(x[i]) * y[i];
+    return s;
+  };
+  // Null vectors of A − iω and Aᵀ + iω by inverse iteration (the shift is an exact
+  // eigenvalue up to rounding; a tiny offset keeps the LU regular).
+  const complex offset(1e-10 * std::max(1.0, w), 0.0);
+  auto null_vector = [&](const BandLU<complex>& lu) {
+    CVec v(static_cast<std::size_t>(n), complex(1.0));
+    for (int it = 0; it < 3; ++it) {
+      lu.solve(v);
+      const double norm = std::sqrt(std::real(dot(v, v)));
+      for (auto& x : v) x /= norm;
+    }
+    return v;
+  };
+  const CVec q = null_vector(banded(false, 1.0, -iw - offset));
+  CVec pv = null_vector(banded(true, 1.0, iw - offset));
+  const complex norm = std::conj(dot(pv, q));  // ⟨p, q⟩ = p̄ᵀq = 1
+  for (auto& x : pv) x /= norm;
+  const double g = p.stribeck_decay / p.stribeck_velocity;
+  // The friction's nonlinearity acts on the bit's velocity alone (the last state):
+  // B(x, y) = β x_b y_b e_b and C(x, y, z) = κ x_b y_b z_b e_b.
+  const double beta = -delta * g / p.inertias.back();
+  const double kappa = delta * g * g / p.inertias.back();
+  const complex qb = q[static_cast<std::size_t>(b)], pb = std::conj(pv[static_cast<std::size_t>(b)]);
+  auto along_bit = [&](complex value) {
+    CVec e(static_cast<std::size_t>(n), complex(0.0));
+    e[static_cast<std::size_t>(b)] = value;
+    return e;
+  };
+  CVec a1 = along_bit(beta * qb * std::conj(qb));  // A⁻¹ B(q, q̄)
+  banded(false, 1.0, complex(0.0)).solve(a1);
+  CVec a2 = along_bit(beta * qb * qb);  // (2iω − A)⁻¹ B(q, q)
+  banded(false, -1.0, 2.0 * iw).solve(a2);
+  const complex s = pb * kappa * qb * qb * std::conj(qb) - 2.0 * pb * beta * qb * a1[static_cast<std::size_t>(b)] +
+                    pb * beta * std::conj(qb) * a2[static_cast<std::size_t>(b)];
+  return std::real(s) / (2.0 * w);
+}
+
+int unstable_count(const std::vector<Crossing>& crossings, double delta) {
+  check_delta(delta);
+  int count = 0;
+  for (const auto& c : crossings) {
+    if (c.delta < delta) count += c.direction * c.multiplicity;
+  }
+  return count;
+}
+
+}  // namespace pydrill
