@@ -181,7 +181,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
         from .plot import save
         from .plot_analysis import hopf_figure
 
-        save(hopf_figure(params, crossings, omega_max=args.omega_max or 20.0), args.plot)
+        save(hopf_figure(params, crossings, omega_max=args.omega_max), args.plot)
     if args.json:
         inputs = {**string_inputs(args, params), "dof": params.dof}
         results = {

@@ -15,9 +15,12 @@ if TYPE_CHECKING:
     from numpy.typing import NDArray
 
 
-def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Figure:
+def hopf_figure(params, crossings, omega_max: float | None = None, n: int = 400) -> Figure:
     """Stability boundaries in (Ω, W_ob) — the paper's Fig. 10 for any dof: regions coloured by
-    the number of unstable eigenvalues, the Hopf curves W_ob(Ω) = δ_k e^{γΩ/v_f}/(…) on top."""
+    the number of unstable eigenvalues, the Hopf curves W_ob(Ω) = δ_k e^{γΩ/v_f}/(…) on top,
+    for Ω up to ``omega_max`` rad/s (None: 20)."""
+    asked = omega_max is not None  # the title says whose Ω_max it falls short of
+    omega_max = 20.0 if omega_max is None else omega_max
     import numpy as np
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.lines import Line2D
@@ -100,7 +103,8 @@ def hopf_figure(params, crossings, omega_max: float = 20.0, n: int = 400) -> Fig
     ax.legend(handles=legend, loc="lower right", fontsize=9, framealpha=0.95)
     n_hopf = sum(c.type == "hopf" for c in crossings)
     cut = (
-        f"\nΩ up to {omega_shown:.3g} rad/s of the {omega_max:g} asked: further on, the first Hopf "
+        f"\nΩ up to {omega_shown:.3g} rad/s of the {omega_max:g} "
+        f"{'asked' if asked else 'by default (--omega-max)'}: further on, the first Hopf "
         f"curve is above the largest $W_{{ob}}$ drawn, {w_hi / scale:.4g} {unit}"
         if omega_shown < omega_max
         else ""
@@ -141,6 +145,8 @@ def eigenvalue_figure(params, points) -> Figure:
         # Zero and whole decades clear of the linear band (whose edge labels ran into "0"), at
         # most about a dozen of them.
         first = math.floor(math.log10(linthresh)) + 1
+        if 10.0**first < 5 * linthresh:  # -0.1 beside 0 at linthresh 0.03: their labels touched
+            first += 1
         tops = [math.floor(math.log10(-ax.get_xlim()[0])), math.floor(math.log10(ax.get_xlim()[1]))]
         step = max(1, math.ceil((tops[0] + tops[1] - 2 * first + 2) / 12))
         ticks = [0.0]
