@@ -88,7 +88,10 @@ def simulate(
     - ``max_order``: the highest order of ``"bdf"`` (1 ... 5) or ``"adams"`` (1 ... 12);
       0 (default) for the method's own. Other methods take only 0.
     - ``max_steps``: internal steps allowed over the whole run before a
-      :class:`pydrill.SolverError`, 1 ... 2**62.
+      :class:`pydrill.SolverError`, 1 ... 2**62. An explicit method (dop853, erk, adams)
+      whose fastest mode needs more steps than that to reach ``t_end`` stable is refused
+      with the SolverError at t = 0, naming the mode and the steps it needs, rather than
+      after grinding through them.
     - ``perturbation``: relative kick of the bit velocity for ``initial="equilibrium"``,
       ``|perturbation| < 1``.
     - ``window_fraction``: the last fraction of the run the regime is judged on, in (0, 1].
