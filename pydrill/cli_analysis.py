@@ -363,7 +363,8 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
     else:
         print(
             f"{'point':5s} {f'wob ({force})':>12s} {f'torque ({torque})':>13s} "
-            f"{'omega (rad/s)':>14s} {'freq (rad/s)':>13s} {'lyapunov':>11s}  criticality"
+            f"{'omega (rad/s)':>14s} {'rpm':>7s} {'freq (rad/s)':>13s} {'lyapunov':>11s}  "
+            "criticality"
         )
     for pt in b.points:
         freq = f"{pt.frequency:13.6g}" if pt.frequency else f"{'-':>13s}"
@@ -372,7 +373,8 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         n = pt.others_unstable
         others = f"({n} other eigenvalue{'s' if n > 1 else ''} unstable)" if n else ""
         print(
-            f"{pt.type:5s} {pt.wob / k:12.8g} {pt.torque / k:13.8g} {pt.omega:14.8g} {freq} {l1}  "
+            f"{pt.type:5s} {pt.wob / k:12.8g} {pt.torque / k:13.8g} {pt.omega:14.8g} "
+            f"{pt.omega * 30 / math.pi:7.1f} {freq} {l1}  "
             + " ".join(x for x in (pt.criticality, others) if x)
         )
     if args.plot:

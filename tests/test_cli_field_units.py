@@ -163,3 +163,17 @@ def test_a_real_strings_weight_on_the_laboratory_string_is_noted(capsys, command
     assert "on the reduced-scale laboratory string" in out.err and "--tally" in out.err
     assert cli.main([*command, "--wob", "100", "--torque", "8.3"]) == 0
     assert capsys.readouterr().err == ""  # the laboratory's own weights: no note
+
+
+def test_bifurcation_gives_each_points_speed_in_rpm_beside_rad_per_s(capsys):
+    """Ω in rad/s alone, where every other command gives a driller's rpm beside it: the table
+    now has an rpm column, the same speed (2π rad/s is 60 rpm), checked against --json."""
+    args = ["bifurcation", "--tally", PAPER, "--depth", 3000, "--vary", "wob", "--torque", "11kN*m"]
+    text = run(capsys, *args)
+    points = json.loads(run(capsys, *args, "--json"))["points"]
+    header, *rows = text.splitlines()[1 : 1 + len(points) + 1]
+    assert "omega (rad/s)     rpm  freq (rad/s)" in header
+    assert len(rows) == len(points) >= 1
+    for row, pt in zip(rows, points, strict=True):
+        rpm = float(row.split()[4])
+        assert rpm == pytest.approx(pt["omega"] * 60 / (2 * 3.141592653589793), abs=0.05)
