@@ -123,17 +123,25 @@ def test_a_heap_object_a_bit_longer_is_refused_not_a_hang(atlases, tmp_path):
     assert any("is damaged: xarray cannot read it" in line for line in lines)
 
 
+def hanging_copy(atlas, dst, holding: bytes = b"") -> tuple[int, str]:
+    """A copy of ``atlas`` at ``dst`` with one bit of a heap object's size flipped so that
+    HDF5's walk would step by nothing for ever (of an object whose data starts with text
+    ``holding``, if given): the start of its collection, and what pydrill says of it."""
+    data = atlas.read_bytes()
+    for start, p, _ in heap_objects(data):
+        if holding not in data[p + 16 : p + 16 + 64]:
+            continue
+        flipped(atlas, dst, p + 9)
+        problem = heap_problem(dst)
+        if problem and "has size 0" in problem:
+            return start, problem
+    pytest.fail("no object whose longer size makes HDF5's walk step by nothing")
+
+
 def test_the_hang_xarray_met_is_an_atlas_error(atlases, tmp_path):
     """The case found by fuzzing: a heap object's size grown by 256 threw HDF5's walk onto an
     object of index 0 and size 0, where it stepped by nothing for ever."""
-    whole = atlases[0]
-    for start, p, _ in heap_objects(whole.read_bytes()):  # noqa: B007 - read after break
-        flipped(whole, tmp_path / "a.h5", p + 9)
-        problem = heap_problem(tmp_path / "a.h5")
-        if problem and "has size 0" in problem:
-            break
-    else:
-        pytest.fail("no object whose longer size makes HDF5's walk step by nothing")
+    start, problem = hanging_copy(atlases[0], tmp_path / "a.h5")
     assert problem.startswith(f"its global heap at byte {start}: object 0 at byte ")
     (line,) = opened_in_a_child([str(tmp_path / "a.h5")])
     assert line == f"refused {tmp_path / 'a.h5'} is damaged: {problem}"
@@ -152,16 +160,6 @@ def test_a_damaged_root_object_header_is_an_atlas_error(atlases, tmp_path):
     (tmp_path / "a.h5").write_bytes(bytes(data))
     with pytest.raises(AtlasError, match=r"a\.h5 is damaged or incomplete: .*object header"):
         pydrill.Atlas(tmp_path / "a.h5")
-
-
-def hanging_copy(atlas, dst) -> str:
-    """A copy of ``atlas`` whose heap would hang HDF5, and what pydrill says of it."""
-    for _, p, _ in heap_objects(atlas.read_bytes()):
-        flipped(atlas, dst, p + 9)
-        problem = heap_problem(dst)
-        if problem and "has size 0" in problem:
-            return problem
-    pytest.fail("no object whose longer size makes HDF5's walk step by nothing")
 
 
 RESUME = [sys.executable, "-m", "pydrill", "sweep", "--serial", "--resume"]
@@ -194,7 +192,7 @@ def test_resume_rebuilds_an_atlas_whose_heap_hangs_hdf5_from_its_journal(atlases
 def test_resume_refuses_an_atlas_whose_heap_hangs_hdf5_without_journal(atlases, tmp_path):
     (tmp_path / "s.toml").write_text(SPEC)
     out = tmp_path / "a.h5"
-    problem = hanging_copy(atlases[0], out)
+    _, problem = hanging_copy(atlases[0], out)
     before = out.read_bytes()
     done = subprocess.run(
         [*RESUME, str(tmp_path / "s.toml"), "--out", str(out)],
@@ -228,17 +226,7 @@ def test_a_failed_points_message_in_a_damaged_heap_past_the_opening_is_refused(a
     """The failed points' messages are written last, in a heap of their own: on a large atlas
     past the first OPENING_BYTES, which opening checks. A point query that reads a message
     from a damaged one hung HDF5; it checks the whole file first, and is refused."""
-    failed = atlases[1]
-    data = failed.read_bytes()
-    for start, p, _ in heap_objects(data):  # noqa: B007 - read after break
-        if b"max_steps" not in data[p + 16 : p + 64]:
-            continue
-        flipped(failed, tmp_path / "a.h5", p + 9)
-        problem = heap_problem(tmp_path / "a.h5")
-        if problem and "has size 0" in problem:
-            break
-    else:
-        pytest.fail("no message whose longer size makes HDF5's walk step by nothing")
+    start, problem = hanging_copy(atlases[1], tmp_path / "a.h5", holding=b"SolverError")
     assert heap_problem(tmp_path / "a.h5", limit=start) is None  # opening cannot see it
     lines = in_a_child(QUERY, str(tmp_path / "a.h5"), str(start), doing="the point query")
     assert lines == ["opened", f"refused {tmp_path / 'a.h5'} is damaged: {problem}"]
@@ -247,7 +235,7 @@ def test_a_failed_points_message_in_a_damaged_heap_past_the_opening_is_refused(a
 def test_xarray_through_the_pydrill_engine_refuses_a_heap_hdf5_hangs_on(atlases, tmp_path):
     """``xarray.open_dataset(path, engine="h5netcdf")`` hangs on such a file; the pydrill
     engine checks the heaps first."""
-    problem = hanging_copy(atlases[0], tmp_path / "a.h5")
+    _, problem = hanging_copy(atlases[0], tmp_path / "a.h5")
     child = (
         "import sys, xarray\n"
         "from pydrill.journal import AtlasError\n"
