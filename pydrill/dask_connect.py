@@ -144,3 +144,26 @@ def check_dashboard(address: str, name: str = "dashboard") -> None:
             f"{name}: Dask's dashboard needs bokeh >= 3.1 ({found}): "
             "pip install 'pydrill[dashboard]'"
         )
+
+
+def served_dashboard(link: str | None, within: float = 1.0) -> str | None:
+    """``link`` (a client's ``dashboard_link``), or None when the scheduler there answers that it
+    serves no dashboard. Dask names a link for every scheduler with an HTTP server, which one
+    started with ``dask scheduler --no-dashboard`` still runs (health, metrics): its ``/status``
+    is then "404 Not Found", and the sweep printed that dead link as the place to watch it.
+    Asked with HEAD: a GET of a real dashboard opens a bokeh session (0.45 s of the scheduler's
+    time, measured), a HEAD answers "405 Method Not Allowed" in milliseconds. A link that does
+    not answer (another network's view of the host, a firewall) is kept: only a scheduler that
+    says so takes it away."""
+    import urllib.error
+    import urllib.request
+
+    if not link:
+        return None
+    try:
+        with urllib.request.urlopen(urllib.request.Request(link, method="HEAD"), timeout=within):
+            return link
+    except urllib.error.HTTPError as exc:
+        return None if exc.code == 404 else link
+    except (OSError, ValueError):
+        return link

@@ -26,6 +26,7 @@ from .dask_connect import (
     ConfiguredAddress,
     connect_timeout,
     scheduler_file_address,
+    served_dashboard,
     worker_count,
 )
 from .spec import SweepSpec
@@ -195,8 +196,11 @@ def _run_dask(
 
             running = as_completed(submit(n))
             if on_cluster is not None:
-                # Without a dashboard, the local scheduler's HTTP server still makes a link.
-                link = client.dashboard_link if cluster is None or dashboard else None
+                # Without a dashboard, the local scheduler's HTTP server still makes a link;
+                # so does another's, started with --no-dashboard (served_dashboard).
+                link = dashboard and client.dashboard_link
+                if cluster is None:
+                    link = served_dashboard(client.dashboard_link)
                 info = ClusterInfo(client.scheduler.address, n, link or None)
                 on_cluster(info)
                 if cluster is None:  # a cluster of others: its workers come and go

@@ -7,13 +7,15 @@ import os
 import re
 import socket
 import subprocess
+import urllib.error
 import urllib.request
 
 import h5py
 import numpy as np
 import pytest
-from sweeping import CMD, TINY
+from sweeping import CMD, TINY, dask_process, free_port, stop_processes
 
+from pydrill.dask_connect import served_dashboard
 from pydrill.spec import parse_spec
 from pydrill.sweep import ClusterInfo, run_sweep
 
@@ -197,3 +199,55 @@ def test_the_callers_default_dask_client_runs_the_sweep_and_stays_open(tmp_path)
     run_sweep(spec, tmp_path / "after.h5", on_cluster=seen.append)  # its own cluster again
     assert seen[2].scheduler not in (seen[0].scheduler, seen[1].scheduler)
     assert not (tmp_path / "never.h5").exists()
+
+
+def _head(url: str) -> int:
+    try:
+        with urllib.request.urlopen(urllib.request.Request(url, method="HEAD"), timeout=30) as r:
+            return r.status
+    except urllib.error.HTTPError as exc:
+        return exc.code
+
+
+def test_a_scheduler_without_a_dashboard_gets_no_dead_link(tmp_path):
+    """``dask scheduler --no-dashboard`` still serves HTTP (health, metrics), and Dask's client
+    names a dashboard link there that answers 404: the sweep printed it as the place to watch.
+    Now it says no dashboard; one with a dashboard keeps its link, which answers."""
+    from distributed import Client, LocalCluster
+
+    port = free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    procs = [dask_process("scheduler", "--host", "127.0.0.1", "--port", str(port),
+                          "--dashboard-address", "127.0.0.1:0", "--no-dashboard")]  # fmt: skip
+    try:
+        procs.append(dask_process("worker", address, "--nthreads", "1", "--no-nanny"))
+        with Client(address, timeout=60) as client:
+            dead = client.dashboard_link
+            assert dead and _head(dead) == 404  # what Dask offers for such a scheduler
+        run = _sweep_cli(tmp_path, "--scheduler", address, "--json")
+    finally:
+        stop_processes(procs)
+    assert run.returncode == 0, run.stderr
+    assert re.search(rf"^sweep: 1 Dask worker, scheduler {address}$", run.stderr, re.M), run.stderr
+    assert "dashboard" not in run.stderr
+    assert json.loads(run.stdout)["cluster"]["dashboard"] is None
+
+    seen: list[ClusterInfo] = []
+    with LocalCluster(n_workers=1, processes=False, dashboard_address="127.0.0.1:0") as cluster:
+        run_sweep(
+            parse_spec(TINY),
+            tmp_path / "watched.h5",
+            scheduler=cluster.scheduler_address,
+            on_cluster=seen.append,
+        )
+        [info] = seen
+        assert info.dashboard and _head(info.dashboard) == 405  # served: bokeh takes GET only
+        assert _get(info.dashboard)[0] == 200
+
+
+def test_a_dashboard_link_that_does_not_answer_is_kept():
+    """Only a scheduler that says it serves no dashboard takes the link away: one that does not
+    answer from here (another network's view of the host) may answer in the user's browser."""
+    closed = free_port()
+    assert served_dashboard(f"http://127.0.0.1:{closed}/status", within=2) is not None
+    assert served_dashboard(None) is None
