@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 from collections.abc import Sequence
 
+from .cli_checks import FAILED, failure_lines, say_failed_checks
 from .cli_options import (
     _duration,
     _integer,
@@ -60,7 +61,8 @@ def register_map(sub, PRESETS: Sequence[str]) -> None:
         default=0,
         metavar="K",
         help="simulate from rest on a K x K grid and overlay the regimes (K <= 40; default 0: "
-        "no simulations)",
+        "no simulations); a check whose simulation fails is counted as 'failed', with its "
+        "message, and the others go on (exit status 3 only if every one fails)",
     )
     omap.add_argument(
         "--t-end",
@@ -93,11 +95,12 @@ def _cmd_map(args: argparse.Namespace) -> int:
     crossings = critical_deltas(params)
     omap = operating_map(params, wob, torque, crossings)
     checks = _checks(args, params, wob_max, torque_max) if args.check else []
+    failures = [m for *_, m in checks if m is not None]
     if args.plot:
         from .plot import save
         from .plot_map import operating_figure
 
-        save(operating_figure(params, omap, crossings, checks), args.plot)
+        save(operating_figure(params, omap, crossings, [c[:3] for c in checks]), args.plot)
     if args.json:
         inputs = {
             **string_inputs(args, params),
@@ -114,7 +117,9 @@ def _cmd_map(args: argparse.Namespace) -> int:
             "torque": omap.torque.tolist(),
             "category": omap.category.tolist(),
             "safe_torque_min": [None if not np.isfinite(v) else v for v in omap.safe_torque_min],
-            "checks": [{"wob": w, "torque": u, "regime": r} for w, u, r in checks],
+            # a failed check's regime is "failed", its message why (null for the others)
+            "checks": [{"wob": w, "torque": u, "regime": r, "message": m} for w, u, r, m in checks],
+            "failed_checks": len(failures),
         }
         units = {
             "wob": "N",
@@ -126,6 +131,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
             **string_units(args),
         }
         print_json(json_document(inputs, results, units, args.plot))
+        say_failed_checks("map", failures, len(checks), json=True)
         return 0
     big = kilo(wob_max)  # a real string's in kN and kN m (was "W_ob 0..200000 N")
     print(
@@ -137,36 +143,42 @@ def _cmd_map(args: argparse.Namespace) -> int:
     _print_safe(params, crossings, wob_max, big)
     if checks:
         counts: dict[str, int] = {}
-        for _, _, regime in checks:
+        for _, _, regime, _ in checks:
             counts[regime] = counts.get(regime, 0) + 1
         print("simulated from rest: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+        for line in failure_lines(failures):
+            print(line)
     if args.plot:
         print(f"figure: {args.plot}")
+    say_failed_checks("map", failures, len(checks), json=False)
     return 0
 
 
 def _checks(args: argparse.Namespace, params, wob_max: float, torque_max: float):
-    """(W_ob, u, regime) of the simulations from rest on the K x K grid of ``--check K``. A
-    failed one is said with its point and the ``pydrill simulate`` line that runs it alone
-    (it said "raise max_steps", which map has not)."""
+    """(W_ob, u, regime, message) of the simulations from rest on the K x K grid of ``--check
+    K``; the message is None but of a failed one (a ``SolverError``), whose regime is "failed"
+    and whose message says its point and the ``pydrill simulate`` line that runs it alone (it
+    said "raise max_steps", which map has not). The other checks go on (one failure stopped
+    them all)."""
     import numpy as np
 
     from . import SolverError, simulate
 
     t_end = args.t_end or 300.0
     big = kilo(wob_max, torque_max)
-    checks: list[tuple[float, float, str]] = []
+    checks: list[tuple[float, float, str, str | None]] = []
     bar = check_progress(args.check**2, "map --check")
     try:
         for w in np.linspace(wob_max / args.check, wob_max, args.check):
             for u in np.linspace(torque_max / args.check, torque_max, args.check):
                 try:
-                    r = simulate(params, wob=w, torque=u, t_end=t_end, n_out=301)
-                except SolverError as exc:
+                    regime = simulate(params, wob=w, torque=u, t_end=t_end, n_out=301).regime
+                    message = None
+                except SolverError as exc:  # the solver alone: Ctrl-C, bad input go on up
                     point = f"W_ob = {shown(w, 'N', big, '.4g')}, u = {shown(u, 'N m', big, '.4g')}"
                     line = point_command(args, float(w), float(u))
-                    raise check_failed(exc, point, line, t_end) from None
-                checks.append((float(w), float(u), r.regime))
+                    regime, message = FAILED, str(check_failed(exc, point, line, t_end))
+                checks.append((float(w), float(u), regime, message))
                 bar.update()
     finally:
         bar.close()

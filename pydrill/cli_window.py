@@ -111,7 +111,8 @@ def register_tally(sub) -> None:
         default=0,
         metavar="K",
         help="simulate a K x K sample of the chart at each depth and compare with the verdict "
-        "(K <= 20; default 0: none)",
+        "(K <= 20; default 0: none); a check whose simulation fails is counted as 'failed', "
+        "with its message, and the others go on (exit status 3 only if every one fails)",
     )
     win.add_argument(
         "--check-dof",
@@ -194,6 +195,7 @@ def _cmd_string(args: argparse.Namespace) -> int:
 def _cmd_window(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from .cli_checks import say_failed_checks
     from .cli_options import check_progress
     from .cli_string import for_option, load_tally_file
     from .cli_window_report import print_window, window_json
@@ -251,10 +253,13 @@ def _cmd_window(args: argparse.Namespace) -> int:
         else:
             fig = window_depth_figure(dw, args.wob_max, args.rpm_max)
         save(fig, args.plot)
+    failures = [c[6] for pts in checks.values() for c in pts if c[6] is not None]
+    total = sum(len(pts) for pts in checks.values())
     if args.json:
         print_json(window_json(tally, dw, grid, checks, args))
-        return 0
-    print_window(tally, dw, checks, args)
+    else:
+        print_window(tally, dw, checks, args)
+    say_failed_checks("window", failures, total, json=args.json)
     return 0
 
 
@@ -273,13 +278,16 @@ def _grid_windows(tally, depths, args):
 
 
 def _checks(tally, depth, args, bar):
-    """(wob N, rpm, outcome, stable, cannot stay stuck, mean bit rpm) on a K x K sample; the
-    verdict is the checking model's. The surface torque is held at the steady state's, so the
-    bit may settle at another steady speed (past the fold, u(Ω) is not monotone): the outcome is
-    then "steady elsewhere", not "steady"."""
+    """(wob N, rpm, outcome, stable, cannot stay stuck, mean bit rpm, message) on a K x K
+    sample; the verdict is the checking model's. The surface torque is held at the steady
+    state's, so the bit may settle at another steady speed (past the fold, u(Ω) is not
+    monotone): the outcome is then "steady elsewhere", not "steady". A check whose simulation
+    fails (a ``SolverError``) is "failed", its bit rpm None and its message which point and
+    the ``pydrill simulate`` line that runs it alone; the message is None for the others."""
     import numpy as np
 
     from . import SolverError, equilibrium_torque, simulate
+    from .cli_checks import FAILED
     from .cli_options import check_failed
     from .cli_string import point_command
     from .window import RPM, Limits
@@ -293,20 +301,23 @@ def _checks(tally, depth, args, bar):
         for r in (np.arange(k) + 0.5) / k * args.rpm_max:
             u = equilibrium_torque(p, w, r * RPM)
             t_end = args.t_end_given or 120.0
+            stable = bool(w < lim.wob_max_stable(r))
+            unstuck = bool(w < lim.wob_max_unstuck(r))
             try:
                 res = simulate(p, wob=w, torque=u, initial=args.check_from, t_end=t_end, n_out=2)
             except SolverError as exc:  # which point, and what window's user can do
                 point = f"{depth:g} m, W_ob = {w / 1e3:.4g} kN, {r:.4g} rpm"
                 more = {"depth": f"{depth:g}m", "dof": args.check_dof, "initial": args.check_from}
                 line = point_command(_as_tally(args), float(w), float(u), **more)
-                raise check_failed(exc, point, line, t_end) from None
-            stable = bool(w < lim.wob_max_stable(r))
-            unstuck = bool(w < lim.wob_max_unstuck(r))
-            bit_rpm = res.summary.bit_mean / RPM
+                failed = str(check_failed(exc, point, line, t_end))
+                out.append((float(w), float(r), FAILED, stable, unstuck, None, failed))
+                bar.update()
+                continue
+            bit_rpm = float(res.summary.bit_mean / RPM)
             outcome = res.regime
             if outcome == "steady" and abs(bit_rpm - r) > 0.01 * r:
                 outcome = "steady elsewhere"
-            out.append((float(w), float(r), outcome, stable, unstuck, float(bit_rpm)))
+            out.append((float(w), float(r), outcome, stable, unstuck, bit_rpm, None))
             bar.update()
     return out
 

@@ -41,6 +41,8 @@ def window_json(tally, dw, grid, checks, args) -> dict:
                 "wob_max_stable": _numbers(dw.wob_max_stable[i]),
                 "rpm_min": _numbers(dw.rpm_min[i]),
                 "rpm_min_stable": _numbers(dw.rpm_min_stable[i]),
+                # a failed check's outcome is "failed", its bit_rpm null and its message why
+                # (null for the others)
                 "checks": [
                     {
                         "wob": w,
@@ -49,14 +51,17 @@ def window_json(tally, dw, grid, checks, args) -> dict:
                         "bit_rpm": b,
                         "stable": s,
                         "cannot_stay_stuck": u,
+                        "message": m,
                     }
-                    for w, r, g, s, u, b in checks.get(d, [])
+                    for w, r, g, s, u, b, m in checks.get(d, [])
                 ],
+                "failed_checks": sum(c[6] is not None for c in checks.get(d, [])),
             }
             for i, d in enumerate(dw.depth)
         ],
         "wob_max_unstuck": _numbers(dw.wob_max_unstuck),
         "rpm_min_unstuck": _numbers(dw.rpm_min_unstuck),
+        "failed_checks": sum(c[6] is not None for pts in checks.values() for c in pts),
     }
     units = {
         "depths": "m",
@@ -80,6 +85,7 @@ def window_json(tally, dw, grid, checks, args) -> dict:
 
 
 def print_window(tally, dw, checks, args) -> None:
+    from .cli_checks import FAILED, failure_lines
     from .units import FT, LBF
 
     print(
@@ -104,23 +110,29 @@ def print_window(tally, dw, checks, args) -> None:
             star = "*" if dw.rpm_min_stable[i, k] > dw.rpm_min_unstuck[k] else " "
             cells.append(f"{dw.rpm_min[i, k]:9.0f}{star}")
         print((f"{d:8.0f} " + " ".join(cells)).rstrip())
-    for d, pts in checks.items():
+    failures = []
+    for d, every in checks.items():
         counts: dict[str, int] = {}
-        for _, _, g, *_ in pts:
+        for _, _, g, *_ in every:
             counts[g] = counts.get(g, 0) + 1
+        failures += [c[6] for c in every if c[6] is not None]
+        pts = [c for c in every if c[2] != FAILED]  # the agreement is of those simulated
         line = f"checks at {d:.0f} m from {args.check_from}: " + ", ".join(
             f"{k} {v}" for k, v in sorted(counts.items())
         )
         if args.check_from == "equilibrium":
             agree = sum((g == "steady") == s for _, _, g, s, *_ in pts)
-            line += f"; steady exactly where stable at {agree}/{len(pts)} points"
+            simulated = " simulated" if len(pts) < len(every) else ""
+            line += f"; steady exactly where stable at {agree}/{len(pts)}{simulated} points"
         else:
-            safe = [g for _, _, g, s, u, _ in pts if s and u]
-            stall = [g for _, _, g, s, u, _ in pts if s and not u]
+            safe = [g for _, _, g, s, u, *_ in pts if s and u]
+            stall = [g for _, _, g, s, u, *_ in pts if s and not u]
             line += (
                 f"; safe points steady from rest {safe.count('steady')}/{len(safe)}, "
                 f"stall-region points stuck {stall.count('stuck')}/{len(stall)}"
             )
+        print(line)
+    for line in failure_lines(failures):
         print(line)
     if args.plot:
         print(f"figure: {args.plot}")

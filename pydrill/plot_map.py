@@ -6,15 +6,23 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from .cli_checks import FAILED
 from .plot import fit_suptitle, plt, scale_ticks, unit_scale
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+#: a check whose simulation failed (map and window draw it alike): a grey question mark
+FAILED_MARKER = r"$\mathbf{?}$"
+FAILED_COLOR = "#424949"
+FAILED_LABEL = "failed (no result; the output says why)"
+
 
 def operating_figure(params, omap, crossings, checks=None) -> Figure:
     """(W_ob, u) map: where a stable steady state exists and where the bit can stay stuck, the
-    sliding boundary u = μ_sb W_ob R_b, the Hopf and fold curves, and simulated regimes."""
+    sliding boundary u = μ_sb W_ob R_b, the Hopf and fold curves, and simulated regimes:
+    ``checks`` are (W_ob, u, regime), a regime "failed" where the simulation failed (drawn as a
+    grey question mark)."""
     import numpy as np
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
@@ -78,6 +86,8 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
             "stick-slip": ("x", "#b9770e"),
             "stuck": ("s", "#566573"),
             "oscillation": ("^", "#7d3c98"),
+            # a check whose simulation failed: drawn, not left out (the text says why)
+            FAILED: (FAILED_MARKER, FAILED_COLOR),
         }
         for regime, (marker, color) in marks.items():
             pts = [(w, u) for w, u, r in checks if r == regime]
@@ -87,8 +97,8 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
                     [pt[1] for pt in pts],
                     marker=marker,
                     color=color,
-                    s=26,
-                    label=f"simulated from rest: {regime}",
+                    s=80 if regime == FAILED else 26,
+                    label=f"simulated from rest: {FAILED_LABEL if regime == FAILED else regime}",
                     zorder=5,
                     clip_on=False,  # the check grid ends on the map's edges: markers whole
                 )

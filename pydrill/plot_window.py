@@ -6,7 +6,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .cli_checks import FAILED
 from .plot import REGIME_COLORS, place_legend, plt
+from .plot_map import FAILED_COLOR, FAILED_LABEL, FAILED_MARKER
 from .units import FT, LBF
 
 if TYPE_CHECKING:
@@ -94,7 +96,9 @@ def window_figure(
     check_initial: str = "equilibrium",
 ) -> Figure:
     """The safe (W_ob, surface rpm) window of one string: exact edges, regions named in driller
-    terms, steady surface torque contours inside the window, simulated sample points."""
+    terms, steady surface torque contours inside the window, simulated sample points: ``checks``
+    are (W_ob N, rpm, outcome), an outcome "failed" where the simulation failed (drawn as a
+    grey question mark)."""
     p = limits.params
     rpm = np.linspace(0.0, rpm_max, 600)
     w_hopf = limits.wob_max_stable(rpm) / 1e3
@@ -159,6 +163,17 @@ def window_figure(
                     label=f"simulated from {check_initial}: "
                     + regime.replace("elsewhere", "at another rpm"),
                 )
+        failed = [(w / 1e3, r) for w, r, g in checks if g == FAILED]
+        if failed:  # drawn, not left out: the text says why each failed
+            ax.scatter(
+                [pt[0] for pt in failed],
+                [pt[1] for pt in failed],
+                marker=FAILED_MARKER,
+                s=110,
+                zorder=5,
+                color=FAILED_COLOR,
+                label=f"simulated from {check_initial}: {FAILED_LABEL}",
+            )
     ax.set_xlim(0, x_max)
     ax.set_ylim(0, rpm_max)
     ax.set_xlabel("weight on bit (kN)")

@@ -156,13 +156,15 @@ def _limited(monkeypatch, **limits):
 def test_a_check_at_its_step_limit_says_what_this_command_can_do(argv, capsys, monkeypatch):
     """The failed check names its point and a ``pydrill simulate`` line that runs that point
     alone with more steps; run as given (with the step limit), that line fails as the check
-    did, at the same time; the limit lifted, it runs."""
+    did, at the same time; the limit lifted, it runs. Every check fails at 20 steps: exit
+    status 3, the first failure's message last on stderr (each one's in the output)."""
     _limited(monkeypatch, max_steps=20)
     assert main(argv) == 3
-    err = capsys.readouterr().err
-    assert advice_faults(argv[0], err) == []
-    assert "the check at " in err and "shorten --t-end" in err
-    reached = re.search(r"reached t = (\S+) s\)", err).group(1)
+    out, err = capsys.readouterr()
+    assert advice_faults(argv[0], out) == advice_faults(argv[0], err) == []
+    assert "every check failed" in err and "the check at " in err and "shorten --t-end" in err
+    assert err.strip().splitlines()[-1].split("the first: ")[1] in out  # listed in the output
+    reached = re.search(r"steps reached at t = (\S+) s;", err).group(1)
     line = re.search(r"(pydrill simulate .*)$", err.strip()).group(1)
     words = shlex.split(line)
     assert words[words.index("--max-steps") + 1] == "100000000"
@@ -177,11 +179,14 @@ def test_a_check_at_its_step_limit_says_what_this_command_can_do(argv, capsys, m
 
 
 def test_a_check_that_fails_otherwise_gives_the_line_to_run_it_alone(capsys, monkeypatch):
+    """Some checks chatter, the others are computed: exit status 0, the failed ones listed in
+    the output with their messages, counted on stderr."""
     _limited(monkeypatch, max_switch_rate=1e-3)  # stick-slip is "chattering" at once
-    assert main(["map", "--dof", "4", "--check", "3", "--t-end", "3000"]) == 3
-    err = capsys.readouterr().err
-    assert "chattering" in err and "to run that point alone: pydrill simulate --dof 4" in err
-    assert advice_faults("map", err) == []
+    assert main(["map", "--dof", "4", "--check", "3", "--t-end", "3000"]) == 0
+    out, err = capsys.readouterr()
+    assert "chattering" in out and "to run that point alone: pydrill simulate --dof 4" in out
+    assert re.search(r"pydrill map: \d of 9 checks failed", err)
+    assert advice_faults("map", out) == advice_faults("map", err) == []
 
 
 #: a value with a unit of each kind, as a help text would show one
