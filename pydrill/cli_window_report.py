@@ -120,11 +120,12 @@ def print_window(tally, dw, checks, args) -> None:
         line = f"checks at {d:.0f} m from {args.check_from}: " + ", ".join(
             f"{k} {v}" for k, v in sorted(counts.items())
         )
-        if args.check_from == "equilibrium":
+        # (none when every check at this depth failed: nothing agrees or disagrees)
+        if pts and args.check_from == "equilibrium":
             agree = sum((g == "steady") == s for _, _, g, s, *_ in pts)
             simulated = " simulated" if len(pts) < len(every) else ""
             line += f"; steady exactly where stable at {agree}/{len(pts)}{simulated} points"
-        else:
+        elif pts:
             safe = [g for _, _, g, s, u, *_ in pts if s and u]
             stall = [g for _, _, g, s, u, *_ in pts if s and not u]
             line += (
