@@ -43,6 +43,8 @@ void check_list(const std::string& name, const std::vector<double>& values, bool
 // error norms square rate × step × state, the starting-step estimates (CVODES, DOP853) and the
 // Newton matrix form second derivatives ~ rate² × state. A double overflows at 1.8e308, a rate
 // at its square root, 1.3e154 /s; kMaxRate leaves four decades for the state it multiplies.
+// Decay rates are held far lower, at kMaxDecay (params.hpp): beyond it BDF's Newton iterations
+// fail for want of precision, long before anything overflows.
 // Measured before this check: top_damping = 1e300 ground through max_steps at t = 1e-13 s,
 // an inertia of 1e-300 failed at t = 0 with CVODES's "h = nan", stiffnesses 1e300 with
 // DOP853's "step size fell" at t = 0, bit_damping 1e300 as "chattering". No drill string
@@ -51,15 +53,15 @@ void check_list(const std::string& name, const std::vector<double>& values, bool
 // string barely moves, and the runs end at once.
 void check_rates(const Params& p) {
   const std::size_t N = p.inertias.size();
-  static_assert(kMaxRate == 1e150, "the message below writes it out");
-  const double max_rate = kMaxRate, max_rate2 = kMaxRate * kMaxRate;
+  static_assert(kMaxRate == 1e150 && kMaxDecay == 1e15, "the messages below write them out");
+  const double max_decay = kMaxDecay, max_rate2 = kMaxRate * kMaxRate;
   for (std::size_t i = 0; i < N; ++i) {
     const double I = p.inertias[i];
     const double k_above = i > 0 ? p.stiffnesses[i - 1] : 0.0, k_below = i + 1 < N ? p.stiffnesses[i] : 0.0;
     const double c_above = i == 0 ? p.top_damping : p.dampings[i - 1];
     const double c_below = i + 1 == N ? p.bit_damping : p.dampings[i];
     const double decay = (c_above + c_below) / I, freq2 = (k_above + k_below) / I;
-    if (decay <= max_rate && freq2 <= max_rate2) continue;  // (NaN cannot arise: all finite, I > 0)
+    if (decay <= max_decay && freq2 <= max_rate2) continue;  // (NaN cannot arise: all finite, I > 0)
     // Names: the row's two terms and its inertia; the message starts with whichever of the
     // largest term and the inertia is further from 1 in decades (the absurd one, usually).
     const std::string inertia = "inertias[" + std::to_string(i) + "]";
@@ -69,7 +71,7 @@ void check_rates(const Params& p) {
       const std::size_t j = above ? i - 1 : i;
       return std::string(spring ? "stiffnesses[" : "dampings[") + std::to_string(j) + "]";
     };
-    const bool spring = !(decay > max_rate);
+    const bool spring = !(decay > max_decay);
     const bool has_above = spring ? i > 0 : true, has_below = spring ? i + 1 < N : true;
     const double above = spring ? k_above : c_above, below = spring ? k_below : c_below;
     const bool big_is_above = has_above && (!has_below || above >= below);
@@ -85,12 +87,13 @@ void check_rates(const Params& p) {
     o.precision(3);
     if (!spring) {
       o << "the decay rate at inertia " << i << ", (" << sum << ") / " << inertia << " = " << decay
-        << " /s, must be <= 1e150 /s";
+        << " /s, must be <= 1e15 /s (no step of a double-precision solver resolves a faster "
+           "decay; a real string's are below 1e7 /s: check the units)";
     } else {
       o << "the frequency at inertia " << i << ", sqrt(" << (has_above && has_below ? "(" + sum + ")" : sum)
-        << " / " << inertia << ") = " << std::sqrt(freq2) << " rad/s, must be <= 1e150 rad/s";
+        << " / " << inertia << ") = " << std::sqrt(freq2) << " rad/s, must be <= 1e150 rad/s"
+        << " (the solvers square the model's rates, and a double overflows at 1.8e308)";
     }
-    o << " (the solvers square the model's rates, and a double overflows at 1.8e308)";
     throw std::invalid_argument(o.str());
   }
 }
