@@ -93,7 +93,22 @@ class Params:
         for key in _SCALARS:
             object.__setattr__(self, key, _number(key, getattr(self, key), _UNITS[key]))
         _check_friction(self.mu_coulomb, self.mu_static, changed="mu_static")
-        self.to_core().validate()  # raises ValueError naming the bad parameter
+        self._core_params().validate()  # raises ValueError naming the bad parameter
+
+    def _core_params(self) -> _core.Params:
+        """:meth:`to_core`, built once for this Params and shared by pydrill's own calls, which
+        only read it (the core takes ``const Params&``): a sweep's point hands one string to
+        the core three times, and building it was 3 % of a dof-4 point's time. Kept out of
+        pickles (``__getstate__``): the core's Params cannot be pickled."""
+        core = self.__dict__.get("_core")
+        if core is None:
+            core = self.__dict__["_core"] = self.to_core()  # (frozen: past __setattr__)
+        return core
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = dict(self.__dict__)
+        state.pop("_core", None)
+        return state
 
     @property
     def dof(self) -> int:

@@ -191,7 +191,7 @@ def simulate(
         "max_order", max_order, 0, 12, hint=" (0: the method's own; bdf 1 ... 5, adams 1 ... 12)"
     )
     settings["max_steps"] = opts.max_steps = _integer("max_steps", max_steps, 1, 2**62)
-    core = _core.simulate(params.to_core(), wob, torque, opts)
+    core = _core.simulate(params._core_params(), wob, torque, opts)
     return SimulationResult(core, params, settings)
 
 

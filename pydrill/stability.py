@@ -320,7 +320,7 @@ def stability(
     wob = _load("wob", _number("wob", wob, "N"), "N")
     if crossings is not None:
         crossings = _check_crossings(params, crossings)
-    core = params.to_core()
+    core = params._core_params()
     if omega is not None:
         omega = _velocity(omega)
         held = abs(_core.equilibrium_torque(core, wob, abs(omega)))

@@ -1,6 +1,7 @@
 """Parameter sets, overrides and their validation."""
 
 import math
+import pickle
 
 import pytest
 
@@ -122,3 +123,16 @@ def test_to_dict_and_from_dict_round_trip_through_json():
         pydrill.Params.from_dict({**d, "dof": 5})
     with pytest.raises(ValueError, match="unknown parameter 'mu_dynamic'"):
         pydrill.Params.from_dict({**d, "mu_dynamic": 0.5})
+
+
+def test_params_pickle_after_a_run_without_the_cores_copy():
+    """A run builds the core's copy of the string once and keeps it on the Params (the core's
+    Params cannot be pickled): a Params that was run still pickles, to an equal one, which
+    runs to the same result."""
+    p = preset("reduced-scale", dof=4)
+    before = pydrill.simulate(p, wob=60.0, torque=8.3, t_end=20.0)
+    back = pickle.loads(pickle.dumps(p))
+    assert back == p and back is not p
+    after = pydrill.simulate(back, wob=60.0, torque=8.3, t_end=20.0)
+    assert after.summary == before.summary
+    assert (after.states == before.states).all()

@@ -338,3 +338,33 @@ def test_a_missing_relative_tally_names_the_path_it_was_looked_for_at(tmp_path, 
     assert message.startswith("model.tally: cannot read tallies/t.toml: ")
     assert str(folder / "tallies" / "t.toml") in message
     assert f"resolved against the spec file's folder, {folder}" in message
+
+
+def test_the_string_of_each_point_is_built_once_and_is_the_one_built_afresh():
+    """params_at keeps the strings it built: one for a whole (W_ob, u) grid, one per value of
+    any other axis; each equal to the string built afresh from the preset."""
+    spec = parse_spec(
+        """
+[model]
+preset = "reduced-scale"
+[axes]
+wob = [50.0, 100.0]
+torque = [6.0, 8.3]
+dof = [3, 4, 6]
+top_damping = [0.1, 0.2]
+"""
+    )
+    seen = {}
+    for i in range(spec.size):
+        c = spec.coords(i)
+        p = spec.params_at(c)
+        assert p == pydrill.preset("reduced-scale", dof=c["dof"], top_damping=c["top_damping"])
+        seen.setdefault((c["dof"], c["top_damping"]), set()).add(id(p))
+    assert len(seen) == 6 and all(len(ids) == 1 for ids in seen.values())  # once per string
+    many = parse_spec(
+        '[model]\npreset = "reduced-scale"\ndof = 4\n[axes]\nwob = [60.0]\ntorque = [8.3]\n'
+        "top_damping = { start = 0.1, stop = 0.5, num = 200 }"
+    )
+    for i in range(many.size):  # 200 strings: the spec keeps a few, not all
+        assert many.params_at(many.coords(i)).top_damping == many.axes["top_damping"][i]
+    assert 0 < len(many.__dict__["_params"]) <= 16
