@@ -63,7 +63,10 @@ class Params:
     inertia ``i`` and ``i + 1``. Build one with :func:`preset`, then change entries with
     :meth:`replace` for non-uniform strings. Every entry is a real number (a Python or numpy
     number, or a 0-d array): a string or a bool raises ``TypeError`` naming the field, a bad
-    value ``ValueError``; a string has at most ``MAX_DOF`` (100000) inertias.
+    value ``ValueError``; a string has at most ``MAX_DOF`` (100000) inertias. At each inertia,
+    the decay rate (the dampings acting on it over its inertia) must be at most 1e15 /s and the
+    frequency (the stiffnesses' sqrt(k/J)) at most 1e150 rad/s: no double-precision solver
+    integrates faster ones (a real string's are below 1e7).
     """
 
     inertias: tuple[float, ...]  #: J_i, kg·m², top drive first, bit last
