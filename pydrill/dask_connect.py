@@ -154,14 +154,17 @@ def served_dashboard(link: str | None, within: float = 1.0) -> str | None:
     Asked with HEAD: a GET of a real dashboard opens a bokeh session (0.45 s of the scheduler's
     time, measured), a HEAD answers "405 Method Not Allowed" in milliseconds. A link that does
     not answer (another network's view of the host, a firewall) is kept: only a scheduler that
-    says so takes it away."""
+    says so takes it away. Asked directly, not through an HTTP proxy of the environment
+    (``http_proxy``), whose own 404 for a host it cannot see would say nothing of the
+    scheduler."""
     import urllib.error
     import urllib.request
 
     if not link:
         return None
+    direct = urllib.request.build_opener(urllib.request.ProxyHandler({}))
     try:
-        with urllib.request.urlopen(urllib.request.Request(link, method="HEAD"), timeout=within):
+        with direct.open(urllib.request.Request(link, method="HEAD"), timeout=within):
             return link
     except urllib.error.HTTPError as exc:
         return None if exc.code == 404 else link

@@ -7,6 +7,7 @@ import os
 import re
 import socket
 import subprocess
+import sys
 import urllib.error
 import urllib.request
 
@@ -251,3 +252,24 @@ def test_a_dashboard_link_that_does_not_answer_is_kept():
     closed = free_port()
     assert served_dashboard(f"http://127.0.0.1:{closed}/status", within=2) is not None
     assert served_dashboard(None) is None
+
+
+def test_the_dashboard_is_asked_of_the_scheduler_not_of_an_http_proxy():
+    """With http_proxy set (here to a port where nothing answers), the scheduler itself is
+    asked: its 404 takes the link away. In a process of its own, as urllib reads the proxy
+    settings once."""
+    code = (
+        "from distributed import LocalCluster\n"
+        "from pydrill.dask_connect import served_dashboard\n"
+        "kw = dict(n_workers=0, processes=False, dashboard_address='127.0.0.1:0')\n"
+        "with LocalCluster(**kw, scheduler_kwargs={'dashboard': False}) as c:\n"
+        "    port = c.scheduler.http_server.port\n"
+        "    print(served_dashboard(f'http://127.0.0.1:{port}/status'))\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k.lower() not in ("no_proxy", "http_proxy")}
+    env["http_proxy"] = f"http://127.0.0.1:{free_port()}"
+    run = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=env
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "None", run.stdout + run.stderr
