@@ -38,3 +38,19 @@ def paper_dof4():
         wob: pydrill.simulate(wob=wob, torque=8.3, dof=4, t_end=300.0)
         for wob in (40.0, 100.0, 160.0)
     }
+
+
+@pytest.fixture(scope="session")
+def reproduce_quick(tmp_path_factory):
+    """One real ``pydrill reproduce --quick --json`` run (a subprocess of the CLI), shared by
+    the tests that read what it writes (tests/test_reproduce.py, test_reproduce_figures.py):
+    (its output directory, its JSON summary). Read only: a test that runs in it again copies
+    it first."""
+    import json
+    import subprocess
+
+    out = tmp_path_factory.mktemp("reproduce")
+    cmd = [sys.executable, "-m", "pydrill", "reproduce", "--out", str(out), "--quick", "--json"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    return out, json.loads(proc.stdout)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
 import subprocess
 import sys
 
@@ -172,21 +173,19 @@ def test_cache_is_keyed_on_what_was_computed(tmp_path):
 
 
 @pytest.mark.slow
-def test_reproduce_end_to_end_quick(tmp_path):
+def test_reproduce_end_to_end_quick(reproduce_quick, tmp_path):
     """A reduced run writes every figure and a report quoting the computed numbers; a second
-    run reuses every atlas and analysis."""
-    cmd = [sys.executable, "-m", "pydrill", "reproduce", "--out", str(tmp_path), "--quick"]
-    first = json.loads(
-        subprocess.run([*cmd, "--json"], capture_output=True, text=True, check=True).stdout
-    )
+    run reuses every atlas and analysis. The first run is the session's (conftest.py), shared
+    with test_reproduce_figures.py; the second runs in a copy of its output."""
+    out, first = reproduce_quick
     # Laid out as every command's --json (test_cli_json): inputs, results, units.
-    check_layout(first, {"out": str(tmp_path), "quick": True, "force": False}, None)
+    check_layout(first, {"out": str(out), "quick": True, "force": False}, None)
     assert first["units"] == {"wall_time": "s"}
     assert len(first["figures"]) == 12
     for f in first["figures"]:
-        assert (tmp_path / f.split("/")[-1]).stat().st_size > 20_000
-    report = (tmp_path / "report.md").read_text()
-    numbers = json.loads((tmp_path / "numbers.json").read_text())
+        assert (out / f.split("/")[-1]).stat().st_size > 20_000
+    report = (out / "report.md").read_text()
+    numbers = json.loads((out / "numbers.json").read_text())
     for value, digits in (
         (numbers["fig04"]["exact"]["period"], 4),
         (numbers["fig10a"]["h2_delta"], 6),
@@ -217,6 +216,9 @@ def test_reproduce_end_to_end_quick(tmp_path):
         "stuck",
         "steady",
     )
+    again = tmp_path / "again"
+    shutil.copytree(out, again)
+    cmd = [sys.executable, "-m", "pydrill", "reproduce", "--out", str(again), "--quick"]
     second = json.loads(
         subprocess.run([*cmd, "--json"], capture_output=True, text=True, check=True).stdout
     )

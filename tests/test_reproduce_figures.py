@@ -6,8 +6,6 @@ from __future__ import annotations
 
 import itertools
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import matplotlib
@@ -19,9 +17,10 @@ matplotlib.use("Agg")
 
 
 @pytest.fixture(scope="module")
-def reproduced(tmp_path_factory):
+def reproduced(reproduce_quick):
     """Every figure ``pydrill reproduce --quick`` draws, as matplotlib figures: the numbers of
-    one quick run, drawn again with ``save`` keeping the figures open."""
+    one quick run (the session's, conftest.py), drawn again with ``save`` keeping the figures
+    open."""
     from pydrill import (
         reproduce_figures,
         reproduce_figures_sliding,
@@ -30,10 +29,7 @@ def reproduced(tmp_path_factory):
     )
     from pydrill import reproduce_sims as rs
 
-    out = tmp_path_factory.mktemp("reproduce")
-    cmd = [sys.executable, "-m", "pydrill", "reproduce", "--out", str(out), "--quick"]
-    proc = subprocess.run([*cmd, "--no-progress"], capture_output=True, text=True, timeout=600)
-    assert proc.returncode == 0, proc.stderr
+    out, _ = reproduce_quick
     numbers = json.loads((out / "numbers.json").read_text())
     figures: dict[str, object] = {}
 
