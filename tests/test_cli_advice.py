@@ -92,7 +92,8 @@ CASES = [
     ["map", *T, "--depth", "3000m", "--wob-max", "3000kN", "--torque-max", "200kN*m"],
     ["map", *T, "--depth", "3000rpm"],
     ["map", *T, "--depth", "3000m", "--lump", "0"],
-    ["map", "--dof", "2", "--check", "2", "--t-end", "1e6"],
+    # past a day (LONG_RUN, 86400 s): the note on a long run; 1e5 s, not 1e6, keeps the checks short
+    ["map", "--dof", "2", "--check", "2", "--t-end", "1e5"],
     ["stability", "--dof", "4", "--wob", "40"],
     ["stability", "--dof", "4", "--wob", "40", "--omega", "0"],
     ["stability", "--dof", "4", "--wob", "60kN", "--torque", "9kN*m"],
