@@ -54,3 +54,18 @@ def reproduce_quick(tmp_path_factory):
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
     return out, json.loads(proc.stdout)
+
+
+@pytest.fixture(scope="session")
+def longer_reference(tmp_path_factory):
+    """tests/sweeping.py's LONGER swept serially, uninterrupted: the atlas an interrupted or
+    disconnected sweep of LONGER, resumed, must equal (tests/test_sweep_interrupt.py,
+    test_sweep_connect.py). Read only."""
+    from sweeping import LONGER
+
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    out = tmp_path_factory.mktemp("longer") / "uninterrupted.h5"
+    run_sweep(parse_spec(LONGER), out, serial=True)
+    return out

@@ -167,7 +167,9 @@ def test_a_scheduler_that_starts_while_the_sweep_waits_runs_it(tmp_path):
 
 
 @pytest.mark.slow
-def test_a_scheduler_lost_midway_is_one_clear_error_and_resume_completes_the_atlas(tmp_path):
+def test_a_scheduler_lost_midway_is_one_clear_error_and_resume_completes_the_atlas(
+    tmp_path, longer_reference
+):
     """The scheduler killed mid-sweep (its machine down, the job ended): a page of Dask's
     reconnection tracebacks, then FutureCancelledError's, and exit 1. Now one line saying
     how many points are saved and what to do; the atlas holds them (flushed, as after
@@ -216,6 +218,4 @@ def test_a_scheduler_lost_midway_is_one_clear_error_and_resume_completes_the_atl
         timeout=300,
     )
     assert resumed.returncode == 0, resumed.stderr
-    reference = tmp_path / "ref.h5"
-    run_sweep(parse_spec(LONGER), reference, serial=True)
-    same_atlas(out, reference)
+    same_atlas(out, longer_reference)  # LONGER swept serially, uninterrupted (conftest.py)

@@ -54,7 +54,9 @@ def test_kill_minus_9_then_resume_gives_the_same_atlas(tmp_path):
     same_atlas(out, reference)
 
 
-def test_ctrl_c_stops_a_dask_sweep_quietly_and_keeps_every_finished_point(tmp_path):
+def test_ctrl_c_stops_a_dask_sweep_quietly_and_keeps_every_finished_point(
+    tmp_path, longer_reference
+):
     rc, _, err, out = interrupt_mid_sweep(tmp_path, signal.SIGINT, "--workers", "2")
     assert rc == 130, err
     assert "Traceback" not in err  # neither the client's nor the workers'
@@ -71,9 +73,7 @@ def test_ctrl_c_stops_a_dask_sweep_quietly_and_keeps_every_finished_point(tmp_pa
     assert report.resumed == len(journaled) and report.computed == total - len(journaled)
     assert not journal.exists()
     # Both starts, so the coexistence flags and every run's fields come back from the journal.
-    reference = tmp_path / "uninterrupted.h5"
-    run_sweep(parse_spec(LONGER), reference, serial=True)
-    same_atlas(out, reference)
+    same_atlas(out, longer_reference)  # LONGER swept serially, uninterrupted (conftest.py)
 
 
 def test_sigterm_stops_a_serial_sweep_like_ctrl_c(tmp_path):
