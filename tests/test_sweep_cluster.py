@@ -44,7 +44,11 @@ def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
         )
     ]  # fmt: skip
     try:
-        time.sleep(2.0)
+        deadline = time.time() + 60  # the scheduler writes its file once it is listening
+        while not Path(scheduler_file).exists():
+            assert procs[0].poll() is None, "the scheduler exited"
+            assert time.time() < deadline, "the scheduler did not start in 60 s"
+            time.sleep(0.02)
         for _ in range(2):
             procs.append(
                 dask_process(
