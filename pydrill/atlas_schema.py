@@ -11,12 +11,14 @@ import numpy as np
 
 FORMAT = "pydrill-atlas"
 FORMAT_VERSION = 1
+#: the regime of a run whose solver failed, in an atlas and in map/window --check alike
+FAILED = "failed"
 REGIMES = {
     "steady": 0,
     "stick-slip": 1,
     "stuck": 2,
     "oscillation": 3,
-    "failed": -1,
+    FAILED: -1,
     "missing": -2,
     "no-steady-state": -3,  # an 'equilibrium' start where no steady state exists
 }

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import sys
 
-#: the outcome (regime) of a check whose simulation failed
-FAILED = "failed"
+from .atlas_schema import FAILED  # the outcome (regime) of a check whose simulation failed
 
 #: the failures listed in the text output; the rest are counted ("... and 12 more")
 SHOWN = 5

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from .cli_checks import FAILED
+from .atlas_schema import FAILED
 from .plot import fit_suptitle, plt, scale_ticks, unit_scale
 
 if TYPE_CHECKING:

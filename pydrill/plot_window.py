@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .cli_checks import FAILED
+from .atlas_schema import FAILED
 from .plot import REGIME_COLORS, place_legend, plt
 from .plot_map import FAILED_COLOR, FAILED_LABEL, FAILED_MARKER
 from .units import FT, LBF
