@@ -18,10 +18,12 @@ def window_json(tally, dw, grid, checks, args) -> dict:
     from .cli_options import json_document
 
     wob, rpm, windows = grid
+    # the tally as the other commands echo it (its file and lump; it held the tally's name),
+    # its name beside it as string's; the depths are the window's own
     inputs = {
-        "tally": tally.name,
+        "tally": {"file": args.tally, "lump": args.lump},
+        "name": tally.name,
         "depths": dw.depth.tolist(),
-        "lump": args.lump,
         "at_rpm": dw.rpm.tolist(),
         "at_wob": dw.wob.tolist(),
         "check": args.check,

@@ -74,7 +74,8 @@ CASES = {
     ),
     "window": (
         "window PAPER --depth 3000m --at-rpm 60 --at-wob 50kN --plot f.png".split(),
-        {"tally": ANY, "depths": [3000.0], "lump": 1, "at_rpm": [60.0], "at_wob": [50e3]}
+        {"tally": {"file": PAPER, "lump": 1}, "name": "paper-eq53", "depths": [3000.0]}
+        | {"at_rpm": [60.0], "at_wob": [50e3]}
         | {"check": 0, "check_from": None},
     ),
     "sweep": (
