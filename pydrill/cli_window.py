@@ -235,6 +235,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
         finally:
             bar.close()
     if args.plot:
+        from .cli_window_report import checks_note
         from .plot import save
         from .plot_window import window_depth_figure, window_figure
         from .window import Limits
@@ -250,8 +251,8 @@ def _cmd_window(args: argparse.Namespace) -> int:
                 [c[:3] for c in checks.get(depths[0], [])],
                 args.check_from,
             )
-        else:
-            fig = window_depth_figure(dw, args.wob_max, args.rpm_max)
+        else:  # the checks' points are off these curves: the figure says how they came out
+            fig = window_depth_figure(dw, args.wob_max, args.rpm_max, checks_note(checks, args))
         save(fig, args.plot)
     failures = [c[6] for pts in checks.values() for c in pts if c[6] is not None]
     total = sum(len(pts) for pts in checks.values())

@@ -86,8 +86,59 @@ def window_json(tally, dw, grid, checks, args) -> dict:
     return json_document(inputs, results, units, args.plot)
 
 
+def check_agreement(every: list, check_from: str) -> str:
+    """How one depth's checks bear out the analysis: from equilibrium, at how many points the
+    run stayed steady exactly where steady drilling is stable; from rest, how many safe points
+    drilled steadily and how many stall-region points stuck. Of the checks simulated; "" when
+    every one failed (nothing agrees or disagrees)."""
+    from .atlas_schema import FAILED
+
+    pts = [c for c in every if c[2] != FAILED]
+    if not pts:
+        return ""
+    if check_from == "equilibrium":
+        agree = sum((g == "steady") == s for _, _, g, s, *_ in pts)
+        simulated = " simulated" if len(pts) < len(every) else ""
+        return f"steady exactly where stable at {agree}/{len(pts)}{simulated} points"
+    safe = [g for _, _, g, s, u, *_ in pts if s and u]
+    stall = [g for _, _, g, s, u, *_ in pts if s and not u]
+    return (
+        f"safe points steady from rest {safe.count('steady')}/{len(safe)}, "
+        f"stall-region points stuck {stall.count('stuck')}/{len(stall)}"
+    )
+
+
+#: the depths the depth chart's note on the checks names; the text output gives every one
+NOTE_DEPTHS = 8
+
+
+def checks_note(checks: dict, args) -> str | None:
+    """The depth chart's footnote on ``window --check`` (None without checks). The checks'
+    points lie on each depth's own (W_ob, rpm) grid, off the chart's curves (which are at
+    --at-rpm and --at-wob): it gives how each depth's came out, as the text output does, and
+    how to see them."""
+    import textwrap
+
+    if not checks:
+        return None
+    parts = []
+    for d, every in list(checks.items())[:NOTE_DEPTHS]:
+        failed = sum(c[6] is not None for c in every)
+        said = check_agreement(every, args.check_from) or "every check failed"
+        parts.append(f"{d:,.0f} m: {said}" + (f" ({failed} failed)" if 0 < failed else ""))
+    if len(checks) > NOTE_DEPTHS:
+        parts.append(f"and {len(checks) - NOTE_DEPTHS} more depths (the text output gives each)")
+    k = args.check
+    text = f"checks ({k} x {k} simulations per depth from {args.check_from}): " + "; ".join(parts)
+    return (
+        textwrap.fill(text + ".", width=190)
+        + "\nTheir points are on each depth's own window: plot one depth (--depth "
+        + f"{next(iter(checks)):.0f}m) to see them."
+    )
+
+
 def print_window(tally, dw, checks, args) -> None:
-    from .cli_checks import FAILED, failure_lines
+    from .cli_checks import failure_lines
     from .units import FT, LBF
 
     print(
@@ -118,23 +169,11 @@ def print_window(tally, dw, checks, args) -> None:
         for _, _, g, *_ in every:
             counts[g] = counts.get(g, 0) + 1
         failures += [c[6] for c in every if c[6] is not None]
-        pts = [c for c in every if c[2] != FAILED]  # the agreement is of those simulated
         line = f"checks at {d:.0f} m from {args.check_from}: " + ", ".join(
             f"{k} {v}" for k, v in sorted(counts.items())
         )
-        # (none when every check at this depth failed: nothing agrees or disagrees)
-        if pts and args.check_from == "equilibrium":
-            agree = sum((g == "steady") == s for _, _, g, s, *_ in pts)
-            simulated = " simulated" if len(pts) < len(every) else ""
-            line += f"; steady exactly where stable at {agree}/{len(pts)}{simulated} points"
-        elif pts:
-            safe = [g for _, _, g, s, u, *_ in pts if s and u]
-            stall = [g for _, _, g, s, u, *_ in pts if s and not u]
-            line += (
-                f"; safe points steady from rest {safe.count('steady')}/{len(safe)}, "
-                f"stall-region points stuck {stall.count('stuck')}/{len(stall)}"
-            )
-        print(line)
+        agreement = check_agreement(every, args.check_from)
+        print(f"{line}; {agreement}" if agreement else line)
     for line in failure_lines(failures):
         print(line)
     if args.plot:

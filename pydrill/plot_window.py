@@ -279,10 +279,13 @@ def _nice_levels(top: float) -> list[float]:
     return list(np.linspace(0, top, 10)[1:])
 
 
-def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figure:
+def window_depth_figure(
+    dw: DepthWindow, wob_max: float, rpm_max: float, note: str | None = None
+) -> Figure:
     """The window against depth, depth downwards as on a well plan: the heaviest safe W_ob at
     reference speeds (left) and the slowest safe speed at reference weights (right). Thick
-    lines are the safe limits; thin lines show which edge sets them."""
+    lines are the safe limits; thin lines show which edge sets them. ``note``, if given, is
+    printed under the charts (``window --check``'s outcome at each depth)."""
     depth = dw.depth
     fig, (ax_w, ax_r) = plt.subplots(1, 2, figsize=(14, 8.2), sharey=True, layout="constrained")
     x_w = wob_max / 1e3
@@ -344,6 +347,8 @@ def window_depth_figure(dw: DepthWindow, wob_max: float, rpm_max: float) -> Figu
     # once the axes are final (depth runs downwards).
     for ax in (ax_w, ax_r):
         place_legend(ax, fontsize=8.5, framealpha=0.95, outside="below")
+    if note:
+        fig.supxlabel(note, fontsize=9, color="#333333")
     _curve_labels(fig, ax_w, names_w)
     _curve_labels(fig, ax_r, names_r)
     return fig

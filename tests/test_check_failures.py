@@ -233,3 +233,23 @@ def test_the_figure_marks_the_failed_check(argv, tmp_path, capsys, monkeypatch):
     assert sum(len(c.get_offsets()) for c in scatters) == len(checks)  # none left out
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
     assert failed[0].get_label() in legend
+
+
+def test_the_depth_chart_says_how_each_depths_checks_came_out(tmp_path, capsys, monkeypatch):
+    """With several depths the chart's curves are at --at-rpm/--at-wob, away from the checks'
+    points: its footnote gives each depth's outcome as the text output does (it showed no
+    checks at all), the failed one counted, and how to see them on a window."""
+    forced(monkeypatch, {1})
+    status, out, _ = run(capsys, WINDOW)
+    assert status == 0
+    said = dict(re.findall(r"checks at (\d+) m from rest: .*?; (safe points .*)", out))
+    assert set(said) == {"1000", "2000"}
+    forced(monkeypatch, {1})
+    fig = _drawn(monkeypatch, WINDOW, tmp_path)
+    note = " ".join(fig._supxlabel.get_text().split())  # the note, unwrapped
+    assert "checks (2 x 2 simulations per depth from rest)" in note
+    assert f"1,000 m: {said['1000']} (1 failed)" in note
+    assert f"2,000 m: {said['2000']}." in note and "--depth 1000m" in note
+    capsys.readouterr()
+    plain = _drawn(monkeypatch, WINDOW[:4], tmp_path)
+    assert plain._supxlabel is None  # no checks, no note
