@@ -89,8 +89,8 @@ def window_json(tally, dw, grid, checks, args) -> dict:
 def check_agreement(every: list, check_from: str) -> str:
     """How one depth's checks bear out the analysis: from equilibrium, at how many points the
     run stayed steady exactly where steady drilling is stable; from rest, how many safe points
-    drilled steadily and how many stall-region points stuck. Of the checks simulated; "" when
-    every one failed (nothing agrees or disagrees)."""
+    drilled steadily, and what the start-ups gave where the bit may stay stuck. Of the checks
+    simulated; "" when every one failed (nothing agrees or disagrees)."""
     from .atlas_schema import FAILED
 
     pts = [c for c in every if c[2] != FAILED]
@@ -101,11 +101,16 @@ def check_agreement(every: list, check_from: str) -> str:
         simulated = " simulated" if len(pts) < len(every) else ""
         return f"steady exactly where stable at {agree}/{len(pts)}{simulated} points"
     safe = [g for _, _, g, s, u, *_ in pts if s and u]
+    said = f"safe points steady from rest {safe.count('steady')}/{len(safe)}"
+    # Where a stopped bit may stay stuck (u <= T_s), a start-up can also break free: the
+    # wind-up overshoots the static twist. Either is as the verdict says (not safe), so their
+    # outcomes are counted, not scored ("stuck 1/3" read as one agreement in three).
     stall = [g for _, _, g, s, u, *_ in pts if s and not u]
-    return (
-        f"safe points steady from rest {safe.count('steady')}/{len(safe)}, "
-        f"stall-region points stuck {stall.count('stuck')}/{len(stall)}"
-    )
+    if stall:
+        said += "; where the bit may stay stuck: " + ", ".join(
+            f"{g} {stall.count(g)}" for g in sorted(set(stall))
+        )
+    return said
 
 
 #: the depths the depth chart's note on the checks names; the text output gives every one

@@ -117,7 +117,7 @@ def test_the_text_counts_the_failure_and_says_its_point_and_line(argv, capsys, m
     expected = {g: v for g, v in expected.items() if v} | {"failed": 1}
     assert _tally(lines[k]) == expected
     if argv is WINDOW:
-        assert "/3 simulated points" in lines[k] or "stall-region" in lines[k]
+        assert "/3 simulated points" in lines[k] or "where the bit may stay stuck: " in lines[k]
         k += 1  # the other depth's line, then the failures
     said = lines[k + 1]
     point = (

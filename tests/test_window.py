@@ -251,3 +251,25 @@ def test_window_plots(tmp_path):
         )
         assert f"figure: {tmp_path / name}" in out.stdout
         assert (tmp_path / name).stat().st_size > 50_000
+
+
+def test_start_up_checks_count_the_outcomes_where_the_bit_may_stay_stuck(capsys):
+    """--check-from rest: the text gives how many safe points drilled steadily, and counts the
+    start-ups' outcomes where a stopped bit may stay stuck (both stuck and, when the wind-up
+    overshoots the static twist, stick-slip occur there: it scored them "stuck 1/3"), each
+    count as the --json checks give it."""
+    from collections import Counter
+
+    from pydrill.cli import main
+
+    argv = ["window", str(PAPER), "--depth", "3000m", "--check", "2", "--check-from", "rest"]
+    assert main([*argv, "--json"]) == 0
+    checks = json.loads(capsys.readouterr().out)["windows"][0]["checks"]
+    assert main(argv) == 0
+    line = next(s for s in capsys.readouterr().out.splitlines() if s.startswith("checks at"))
+    safe = [c["outcome"] for c in checks if c["stable"] and c["cannot_stay_stuck"]]
+    stall = Counter(c["outcome"] for c in checks if c["stable"] and not c["cannot_stay_stuck"])
+    assert len(stall) >= 2  # this sample has both outcomes, or the test would not tell
+    said = ", ".join(f"{g} {n}" for g, n in sorted(stall.items()))
+    assert f"safe points steady from rest {safe.count('steady')}/{len(safe)}" in line
+    assert line.endswith(f"; where the bit may stay stuck: {said}")
