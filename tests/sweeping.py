@@ -2,6 +2,7 @@
 
 Not a test module: imported by them (``pythonpath = ["tests"]`` in pyproject.toml)."""
 
+import contextlib
 import json
 import math
 import os
@@ -97,6 +98,16 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+@contextlib.contextmanager
+def unserved_port():
+    """A loopback port where nothing listens, for as long as the block runs: bound and never
+    listening, it refuses every connection, and no other process can take it meanwhile (a port
+    from free_port(), released at once, was once taken by a second test run's connection)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        yield s.getsockname()[1]
 
 
 def dask_process(*args: str, log: Path | None = None) -> subprocess.Popen:

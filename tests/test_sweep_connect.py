@@ -20,6 +20,7 @@ from sweeping import (
     free_port,
     same_atlas,
     stop_processes,
+    unserved_port,
     wait_for_journal,
 )
 
@@ -31,22 +32,23 @@ from pydrill.sweep import run_sweep
 
 def test_no_scheduler_at_the_address_is_one_clear_error_and_leaves_no_files(tmp_path):
     out = tmp_path / "never.h5"
-    nobody = f"tcp://127.0.0.1:{free_port()}"
-    proc = subprocess.run(
-        [
-            *CMD,
-            "sweep",
-            str(ROOT / "sweeps" / "minimal.toml"),
-            "--out",
-            str(out),
-            "--scheduler",
-            nobody,
-        ],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"},
-    )
+    with unserved_port() as port:
+        nobody = f"tcp://127.0.0.1:{port}"
+        proc = subprocess.run(
+            [
+                *CMD,
+                "sweep",
+                str(ROOT / "sweeps" / "minimal.toml"),
+                "--out",
+                str(out),
+                "--scheduler",
+                nobody,
+            ],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"},
+        )
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     # While Dask waits for the scheduler to start, the user is told so; then one error.
     waiting, error = proc.stderr.splitlines()
