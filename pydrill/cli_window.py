@@ -17,7 +17,8 @@ examples:
 
 reading it: SAFE = steady drilling is stable (no stick-slip grows from it) and the torque
 needed at that speed exceeds the bit's static friction (a stopped bit breaks free). With one
-depth the plot is the (W_ob, rpm) window; with several it is the window against depth.
+depth the plot is the (W_ob, rpm) window, --check's points on it; with several it is the
+window against depth, and a footnote says how each depth's checks came out.
 units: depth m or ft (500m:5000m:10 = 10 depths, ends included); wob in kN (a bare number)
 or with its unit (60klbf); speeds in rpm."""
 
