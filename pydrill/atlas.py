@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import io
 import json
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -19,7 +20,7 @@ import numpy as np
 
 from . import atlas_format as fmt
 from .atlas_check import code_problem, layout_problem
-from .atlas_grid import coordinate, distinct, near_enough, on_grid
+from .atlas_grid import coordinate, distinct, listed, near_enough, on_grid
 from .atlas_grid import grid_value as _on_grid
 from .atlas_heap import OPENING_BYTES, refuse_damaged_heap
 from .atlas_lock import snapshot
@@ -287,31 +288,42 @@ class Atlas:
         keep the others, e.g. ``atlas.sel(torque=8.3).regime_name`` is the regime against W_ob
         (``regime`` holds the same as codes, named in its ``flag_meanings`` attribute). An
         axis takes a value or a list of them: numbers, or strings with a unit (``"20 kN"``).
-        Without ``method`` each value must be on the grid, as :meth:`value` has it (a
-        KeyError says the nearest); ``method="nearest"`` takes the nearest grid value."""
+        Without ``method`` (or with ``"exact"``) each value must be on the grid, as :meth:`value`
+        has it (a KeyError says the nearest); ``method="nearest"`` takes the nearest grid value
+        (a KeyError beyond half a step past the grid). An empty list is a ValueError."""
         unknown = set(coords) - set(self.axes) - {"initial"}
         if unknown:
             raise KeyError(
                 f"{sorted(unknown)[0]} is not an axis of this atlas; axes: "
                 + ", ".join([*self.axes, "initial"])
             )
-        chosen: dict[str, Any] = dict(coords)  # each axis's value(s) as floats
+        # xarray's own fill methods ("pad", "backfill") answered 1e9 N with the last grid
+        # value's data: only the grid's values, or the nearest within the grid's reach.
+        if not (method is None or (isinstance(method, str) and method in ("exact", "nearest"))):
+            raise ValueError(
+                f"method = {method!r} is not allowed: None (or 'exact') for grid values only, "
+                "or 'nearest'"
+            )
+        method = None if method == "exact" else method
+        chosen: dict[str, Any] = {}  # each axis's value(s) as floats, initial's name(s)
         for name, v in coords.items():
-            if name not in self.axes:
-                continue  # initial: a name
             # numbers, or strings with a unit ("20 kN"), as index() takes them
-            if isinstance(v, list | tuple | np.ndarray) and np.ndim(v) > 0:
-                many, asked = True, [coordinate(name, one) for one in v]
-            else:
-                many, asked = False, [coordinate(name, v)]
+            many, given = listed(name, v)
+            if name == "initial":  # a name, chosen exactly: "nearest" has no meaning for it
+                for one in given:  # (xarray's KeyError named neither it nor the starts)
+                    if not isinstance(one, str) or one not in self.initials:
+                        raise KeyError(f"initial = {one!r} is not in this atlas: {self.initials}")
+                chosen[name] = given if many else given[0]
+                continue
+            asked = [coordinate(name, one) for one in given]
             if method == "nearest":  # as value() and index(): never an answer off the grid
                 for one in asked:
                     near_enough(name, self.axes[name], one)
-            elif method is None:  # exact, as index() has it: the grid's own value, or why not
+            else:  # exact, as index() has it: the grid's own value, or why not
                 asked = [_on_grid(name, self.axes[name], x) for x in asked]
             chosen[name] = asked if many else asked[0]
         ds = with_regime_names(self.to_xarray().load())
-        if "initial" in chosen:  # a name, chosen exactly: "nearest" has no meaning for it
+        if "initial" in chosen:
             ds = ds.sel(initial=chosen.pop("initial"))
         return ds.sel(method=method, **chosen) if chosen else ds
 
@@ -339,6 +351,11 @@ class Atlas:
         from .plot_atlas import atlas_figure
 
         f = self._file()  # closed: refused like every other read
+        # (a list was "unhashable type: 'list'", at=[1] dict()'s own complaint)
+        if not (metric is None or isinstance(metric, str)):
+            raise TypeError(f"metric must be a name (e.g. 'severity') or None, got {metric!r}")
+        if not (at is None or isinstance(at, Mapping)):
+            raise TypeError(f"at must be a dict of axis values, e.g. {{'torque': 8.3}}, got {at!r}")
         if metric in fmt.ADDED_RUN_FIELDS and metric not in f:
             raise AtlasError(
                 f"{self.path}: metric = {metric!r} is not in this atlas: the pydrill that wrote "

@@ -4,6 +4,7 @@ allowed), on a grid point or not, near enough to the grid for "nearest"."""
 from __future__ import annotations
 
 import numbers
+import reprlib
 from typing import Any
 
 import numpy as np
@@ -102,6 +103,17 @@ def near_enough(name: str, values: np.ndarray, v: float) -> None:
         )
 
 
+def listed(name: str, value: Any) -> tuple[bool, list[Any]]:
+    """What ``Atlas.sel`` was given for ``name``: whether a list (a tuple, a 1-D array) and its
+    entries, else the one value. An empty list selects nothing: a ValueError, not an empty
+    slice that reads as an atlas without points."""
+    if isinstance(value, list | tuple | np.ndarray) and np.ndim(value) > 0:
+        if len(value) == 0:
+            raise ValueError(f"{name} = {value!r} selects nothing: give at least one value")
+        return True, list(value)
+    return False, [value]
+
+
 def coordinate(name: str, value: Any) -> float:
     """A coordinate as a float: a number, or a string with a unit where the axis measures
     something (``"20 kN"`` for wob; a bare ``"80"`` is SI). TypeError or ValueError name it."""
@@ -124,4 +136,9 @@ def coordinate(name: str, value: Any) -> float:
         raise TypeError(
             f"{name} = {value!r} is not allowed: a number, or a string with a unit (e.g. '20 kN')"
         )
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:  # an integer beyond any float: an OverflowError from float() it was
+        raise ValueError(
+            f"{name} = {reprlib.repr(value)} is not allowed: beyond the range of a float"
+        ) from None

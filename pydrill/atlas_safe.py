@@ -41,7 +41,7 @@ def safe_windows(
     atlas: Atlas, along: str | None = None, at: dict[str, Any] | None = None
 ) -> list[SafeRow]:
     """``Atlas.safe_windows``: see there."""
-    along = along or default_along(atlas)
+    along = default_along(atlas) if along is None else along  # ("" was taken for None)
     names = list(atlas.axes)
     if along not in names:
         raise KeyError(f"{along} is not an axis of this atlas; axes: {', '.join(names)}")

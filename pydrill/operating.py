@@ -128,8 +128,16 @@ def operating_map(
 def hopf_curve_wu(
     params: Params, delta: float, omega: ArrayLike
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The two-parameter Hopf (or fold) curve δ(Ω, W_ob) = δ_k in (W_ob, u), by Ω."""
+    """The two-parameter Hopf (or fold) curve δ(Ω, W_ob) = δ_k in (W_ob, u), by Ω: at the
+    ``omega`` (1-D) where its W_ob is at most 1e300 N (beyond, the boundary's exponential
+    overflows a float; a figure's axes end far below)."""
     omega = np.asarray(omega, dtype=float)
+    # Ω where W_ob = δ exp(γ_b Ω / v_f) / factor reaches 1e300, in logarithms (no overflow):
+    # a string of γ_b = 20 failed every map of its atlas ("wob = inf is not allowed").
+    p = params
+    factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
+    reach = p.stribeck_velocity / p.stribeck_decay * (300 * np.log(10) + np.log(factor / delta))
+    omega = np.compress(omega <= reach, omega)
     w = boundary_wob(params, delta, omega)
     # The core's friction law point by point, its checks done once (w > 0 and Ω >= 0 here):
     # 60001 points take 0.04 s this way, 0.8 s through the checked pydrill.equilibrium_torque.

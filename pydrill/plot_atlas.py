@@ -6,6 +6,7 @@ import math
 from typing import TYPE_CHECKING
 
 from . import atlas_format as fmt
+from .atlas_grid import coordinate
 from .plot import plt, scale_ticks, unit_scale
 from .plot_atlas_title import context, keep_title_inside, title
 
@@ -236,7 +237,7 @@ def nearest_index(atlas, name: str, value: float) -> int:
     a grid step past either end (or off an axis of one value), as ``Atlas.value(method=
     "nearest")`` refuses: the map would be drawn for a place the sweep never went."""
     probe = {n: float(v[0]) for n, v in atlas.axes.items()}
-    probe[name] = float(value)
+    probe[name] = coordinate(name, value)  # (float() of None or "9 kN·m" named no axis)
     try:
         return atlas.index("nearest", **probe)[list(atlas.axes).index(name)]
     except KeyError as exc:
