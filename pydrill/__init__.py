@@ -8,7 +8,7 @@ from . import _core, stability, units
 from ._core import SolverError
 from .atlas import Atlas
 from .atlas_safe import SafeRow
-from .model import PRESETS, Params, _number, preset
+from .model import MAX_LOAD, PRESETS, Params, _load, _number, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
 from .spec import SpecError, SweepSpec, load_spec, parse_spec
 from .sweep import AtlasError, ClusterInfo, SchedulerError, SweepInterrupted, SweepReport, run_sweep
@@ -27,7 +27,8 @@ with exit status 3.
 
 def equilibrium_velocities(params: Params, wob: float, torque: float) -> list[float]:
     """Every steady velocity Ω (rad/s) at which the surface ``torque`` (N·m, finite) balances
-    the string under ``wob`` (N, finite, > 0): 0, 1 or 2 of them, in increasing order.
+    the string under ``wob`` (N, finite, > 0): 0, 1 or 2 of them, in increasing order. Both
+    at most ``MAX_LOAD`` (1e15) in size, as in :func:`simulate`.
 
     A negative torque turns the string backwards, the mirror image (φ → −φ) of ``-torque``:
     its steady states are those of ``-torque`` reversed, Ω → −Ω (so still in increasing
@@ -41,8 +42,9 @@ def equilibrium_velocities(params: Params, wob: float, torque: float) -> list[fl
     [-9.4696, -0.9805]
     """
     core = stability._params(params).to_core()
-    wob = _number("wob", wob, "N")
-    torque = _number("torque", torque, "N·m")
+    # Beyond MAX_LOAD (as simulate and stability refuse them): 1e308 N·m answered 1.3e308 rad/s.
+    wob = _load("wob", _number("wob", wob, "N"), "N")
+    torque = _load("torque", _number("torque", torque, "N·m"), "N·m")
     omegas = list(_core.equilibrium_velocities(core, wob, abs(torque)))
     return [-w for w in reversed(omegas)] if torque < 0 else omegas
 
@@ -50,13 +52,19 @@ def equilibrium_velocities(params: Params, wob: float, torque: float) -> list[fl
 def equilibrium_torque(params: Params, wob: float, omega: float) -> float:
     """Surface torque (N·m) that keeps the whole string turning at ``omega`` rad/s (finite,
     not 0) under ``wob`` (N, finite, > 0). A negative ``omega`` turns it backwards: the torque
-    of ``-omega`` reversed (the inverse of :func:`equilibrium_velocities` either way)."""
+    of ``-omega`` reversed (the inverse of :func:`equilibrium_velocities` either way). ``wob``
+    and the torque are at most ``MAX_LOAD`` (1e15) in size, as in :func:`simulate`: an
+    ``omega`` that needs more is refused."""
     core = stability._params(params).to_core()
-    wob = _number("wob", wob, "N")
+    wob = _load("wob", _number("wob", wob, "N"), "N")
     omega = stability._velocity(omega)
-    if omega < 0:
-        return -float(_core.equilibrium_torque(core, wob, -omega))
-    return float(_core.equilibrium_torque(core, wob, omega))
+    held = float(_core.equilibrium_torque(core, wob, abs(omega)))
+    if held > MAX_LOAD:  # (1e308 rad/s of the real string answered inf)
+        raise ValueError(
+            f"omega = {omega:g} is not allowed at wob = {wob:g} N: its steady state needs a "
+            f"torque of {held:.3g} N·m, beyond MAX_LOAD (1e15)"
+        )
+    return -held if omega < 0 else held
 
 
 __all__ = [

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from . import _core
-from .model import Params, _integer, _load, _number
+from .model import MAX_LOAD, Params, _integer, _load, _number
 from .stability import (
     Crossing,
     _check_crossings,
@@ -116,7 +116,7 @@ def branch(
       ``MAX_LOAD`` (1e15) as in :func:`pydrill.simulate`; the varied one is not given.
     - ``omega_max`` (rad/s): the largest Ω sampled, a finite number > 0; None (default) for
       u / (c_r + c_b) with ``vary="wob"`` (where W_ob reaches 0; never beyond it), 40 with
-      ``vary="torque"``.
+      ``vary="torque"`` (where its torque must be at most ``MAX_LOAD``).
     - ``samples``: the number of Ω sampled, an integer 2 ... ``MAX_SAMPLES`` (1000000).
     - ``crossings``: the string's ``critical_deltas(params)``, if already at hand.
 
@@ -157,6 +157,14 @@ def branch(
 
         def torque_of(w):
             return c * np.asarray(w) + wob * p.bit_radius * _mu(p, w)
+
+        with np.errstate(over="ignore"):  # (inf: refused too)
+            top = float(torque_of(omega_max))
+        if not top <= MAX_LOAD:  # 1e308 rad/s of the real string overflowed to inf N·m
+            raise ValueError(
+                f"omega_max = {omega_max:g} is not allowed with wob = {wob:g} N: the steady "
+                f"torque there, {top:.3g} N·m, is beyond MAX_LOAD (1e15), as in simulate"
+            )
 
     if crossings is None:
         crossings = critical_deltas(p)

@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from .model import MAX_LOAD, Params, _load, _number, _plain, _show
+from .stability_checks import _checked, _finite
 
 
 def _velocity(omega: float) -> float:
@@ -58,9 +59,11 @@ def criticality(l1: float | None) -> str | None:
     (the first coefficient decides nothing there); None without one."""
     if l1 is None:
         return None
+    l1 = _plain(l1)  # a numpy number or 0-d array, as every other input takes it
     if isinstance(l1, bool) or not isinstance(l1, numbers.Real):
         raise TypeError(f"l1 = {l1!r} is not allowed: a number (or None)")
-    if not math.isfinite(l1):
+    # (an int is finite, and math.isfinite of one beyond a float raised OverflowError)
+    if not isinstance(l1, numbers.Integral) and not math.isfinite(l1):
         raise ValueError(f"l1 = {l1!r} is not allowed: must be a finite number (or None)")
     if l1 == 0:
         return "degenerate"
@@ -141,24 +144,6 @@ class StabilityPoint:
         }
 
 
-def _checked(name: str, value: ArrayLike, low: float, strict: bool) -> NDArray[np.float64]:
-    """``value`` as a float array, every element finite and > ``low`` (>= with not
-    ``strict``); else a TypeError (not numbers) or ValueError naming ``name`` and the value."""
-    a = np.asarray(value)
-    if a.dtype.kind not in "iuf":
-        raise TypeError(f"{name} = {value!r} is not allowed: must be a number or an array of them")
-    a = a.astype(float, copy=False)
-    ok = np.isfinite(a) & ((a > low) if strict else (a >= low))
-    if not np.all(ok):
-        allowed = f"must be a finite number {'>' if strict else '>='} {low:g}"
-        if a.ndim == 0:
-            raise ValueError(f"{name} = {float(a):g} is not allowed: {allowed}")
-        where = np.unravel_index(int(np.argmin(ok)), a.shape)
-        at = ", ".join(map(str, where))
-        raise ValueError(f"{name}[{at}] = {float(a[where]):g} is not allowed: each {allowed}")
-    return a
-
-
 def stribeck_slope(params: Params, wob: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
     """δ(Ω, W_ob) = −dT_fb/dω at Ω (N·m·s/rad); broadcasts over arrays. Every W_ob must be
     finite and > 0 (N), every Ω finite and >= 0 (rad/s)."""
@@ -176,7 +161,17 @@ def boundary_wob(params: Params, delta: float, omega: ArrayLike) -> NDArray[np.f
     slope = _checked("delta", delta, 0.0, strict=True)
     omega = _checked("omega", omega, 0.0, strict=False)
     factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
-    return slope * np.exp(p.stribeck_decay * omega / p.stribeck_velocity) / factor
+    with np.errstate(over="ignore"):  # refused below, by name: inf was returned, with a warning
+        wob = slope * np.exp(p.stribeck_decay * omega / p.stribeck_velocity) / factor
+    if not np.all(np.isfinite(wob)):
+        k = np.unravel_index(int(np.argmin(np.isfinite(wob))), wob.shape)
+        d, w = (float(np.broadcast_to(a, wob.shape)[k]) for a in (slope, omega))
+        raise ValueError(
+            f"omega = {w:g} rad/s is not allowed with delta = {d:g}: the boundary W_ob there "
+            "(growing as exp(stribeck_decay omega / stribeck_velocity)) is beyond the range "
+            "of a float"
+        )
+    return wob
 
 
 def critical_deltas(params: Params) -> list[Crossing]:
@@ -260,7 +255,9 @@ def jacobian(params: Params, delta: float) -> NDArray[np.float64]:
     params = _params(params)
     delta = _number("delta", delta, "N·m·s/rad")
     n = 2 * params.dof - 1
-    return np.array(_core.jacobian(params.to_core(), delta)).reshape(n, n)
+    return _finite("delta", delta, "Jacobian", _core.jacobian(params.to_core(), delta)).reshape(
+        n, n
+    )
 
 
 def characteristic_polynomial(params: Params, delta: float) -> NDArray[np.float64]:
@@ -268,7 +265,9 @@ def characteristic_polynomial(params: Params, delta: float) -> NDArray[np.float6
     powers (dof ≤ 12)."""
     core = _params(params).to_core()
     delta = _number("delta", delta, "N·m·s/rad")
-    return np.array(_core.characteristic_polynomial(core, delta))
+    return _finite(
+        "delta", delta, "characteristic polynomial", _core.characteristic_polynomial(core, delta)
+    )
 
 
 def hurwitz_determinants(ascending: ArrayLike) -> NDArray[np.float64]:
@@ -281,7 +280,9 @@ def hurwitz_determinants(ascending: ArrayLike) -> NDArray[np.float64]:
     if a.ndim != 1:
         raise ValueError(f"ascending has shape {a.shape}: must be a 1-D list of numbers")
     coefficients = [_number(f"ascending[{i}]", v, "a coefficient") for i, v in enumerate(a)]
-    return np.array(_core.hurwitz_determinants(coefficients))
+    return _finite(
+        "ascending", coefficients, "Hurwitz determinants", _core.hurwitz_determinants(coefficients)
+    )
 
 
 def hopf_deltas_dof2(params: Params) -> list[float]:
