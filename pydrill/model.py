@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import reprlib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, overload
 
@@ -129,8 +130,12 @@ class Params:
     def static_torque(self, wob: NDArray[np.float64]) -> NDArray[np.float64]: ...
     def static_torque(self, wob: float | NDArray[np.float64]) -> float | NDArray[np.float64]:
         """T_s = μ_sb · W_ob · R_b: the torque the rock holds on a still bit (N·m); of each
-        weight on bit (N) for an array of them."""
-        return self.mu_static * wob * self.bit_radius
+        weight on bit (N, finite, >= 0) for an array of them."""
+        from .stability_checks import _checked  # (stability imports this module)
+
+        w = _checked("wob", wob, 0.0, strict=False)  # NaN gave NaN, "abc" a TypeError of str's
+        ts = self.mu_static * w * self.bit_radius
+        return float(ts) if w.ndim == 0 else ts
 
     def replace(self, **changes: Any) -> Params:
         """A copy with some fields changed (validated like any new Params)."""
@@ -168,6 +173,8 @@ class Params:
     def from_dict(cls, data: dict[str, Any]) -> Params:
         """The Params :meth:`to_dict` wrote (e.g. read back from JSON): ``dof``, derived, must
         agree with the chain's length if given; any other unknown key is refused by name."""
+        if not isinstance(data, Mapping):  # (dict() of a list or a str said nothing of Params)
+            raise TypeError(f"data must be a dict, as Params.to_dict writes, got {_show(data)}")
         data = dict(data)
         dof = data.pop("dof", None)
         unknown = set(data) - set(_LISTS) - set(_SCALARS) - {"name"}
@@ -175,6 +182,11 @@ class Params:
             raise ValueError(
                 f"unknown parameter {sorted(unknown)[0]!r}: allowed are "
                 + ", ".join((*_LISTS, *_SCALARS, "name", "dof"))
+            )
+        lost = [k for k in _LISTS + _SCALARS[:-2] if k not in data]  # (the last two: defaults)
+        if lost:
+            raise ValueError(
+                f"{lost[0]} is missing: Params.from_dict needs every field to_dict writes"
             )
         params = cls(**data)
         if dof is not None and dof != params.dof:
@@ -240,6 +252,8 @@ def preset(
         raise ValueError(
             f"unknown parameter {sorted(unknown)[0]!r}: allowed are " + ", ".join(_LISTS + _SCALARS)
         )
+    # Each list read once: a generator, read again below, was found empty ("has 0 entries").
+    overrides = {k: _as_list(k, v, 0) for k, v in overrides.items()}
     default = 2 if name == "real-string" else 4
     if dof is None and pipes is None:
         # A full list of inertias (or springs) says how long the string is.
@@ -345,7 +359,8 @@ def _numbers(key: str, values: Any) -> tuple[float, ...]:
         return tuple(values.astype(float).tolist())
     if isinstance(values, np.ndarray) and values.ndim != 1:
         raise ValueError(f"{key} must be a 1-D list of numbers, got an array of {values.shape}")
-    if isinstance(values, (str, bytes, dict)):
+    # (a set has no order: {1.0, 2.0} gave some order of the string's entries)
+    if isinstance(values, (str, bytes, dict, set, frozenset)):
         raise ValueError(f"{key} must be a list of numbers, got {_show(values)}")
     try:
         values = list(values)

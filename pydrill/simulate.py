@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import sys
 from typing import Any
 
 import numpy as np
@@ -78,7 +79,9 @@ def simulate(
     - ``initial``: ``"rest"``, ``"equilibrium"`` or a 1-D state of ``2·dof − 1`` numbers
       (ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b; rad/s and rad).
     - ``t_out`` (s): the output times, a non-empty 1-D increasing list in ``[0, t_end]``;
-      None (default) for ``n_out`` uniform times from 0 to ``t_end``.
+      None (default) for ``n_out`` uniform times from 0 to ``t_end``. Each time is 0 or at least
+      2.2e-308 s, and the uniform ones at least that far apart (the core computes with
+      subnormal numbers flushed to 0).
     - ``n_out``: how many uniform output times, 2 ... 1e8 (without ``t_out``). The output,
       2·dof − 1 numbers of 8 bytes at each output time, must fit in the machine's memory.
     - ``rtol`` (1e-14 <= rtol <= 0.01), ``atol`` (1e-20 <= atol <= 0.001, in the state's
@@ -176,6 +179,7 @@ def simulate(
         opts.t_out = settings["t_out"]
     settings["n_out"] = opts.n_out = _integer("n_out", n_out, 2, 100_000_000)
     _check_output_size(settings["t_out"], settings["n_out"], params.dof)
+    _check_normal_times(t_end, settings["t_out"], settings["n_out"])
     for key, value, unit in (
         ("rtol", rtol, "relative tolerance"),
         ("atol", atol, "absolute tolerance"),
@@ -214,6 +218,25 @@ def _check_output_size(t_out: Any, n_out: int, dof: int) -> None:
             f"{2 * dof - 1} state values, 8 bytes each) would take {_bytes(size)}, more than this "
             f"machine's {_bytes(memory)} of memory; ask for fewer output times"
         )
+
+
+def _check_normal_times(t_end: float, t_out: list[float] | None, n_out: int) -> None:
+    """Refuse output times the core cannot tell from 0: it runs with subnormal numbers (below
+    2.2e-308) flushed to zero, so t_end = 5e-324 s was judged "steady" from rest, and t_out
+    = [0, 1e-320, 1] came back as times [0, 0, 1]."""
+    tiny = sys.float_info.min
+    if t_out is None and t_end / (n_out - 1) < tiny:
+        raise ValueError(
+            f"t_end = {t_end:g} is not allowed with n_out = {n_out}: its output times would be "
+            f"{t_end / (n_out - 1):g} s apart, below the smallest normal float ({tiny:.3g}) "
+            "the core computes with; need t_end >= (n_out - 1) * 2.2e-308 s"
+        )
+    for k, t in enumerate(t_out or ()):
+        if 0 < t < tiny:
+            raise ValueError(
+                f"t_out[{k}] = {t:g} is not allowed: an output time is 0 or at least "
+                f"{tiny:.3g} s (the smallest normal float, which the core computes with)"
+            )
 
 
 def _bytes(n: float) -> str:
