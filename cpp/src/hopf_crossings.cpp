@@ -11,6 +11,7 @@
 
 #include "band_lu.hpp"
 #include "interrupt_poll.hpp"
+#include "pydrill/simulator.hpp"  // estimate_stiffness
 #include "pydrill/stability.hpp"
 #include "shortest.hpp"
 #include "stability_internal.hpp"
@@ -126,17 +127,17 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
   // Hopf: zeros of Im Z_b(iω) with Re Z_b > 0. No zero lies above the
   // highest natural frequency of the chain, where J_b ω dominates.
   double w2max = 0.0, rate = 0.0;
-  double compliance = 0.0, inertia = 0.0;
   for (int i = 0; i < N; ++i) {
     double ks = 0.0, cs = (i == 0 ? p.top_damping : 0.0) + (i == N - 1 ? p.bit_damping : 0.0);
     if (i > 0) { ks += p.stiffnesses[i - 1]; cs += p.dampings[i - 1]; }
     if (i < N - 1) { ks += p.stiffnesses[i]; cs += p.dampings[i]; }
     w2max = std::max(w2max, 2.0 * ks / p.inertias[i]);
     rate = std::max(rate, 2.0 * cs / p.inertias[i]);
-    if (i < N - 1) { compliance += 1.0 / p.stiffnesses[i]; inertia += p.inertias[i]; }
   }
   const double w_hi = 2.0 * std::sqrt(w2max) + rate + 1e-9;
-  const double w_lo = 1e-4 * std::sqrt(1.0 / (compliance * inertia));
+  // The fundamental as estimate_stiffness gives it, safe from overflow; never 0 (a log below).
+  const double w_lo = std::max(1e-4 * estimate_stiffness(p).fundamental,
+                               std::numeric_limits<double>::denorm_min());
   // Start from a uniform grid (the dense upper spectrum) merged with a
   // geometric one (the low modes of long strings), then split every interval
   // over which arg Z_b turns by more than π/4 until it does not: a zero of
@@ -145,7 +146,12 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
   std::vector<double> grid;
   grid.reserve(2 * static_cast<std::size_t>(m));
   for (int i = 1; i <= m; ++i) grid.push_back(w_hi * i / m);
-  for (int i = 0; i < m; ++i) grid.push_back(w_lo * std::pow(w_hi / w_lo, static_cast<double>(i) / m));
+  const double span = w_hi / w_lo;  // inf for a string of extreme rates: then in logs
+  for (int i = 0; i < m; ++i) {
+    const double x = static_cast<double>(i) / m;
+    grid.push_back(std::isfinite(span) ? w_lo * std::pow(span, x)
+                                       : std::exp(std::log(w_lo) + x * (std::log(w_hi) - std::log(w_lo))));
+  }
   // Seed the resonances and anti-resonances of the undamped chain, and the
   // midpoints between them, so that clustered modes get their own intervals.
   std::vector<double> seeds = undamped_frequencies(p, true, poll);

@@ -2,6 +2,7 @@
 // from it.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -27,7 +28,20 @@ StiffnessEstimate estimate_stiffness(const Params& p) {
   // (series compliance) and the inertia above it (Rayleigh quotient).
   double compliance = 0.0, inertia = 0.0;
   for (int i = 0; i < N - 1; ++i) { compliance += 1.0 / p.stiffnesses[i]; inertia += p.inertias[i]; }
-  e.fundamental = std::sqrt(1.0 / (compliance * inertia));
+  const double product = compliance * inertia;
+  if (std::isfinite(product) && product >= std::numeric_limits<double>::min()) {
+    e.fundamental = std::sqrt(1.0 / product);
+  } else {
+    // The product (or 1/k of a subnormal stiffness) overflowed, on valid strings the
+    // fundamental of which is tiny but a double (an inertia of 1.8e308: the product was inf,
+    // the fundamental 0, stiffness_ratio inf, and critical_deltas' frequency grid NaN). Sums
+    // of ratios to the extremes, each in [1, dof], cannot overflow.
+    double k_min = p.stiffnesses[0], i_max = p.inertias[0];
+    for (int i = 0; i < N - 1; ++i) k_min = std::min(k_min, p.stiffnesses[i]), i_max = std::max(i_max, p.inertias[i]);
+    double flex = 0.0, mass = 0.0;
+    for (int i = 0; i < N - 1; ++i) flex += k_min / p.stiffnesses[i], mass += p.inertias[i] / i_max;
+    e.fundamental = std::sqrt(k_min / flex) / (std::sqrt(i_max) * std::sqrt(mass));
+  }
   return e;
 }
 

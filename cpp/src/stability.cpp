@@ -64,7 +64,21 @@ Fraction bit_fraction(const Params& p, complex lambda) {
       den = complex(std::ldexp(den.real(), -e), std::ldexp(den.imag(), -e));
     }
   }
-  return {num, den};
+  auto finite = [](complex z) { return std::isfinite(z.real()) && std::isfinite(z.imag()); };
+  if (finite(num) && finite(den)) return {num, den};
+  // A coefficient near the top of the doubles (valid: an inertia of 1.8e308) overflowed its
+  // product with λ before the rescaling could act, and the phase came out NaN (critical_deltas
+  // lost four of a string's six crossings). Again as the continued fraction itself, where an
+  // element's infinite impedance is the limit it stands for: a spring in series with it
+  // passes on the spring's alone (1/inf = 0).
+  auto inverse = [](complex z) { return std::isinf(z.real()) || std::isinf(z.imag()) ? complex(0.0) : 1.0 / z; };
+  complex z = p.inertias[0] * lambda + p.top_damping;
+  for (int i = 0; i < n - 1; ++i) {
+    const complex spring = p.stiffnesses[i] + p.dampings[i] * lambda;
+    const complex own = p.inertias[i + 1] * lambda + (i + 1 == n - 1 ? p.bit_damping : 0.0);
+    z = own + inverse(inverse(z) + lambda * inverse(spring));
+  }
+  return {z, 1.0};
 }
 
 complex impedance(const Params& p, complex lambda) {

@@ -1,0 +1,64 @@
+// Valid strings at the edges of the doubles (Params::validate refuses fast rates, not slow
+// ones): found by the libFuzzer harness in cpp/fuzz/. Each answer must be the one the same
+// string gives a few decades further in, not an overflow's inf, NaN or lost crossings.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "pydrill/simulator.hpp"
+#include "pydrill/stability.hpp"
+
+using namespace pydrill;
+
+namespace {
+
+// The same crossings: count, kind, direction, and δ to 1e-9 (the frequency of a mode that the
+// changed element carries moves with it, so it is not compared).
+void same_crossings(const std::vector<Crossing>& a, const std::vector<Crossing>& b) {
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    CHECK(a[i].type == b[i].type);
+    CHECK(a[i].direction == b[i].direction);
+    CHECK(a[i].delta == Approx(b[i].delta).epsilon(1e-9));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a top inertia at the doubles' top keeps the string's crossings and stiffness",
+          "[stability][extreme]") {
+  // Measured before: the fundamental's compliance × inertia overflowed (fundamental 0,
+  // stiffness_ratio inf), and the bit impedance's first product I_0·λ did too: its phase was
+  // NaN above 2 rad/s, and critical_deltas found 2 of the 6 crossings that 1e307 has.
+  Params p = preset("reduced-scale", 4);
+  p.inertias[0] = 1e307;
+  const auto reference = critical_deltas(p);
+  REQUIRE(reference.size() == 6);
+  p.inertias[0] = std::numeric_limits<double>::max();
+  REQUIRE_NOTHROW(p.validate());
+  same_crossings(critical_deltas(p), reference);
+  const StiffnessEstimate e = estimate_stiffness(p);
+  CHECK(e.fundamental > 0);
+  CHECK(std::isfinite(stiffness_ratio(p)));
+  // 1/√(compliance × inertia): 3 springs of 0.073 in series, and the top inertia (the others
+  // vanish beside it).
+  CHECK(e.fundamental == Approx(std::sqrt(0.073 / 3) / std::sqrt(std::numeric_limits<double>::max())).epsilon(1e-12));
+  const std::complex<double> z = bit_impedance(p, {0.0, 5.0});
+  CHECK(std::isfinite(z.real()));
+  CHECK(std::isfinite(z.imag()));
+}
+
+TEST_CASE("a subnormal stiffness keeps the string's crossings and stiffness", "[stability][extreme]") {
+  // Measured before: 1/k = inf made the fundamental 0 and critical_deltas' geometric frequency
+  // grid NaN (sorted, which std::sort does not allow), and a Hopf crossing came out twice.
+  Params p = preset("reduced-scale", 4);
+  p.stiffnesses[0] = 1e-300;
+  const auto reference = critical_deltas(p);
+  p.stiffnesses[0] = 1e-310;
+  REQUIRE_NOTHROW(p.validate());
+  same_crossings(critical_deltas(p), reference);
+  CHECK(estimate_stiffness(p).fundamental > 0);
+  CHECK(std::isfinite(stiffness_ratio(p)));
+}
