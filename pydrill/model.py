@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import reprlib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, overload
@@ -18,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
+from .model_values import _integer, _number, _plain, _show  # noqa: F401 (re-exported)
 
 PRESETS = tuple(_core.preset_names())
 
@@ -67,7 +67,9 @@ class Params:
     value ``ValueError``; a string has at most ``MAX_DOF`` (100000) inertias. At each inertia,
     the decay rate (the dampings acting on it over its inertia) must be at most 1e15 /s and the
     frequency (the stiffnesses' sqrt(k/J)) at most 1e150 rad/s: no double-precision solver
-    integrates faster ones (a real string's are below 1e7).
+    integrates faster ones (a real string's are below 1e7). The bit's friction torque and its
+    Stribeck slope must stay within a float at every weight on bit up to ``MAX_LOAD`` (1e15 N):
+    ``mu_static * bit_radius`` at most 1.8e293, for one.
     """
 
     inertias: tuple[float, ...]  #: J_i, kg·m², top drive first, bit last
@@ -98,6 +100,7 @@ class Params:
             object.__setattr__(self, key, _number(key, getattr(self, key), _UNITS[key]))
         _check_friction(self.mu_coulomb, self.mu_static, changed="mu_static")
         self._core_params().validate()  # raises ValueError naming the bad parameter
+        _check_scale(self)
 
     def _core_params(self) -> _core.Params:
         """:meth:`to_core`, built once for this Params and shared by pydrill's own calls, which
@@ -294,36 +297,6 @@ def _as_list(key: str, value: Any, dof: int) -> Any:
 _LARGEST = f" (a string has at most {MAX_DOF} inertias; pipes P means dof = P + 3)"
 
 
-def _show(value: Any) -> str:
-    """``str 'abc'``: a value's type and a short repr, for a message."""
-    return f"{type(value).__name__} {reprlib.repr(value)}"
-
-
-def _plain(value: Any) -> Any:
-    """A numpy scalar or 0-d array as the Python object it holds."""
-    if isinstance(value, np.ndarray) and value.ndim == 0:
-        value = value[()]
-    if isinstance(value, np.generic):
-        value = value.item()
-    return value
-
-
-def _number(name: str, value: Any, unit: str) -> float:
-    """``value`` as a float: a Python or numpy real number or a 0-d array, not a bool, a
-    string or a list (``TypeError`` naming ``name``)."""
-    if type(value) is float:  # the common case, fast
-        return value
-    plain = _plain(value)
-    if isinstance(plain, bool) or not isinstance(plain, (int, float)):
-        raise TypeError(f"{name} must be a number ({unit}), got {_show(value)}")
-    try:
-        return float(plain)
-    except OverflowError:  # an integer beyond any float
-        raise ValueError(
-            f"{name} = {reprlib.repr(plain)} is not allowed: beyond the range of a float ({unit})"
-        ) from None
-
-
 def _load(name: str, value: float, unit: str) -> float:
     """``value``, a weight on bit (N) or torque (N·m), refused by name beyond ``MAX_LOAD``."""
     if abs(value) > MAX_LOAD:
@@ -332,25 +305,6 @@ def _load(name: str, value: float, unit: str) -> float:
             "above any drill string's loads)"
         )
     return value
-
-
-def _integer(
-    name: str, value: Any, low: int, high: int, *, whole_floats: bool = False, hint: str = ""
-) -> int:
-    """``value`` as an int in ``low ... high``: a Python or numpy integer or a 0-d array
-    (with ``whole_floats``, a float of integer value too); ``TypeError`` for another type,
-    ``ValueError`` out of range, both naming ``name``."""
-    plain = _plain(value)
-    kinds = (int, float) if whole_floats else (int,)
-    if isinstance(plain, bool) or not isinstance(plain, kinds):
-        raise TypeError(f"{name} must be an integer, got {_show(value)}")
-    if not (isinstance(plain, int) or (math.isfinite(plain) and plain == int(plain))) or not (
-        low <= plain <= high
-    ):
-        raise ValueError(
-            f"{name} = {reprlib.repr(plain)} is not allowed: need an integer {low} ... {high}{hint}"
-        )
-    return int(plain)
 
 
 def _numbers(key: str, values: Any) -> tuple[float, ...]:
@@ -379,6 +333,23 @@ def _length(values: Any) -> int | None:
         return len(values)
     except TypeError:
         return None
+
+
+def _check_scale(p: Params) -> None:
+    """Refuse a friction law whose torque (μ_sb R_b W_ob) or Stribeck slope at Ω = 0 overflows
+    a float at some allowed W_ob (up to MAX_LOAD): mu_static = 1e308 ran to a static_torque of
+    inf, and its stability maps to overflow warnings."""
+    slope = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
+    for names, value in (
+        (("mu_static", "bit_radius"), p.mu_static * p.bit_radius),
+        (("bit_radius", "stribeck_decay", "stribeck_velocity", "mu_static", "mu_coulomb"), slope),
+    ):
+        if not value * MAX_LOAD < math.inf:
+            given = ", ".join(f"{n} = {getattr(p, n):g}" for n in names)
+            raise ValueError(
+                f"{given} are not allowed together: the bit's friction torque (or its Stribeck "
+                "slope) at the largest weight on bit, MAX_LOAD = 1e15 N, overflows a float"
+            )
 
 
 def _check_friction(coulomb: float, static: float, changed: str) -> None:

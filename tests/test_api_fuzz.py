@@ -308,6 +308,34 @@ def test_static_torque_refuses_a_bad_weight_by_name(wob, error):
     np.testing.assert_allclose(P4.static_torque(np.array([0.0, 100.0])), [0.0, 8.0])
 
 
+scales = st.sampled_from([1e-300, 1e-100, 1e-3, 1.0, 1e3, 1e100, 1e200, 1e300, 1e308])
+
+
+@FUZZ
+@given(
+    field=st.sampled_from(["bit_radius", "mu_static", "stribeck_decay", "stribeck_velocity"]),
+    value=scales,
+    other=st.sampled_from(["bit_radius", "mu_static", "stribeck_decay"]),
+    scale=scales,
+)
+def test_an_accepted_friction_law_stays_finite_up_to_max_load(field, value, other, scale):
+    """mu_static = 1e308 was accepted: a run at 1e15 N had a static_torque of inf, and
+    static_torque and stability_map overflowed (a RuntimeWarning)."""
+    try:
+        p = pydrill.preset(dof=2, **{field: value}).replace(**{other: scale})
+    except ValueError as exc:
+        assert field in str(exc) or other in str(exc)
+        return
+    assert math.isfinite(p.static_torque(MAX_LOAD))
+    assert np.all(np.isfinite(stab.stribeck_slope(p, MAX_LOAD, 0.0)))
+    assert stab.stability_map(p, [0.0, 1.0], [1.0, MAX_LOAD]).shape == (2, 2)
+
+
+def test_a_friction_torque_past_a_float_at_max_load_is_refused():
+    with pytest.raises(ValueError, match=r"mu_static = 1e\+308, bit_radius = 0.1 are not allowed"):
+        pydrill.preset(dof=2, mu_static=1e308)
+
+
 # 4. simulate
 
 

@@ -1,0 +1,61 @@
+"""Checks of single values given to the Python API (shared by the model, simulate, the
+analyses): a number or an integer as a Python value, refused by name with ``TypeError`` for a
+wrong type, ``ValueError`` for a bad value. Apart from model.py (which re-exports them) to
+keep it short."""
+
+from __future__ import annotations
+
+import math
+import reprlib
+from typing import Any
+
+import numpy as np
+
+
+def _show(value: Any) -> str:
+    """``str 'abc'``: a value's type and a short repr, for a message."""
+    return f"{type(value).__name__} {reprlib.repr(value)}"
+
+
+def _plain(value: Any) -> Any:
+    """A numpy scalar or 0-d array as the Python object it holds."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, np.generic):
+        value = value.item()
+    return value
+
+
+def _number(name: str, value: Any, unit: str) -> float:
+    """``value`` as a float: a Python or numpy real number or a 0-d array, not a bool, a
+    string or a list (``TypeError`` naming ``name``)."""
+    if type(value) is float:  # the common case, fast
+        return value
+    plain = _plain(value)
+    if isinstance(plain, bool) or not isinstance(plain, (int, float)):
+        raise TypeError(f"{name} must be a number ({unit}), got {_show(value)}")
+    try:
+        return float(plain)
+    except OverflowError:  # an integer beyond any float
+        raise ValueError(
+            f"{name} = {reprlib.repr(plain)} is not allowed: beyond the range of a float ({unit})"
+        ) from None
+
+
+def _integer(
+    name: str, value: Any, low: int, high: int, *, whole_floats: bool = False, hint: str = ""
+) -> int:
+    """``value`` as an int in ``low ... high``: a Python or numpy integer or a 0-d array
+    (with ``whole_floats``, a float of integer value too); ``TypeError`` for another type,
+    ``ValueError`` out of range, both naming ``name``."""
+    plain = _plain(value)
+    kinds = (int, float) if whole_floats else (int,)
+    if isinstance(plain, bool) or not isinstance(plain, kinds):
+        raise TypeError(f"{name} must be an integer, got {_show(value)}")
+    if not (isinstance(plain, int) or (math.isfinite(plain) and plain == int(plain))) or not (
+        low <= plain <= high
+    ):
+        raise ValueError(
+            f"{name} = {reprlib.repr(plain)} is not allowed: need an integer {low} ... {high}{hint}"
+        )
+    return int(plain)
