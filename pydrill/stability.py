@@ -96,7 +96,14 @@ class Crossing:
         core = _params(params).to_core()
         if self.type != "hopf" or self.frequency is None:
             return None
-        return _core.first_lyapunov_coefficient(core, self.delta, self.frequency)
+        l1 = _core.first_lyapunov_coefficient(core, self.delta, self.frequency)
+        if not math.isfinite(l1):  # (the core's answer was NaN, a Crossing made by hand)
+            raise ValueError(
+                f"this crossing (delta = {self.delta:g}, frequency = {self.frequency:g} rad/s) "
+                "has no finite first Lyapunov coefficient: its normal form overflows a float; "
+                "give one of critical_deltas(params)"
+            )
+        return l1
 
 
 @dataclass(frozen=True)

@@ -257,6 +257,18 @@ def test_criticality_takes_0d_arrays_and_any_integer(l1, expected):
     assert stab.criticality(l1) == expected
 
 
+@FUZZ
+@given(delta=positive.filter(lambda d: d > 0), frequency=positive.filter(lambda w: w > 0))
+def test_a_crossing_s_lyapunov_coefficient_is_finite_or_refused(delta, frequency):
+    """A Crossing made by hand (frequency = 1e200 rad/s) had a coefficient of NaN."""
+    try:
+        l1 = stab.Crossing("hopf", delta, frequency, 1, 2).lyapunov(P4)
+    except ValueError as exc:
+        assert "has no finite first Lyapunov coefficient" in str(exc)
+        return
+    assert math.isfinite(l1)
+
+
 def test_a_branch_whose_torque_passes_max_load_is_refused():
     """omega_max = 1e308 overflowed (RuntimeWarning) to a branch of inf N·m."""
     with pytest.raises(ValueError, match=r"omega_max = 1e\+308 .* beyond MAX_LOAD"):
