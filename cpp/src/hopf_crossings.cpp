@@ -97,12 +97,43 @@ double brent(F f, double a, double b, double fa, double fb) {
   return b;
 }
 
+// Z_b'(λ), differentiated along the continued fraction (forward mode: each numerator and
+// denominator with its derivative). A central difference with a step fixed in 1/s (1e-6 ×
+// max(ω, 1e-3) at a Hopf point, 1e-7 × (c_r + c_b) at the fold) gave the wrong sign on a
+// slow string, whose eigenvalues are no bigger than that step: the paper's string with
+// inertias ×1e8 and dampings ×1e4 (the same string on a clock 1e4 times slower) had its
+// fold's direction reversed, and from ×1e16 its Hopf points' too. Where the fraction
+// overflows (an inertia near 1.8e308) the difference stands in, at a step of 1e-6 |λ|.
+complex impedance_slope(const Params& p, complex lambda) {
+  const int n = p.dof();
+  complex num = p.inertias[0] * lambda + p.top_damping, dnum = p.inertias[0], den = 1.0, dden = 0.0;
+  for (int i = 0; i < n - 1; ++i) {
+    const complex spring = p.stiffnesses[i] + p.dampings[i] * lambda;
+    const double dspring = p.dampings[i];
+    const complex n_above = spring * num, dn_above = dspring * num + spring * dnum;
+    const complex d_above = spring * den + lambda * num;
+    const complex dd_above = dspring * den + spring * dden + num + lambda * dnum;
+    const complex own = p.inertias[i + 1] * lambda + (i + 1 == n - 1 ? p.bit_damping : 0.0);
+    num = own * d_above + n_above;
+    dnum = p.inertias[i + 1] * d_above + own * dd_above + dn_above;
+    den = d_above;
+    dden = dd_above;
+    const double big = std::max({std::abs(num), std::abs(dnum), std::abs(den), std::abs(dden)});
+    if (big > 1e100 || (big < 1e-100 && big > 0)) {  // exact powers of two, as bit_fraction's
+      const double f = std::ldexp(1.0, -std::ilogb(big));
+      num *= f, dnum *= f, den *= f, dden *= f;
+    }
+  }
+  const complex slope = (dnum * den - num * dden) / (den * den);
+  if (std::isfinite(slope.real()) && std::isfinite(slope.imag())) return slope;
+  const double h = 1e-6 * std::max(std::abs(lambda), estimate_stiffness(p).fundamental);
+  return (impedance(p, lambda + h) - impedance(p, lambda - h)) / (2 * h);
+}
+
 // dλ/dδ = 1/Z_b'(λ) on the imaginary axis; its real part says which way the
 // eigenvalues cross as δ grows.
 int crossing_direction(const Params& p, double omega) {
-  const double h = 1e-6 * std::max(omega, 1e-3);
-  const complex dz = (impedance(p, complex(h, omega)) - impedance(p, complex(-h, omega))) / (2 * h);
-  const double re = std::real(1.0 / dz);
+  const double re = std::real(1.0 / impedance_slope(p, complex(0.0, omega)));
   return re > 0 ? 1 : (re < 0 ? -1 : 0);
 }
 
@@ -119,8 +150,7 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
   // Fold: λ = 0 is an eigenvalue when δ = Z_b(0) = c_r + c_b.
   const double fold = p.top_damping + p.bit_damping;
   if (fold > 0) {
-    const double h = 1e-7 * std::max(fold, 1e-12);
-    const double dz = (std::real(impedance(p, complex(h, 0))) - std::real(impedance(p, complex(-h, 0)))) / (2 * h);
+    const double dz = std::real(impedance_slope(p, complex(0.0)));
     out.push_back({CrossingType::Fold, fold, 0.0, dz > 0 ? 1 : -1, 1});
   }
 
@@ -134,7 +164,11 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
     w2max = std::max(w2max, 2.0 * ks / p.inertias[i]);
     rate = std::max(rate, 2.0 * cs / p.inertias[i]);
   }
-  const double w_hi = 2.0 * std::sqrt(w2max) + rate + 1e-9;
+  // The margin was 1e-9 rad/s on its own, which swamped the bound of a slow string (the
+  // paper's with inertias x1e100 and dampings x1e50, modes near 1e-50 rad/s, lost two of its
+  // six crossings): relative below 1 rad/s, unchanged above.
+  const double w_bound = 2.0 * std::sqrt(w2max) + rate;
+  const double w_hi = w_bound + 1e-9 * std::min(w_bound, 1.0);
   // The fundamental as estimate_stiffness gives it, safe from overflow; never 0 (a log below).
   const double w_lo = std::max(1e-4 * estimate_stiffness(p).fundamental,
                                std::numeric_limits<double>::denorm_min());

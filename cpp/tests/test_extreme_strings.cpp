@@ -62,3 +62,31 @@ TEST_CASE("a subnormal stiffness keeps the string's crossings and stiffness", "[
   CHECK(estimate_stiffness(p).fundamental > 0);
   CHECK(std::isfinite(stiffness_ratio(p)));
 }
+
+TEST_CASE("a slow string has the crossings of the fast one it is a time scaling of", "[stability][extreme]") {
+  // Inertias ×s and dampings ×√s make the same string on a clock √s times slower: its
+  // eigenvalues are the paper string's / √s, its crossings' δ ×√s, with the same directions.
+  // Measured before: from s = 1e8 (modes near 1e-4 rad/s) the fold's direction was reversed
+  // (its derivative was a difference with a step of 1e-7 (c_r + c_b), in 1/s), from 1e16 the
+  // Hopf points' too (a step of at least 1e-9 1/s), and at 1e100 two of the six crossings were
+  // lost (the frequency grid's top had 1e-9 rad/s added, far above all the modes).
+  const Params paper = preset("reduced-scale", 4);
+  const auto reference = critical_deltas(paper);
+  REQUIRE(reference.size() == 6);
+  for (double s : {1e8, 1e16, 1e100}) {
+    Params p = paper;
+    for (double& v : p.inertias) v *= s;
+    for (double& v : p.dampings) v *= std::sqrt(s);
+    p.top_damping *= std::sqrt(s);
+    p.bit_damping *= std::sqrt(s);
+    const auto crossings = critical_deltas(p);
+    INFO("s = " << s);
+    REQUIRE(crossings.size() == reference.size());
+    for (std::size_t i = 0; i < crossings.size(); ++i) {
+      CHECK(crossings[i].type == reference[i].type);
+      CHECK(crossings[i].direction == reference[i].direction);
+      CHECK(crossings[i].delta == Approx(reference[i].delta * std::sqrt(s)).epsilon(1e-9));
+      CHECK(crossings[i].frequency * std::sqrt(s) == Approx(reference[i].frequency).epsilon(1e-9));
+    }
+  }
+}
