@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import numbers
 import re
+import reprlib
 
 import numpy as np
 
@@ -90,12 +91,14 @@ def parse(value: float | int | str, kind: str) -> float:
             f"{value!r} is not {a} {kind}: write a number and a unit, e.g. '{_example(kind)}'"
         )
     number, unit = float(match.group(1)), match.group(2)
-    if unit == "":
-        return number
-    factor = _factor(unit, kind)
+    factor = 1.0 if unit == "" else _factor(unit, kind)
     if factor is None:
         raise ValueError(
             f"{value!r}: unit {unit!r} is not {a} {kind} unit; use one of " + ", ".join(UNITS[kind])
+        )
+    if not math.isfinite(number * factor):  # "1e400 N" was inf, where inf itself is refused
+        raise ValueError(
+            f"{reprlib.repr(value)} is not a finite {kind}: beyond the range of a float"
         )
     return number * factor
 

@@ -404,3 +404,23 @@ def test_a_subnormal_output_time_is_refused():
     """t_out = [0, 1e-320, 1] came back as times [0, 0, 1]."""
     with pytest.raises(ValueError, match=r"t_out\[1\] = .* is not allowed: an output time is 0 or"):
         pydrill.simulate(wob=100.0, torque=8.3, dof=2, t_end=1.0, t_out=[0.0, 1e-320, 1.0])
+
+
+# 5. units
+
+
+@FUZZ
+@given(
+    number=st.one_of(
+        st.sampled_from(["1e400", "9" * 400, "1e308", "-1e309"]), st.floats().map(repr)
+    ),
+    unit=st.sampled_from(["", " N", " kN", " klbf", " tonf"]),
+)
+def test_a_quantity_with_its_unit_is_finite_or_refused(number, unit):
+    """ "1e400 N" and "1e308 kN" were inf (where inf itself is refused)."""
+    try:
+        value = pydrill.units.parse(number + unit, "force")
+    except ValueError as exc:
+        assert "is not a finite force" in str(exc) or "is not a force" in str(exc)
+        return
+    assert math.isfinite(value)
