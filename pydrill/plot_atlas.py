@@ -119,7 +119,7 @@ def atlas_figure(
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
-    init = initial or atlas.initials[0]
+    init = atlas.initials[0] if initial is None else initial  # ("" was taken for None)
     j = atlas.initials.index(init) if init in atlas.initials else None
     if j is None:
         raise ValueError(f"initial = {init!r} is not in this atlas: {atlas.initials}")

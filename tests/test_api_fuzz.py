@@ -132,6 +132,7 @@ def test_safe_windows_refuse_an_empty_axis_name(atlas):
     ("kwargs", "error", "message"),
     [
         ({"metric": ["severity"]}, TypeError, r"metric must be a name .* got \['severity'\]"),
+        ({"initial": ""}, ValueError, r"initial = '' is not in this atlas"),  # (was "rest")
         ({"at": [1]}, TypeError, r"at must be a dict of axis values, .* got \[1\]"),
         ({"at": "torque"}, TypeError, r"at must be a dict .* got 'torque'"),
         ({"at": {"torque": None}}, TypeError, r"torque = None is not allowed: a number"),
