@@ -1,6 +1,8 @@
 """Python API edges found by an audit: sweeps' workers and specs, the plan's limits, frozen
 axes, atlas coordinates in float32, closed and pickled atlases, stability's inputs, units'
-refusals and the exported TallyError."""
+refusals and the exported TallyError; and simulate and units.parse fuzzed with hypothesis (as
+test_api_fuzz.py fuzzes the rest of the API), with the output times and quantities the
+fuzzing found wrong."""
 
 import copy
 import math
@@ -8,6 +10,9 @@ import pickle
 
 import numpy as np
 import pytest
+from fuzzing import FUZZ, values
+from hypothesis import given
+from hypothesis import strategies as hst
 from sweeping import SMALL
 
 import pydrill
@@ -276,3 +281,81 @@ def test_tally_error_is_exported():
 def test_criticality_follows_the_sign_of_l1_and_names_zero(l1, expected):
     # l1 = 0 used to be called "subcritical": the first coefficient decides nothing there
     assert st.criticality(l1) == expected
+
+
+# 8. Fuzzed (tests/test_api_fuzz.py has the rest): simulate
+
+
+@FUZZ
+@given(
+    key=hst.sampled_from(
+        [
+            "wob",
+            "torque",
+            "t_end",
+            "rtol",
+            "max_step",
+            "window_fraction",
+            "perturbation",
+            "bit_radius",
+            "stribeck_velocity",
+            "n_out",
+            "dof",
+        ]
+    ),
+    value=values,
+)
+def test_simulate_answers_finitely_or_refuses_by_name(key, value):
+    kwargs = {"wob": 100.0, "torque": 8.3, "dof": 2, "t_end": 5.0, "n_out": 11, key: value}
+    try:
+        r = pydrill.simulate(**kwargs, max_steps=200_000)
+    except (ValueError, TypeError) as exc:
+        assert key in str(exc) or "initial" in str(exc) or "mu_" in str(exc)
+        return
+    except pydrill.SolverError:
+        return
+    assert np.all(np.isfinite(r.states)) and np.all(np.diff(r.t) > 0)
+
+
+@FUZZ
+@given(
+    t_end=hst.one_of(
+        hst.sampled_from([5e-324, 1e-320, 1e-310, 1e-305, 3e-308]), hst.floats(5e-324, 1e-290)
+    ),
+    n_out=hst.integers(2, 4000),
+)
+def test_output_times_increase_or_the_run_is_refused(t_end, n_out):
+    """The core flushes subnormal numbers to 0: t_end = 5e-324 s was judged "steady" from
+    rest, and 1e-305 s gave 3001 output times of 0."""
+    try:
+        r = pydrill.simulate(wob=100.0, torque=8.3, dof=2, t_end=t_end, n_out=n_out)
+    except ValueError as exc:
+        assert f"t_end = {t_end:g} is not allowed with n_out = {n_out}" in str(exc)
+        return
+    assert np.all(np.diff(r.t) > 0) and r.t[-1] == t_end and r.regime == "stuck"
+
+
+def test_a_subnormal_output_time_is_refused():
+    """t_out = [0, 1e-320, 1] came back as times [0, 0, 1]."""
+    with pytest.raises(ValueError, match=r"t_out\[1\] = .* is not allowed: an output time is 0 or"):
+        pydrill.simulate(wob=100.0, torque=8.3, dof=2, t_end=1.0, t_out=[0.0, 1e-320, 1.0])
+
+
+# 9. units, fuzzed
+
+
+@FUZZ
+@given(
+    number=hst.one_of(
+        hst.sampled_from(["1e400", "9" * 400, "1e308", "-1e309"]), hst.floats().map(repr)
+    ),
+    unit=hst.sampled_from(["", " N", " kN", " klbf", " tonf"]),
+)
+def test_a_quantity_with_its_unit_is_finite_or_refused(number, unit):
+    """ "1e400 N" and "1e308 kN" were inf (where inf itself is refused)."""
+    try:
+        value = pydrill.units.parse(number + unit, "force")
+    except ValueError as exc:
+        assert "is not a finite force" in str(exc) or "is not a force" in str(exc)
+        return
+    assert math.isfinite(value)

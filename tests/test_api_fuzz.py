@@ -1,8 +1,9 @@
 """The public Python API fuzzed with hypothesis: ``pydrill.Atlas`` queries on a real small
-atlas, the steady-state and stability functions, ``Params`` and ``simulate``. Bad input is a
-ValueError or TypeError (an atlas query's miss a KeyError) that names the parameter; never
-another exception from inside, a warning, a non-finite answer or a changed atlas file. Each
-example test is a case the fuzzing found, failing before its fix."""
+atlas, the steady-state and stability functions and ``Params`` (``simulate`` and ``units``:
+test_api_edges.py, sections 8 and 9). Bad input is a ValueError or TypeError (an atlas query's
+miss a KeyError) that names the parameter; never another exception from inside, a warning, a
+non-finite answer or a changed atlas file. Each example test is a case the fuzzing found,
+failing before its fix."""
 
 import hashlib
 import math
@@ -10,7 +11,8 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from fuzzing import FUZZ, values
+from hypothesis import given
 from hypothesis import strategies as st
 from sweeping import SMALL
 
@@ -19,28 +21,6 @@ from pydrill import bifurcation
 from pydrill import stability as stab
 from pydrill.model import MAX_LOAD
 from pydrill.sweep import run_sweep
-
-FUZZ = settings(derandomize=True, max_examples=60, deadline=None)
-
-#: numbers at and past every edge: the floats' ends, subnormals, integers beyond a float
-EXTREMES = [
-    *(math.nan, math.inf, -math.inf, 0.0, -0.0, -1.0, 5e-324, 1e-308, 1e-300),
-    *(1e15, 1e16, 1e300, 1e308, -1e308, 10**400, -(10**400), 2**63),
-]
-numbers = st.one_of(
-    st.sampled_from(EXTREMES),
-    st.floats(allow_nan=True, allow_infinity=True),
-    st.integers(min_value=-(10**20), max_value=10**20),
-)
-#: anything a caller might pass for a number: numpy scalars, 0-d and 1-d arrays, wrong types
-values = st.one_of(
-    numbers,
-    st.floats(allow_nan=True, allow_infinity=True).map(np.float64),
-    st.floats(width=32).map(np.float32),
-    numbers.filter(lambda v: abs(v) < 2**63 or v != v).map(np.asarray),
-    st.sampled_from([None, "abc", "", "8.3", "100 N", "1e999 N", b"1", [], [1.0], (2.0,)]),
-    st.sampled_from([True, 1 + 2j, np.complex128(1), {}, {1.0}, np.array([1.0, 2.0])]),
-)
 
 
 def _digest(path):
@@ -348,81 +328,3 @@ def test_an_accepted_friction_law_stays_finite_up_to_max_load(field, value, othe
 def test_a_friction_torque_past_a_float_at_max_load_is_refused():
     with pytest.raises(ValueError, match=r"mu_static = 1e\+308, bit_radius = 0.1 are not allowed"):
         pydrill.preset(dof=2, mu_static=1e308)
-
-
-# 4. simulate
-
-
-@FUZZ
-@given(
-    key=st.sampled_from(
-        [
-            "wob",
-            "torque",
-            "t_end",
-            "rtol",
-            "max_step",
-            "window_fraction",
-            "perturbation",
-            "bit_radius",
-            "stribeck_velocity",
-            "n_out",
-            "dof",
-        ]
-    ),
-    value=values,
-)
-def test_simulate_answers_finitely_or_refuses_by_name(key, value):
-    kwargs = {"wob": 100.0, "torque": 8.3, "dof": 2, "t_end": 5.0, "n_out": 11, key: value}
-    try:
-        r = pydrill.simulate(**kwargs, max_steps=200_000)
-    except (ValueError, TypeError) as exc:
-        assert key in str(exc) or "initial" in str(exc) or "mu_" in str(exc)
-        return
-    except pydrill.SolverError:
-        return
-    assert np.all(np.isfinite(r.states)) and np.all(np.diff(r.t) > 0)
-
-
-@FUZZ
-@given(
-    t_end=st.one_of(
-        st.sampled_from([5e-324, 1e-320, 1e-310, 1e-305, 3e-308]), st.floats(5e-324, 1e-290)
-    ),
-    n_out=st.integers(2, 4000),
-)
-def test_output_times_increase_or_the_run_is_refused(t_end, n_out):
-    """The core flushes subnormal numbers to 0: t_end = 5e-324 s was judged "steady" from
-    rest, and 1e-305 s gave 3001 output times of 0."""
-    try:
-        r = pydrill.simulate(wob=100.0, torque=8.3, dof=2, t_end=t_end, n_out=n_out)
-    except ValueError as exc:
-        assert f"t_end = {t_end:g} is not allowed with n_out = {n_out}" in str(exc)
-        return
-    assert np.all(np.diff(r.t) > 0) and r.t[-1] == t_end and r.regime == "stuck"
-
-
-def test_a_subnormal_output_time_is_refused():
-    """t_out = [0, 1e-320, 1] came back as times [0, 0, 1]."""
-    with pytest.raises(ValueError, match=r"t_out\[1\] = .* is not allowed: an output time is 0 or"):
-        pydrill.simulate(wob=100.0, torque=8.3, dof=2, t_end=1.0, t_out=[0.0, 1e-320, 1.0])
-
-
-# 5. units
-
-
-@FUZZ
-@given(
-    number=st.one_of(
-        st.sampled_from(["1e400", "9" * 400, "1e308", "-1e309"]), st.floats().map(repr)
-    ),
-    unit=st.sampled_from(["", " N", " kN", " klbf", " tonf"]),
-)
-def test_a_quantity_with_its_unit_is_finite_or_refused(number, unit):
-    """ "1e400 N" and "1e308 kN" were inf (where inf itself is refused)."""
-    try:
-        value = pydrill.units.parse(number + unit, "force")
-    except ValueError as exc:
-        assert "is not a finite force" in str(exc) or "is not a force" in str(exc)
-        return
-    assert math.isfinite(value)
