@@ -141,6 +141,24 @@ void check_operating_point(double wob, double torque) {
   if (!std::isfinite(torque)) refuse("torque", torque, "must be a finite number");
 }
 
+void check_bit_friction(const Params& p, double wob) {
+  const double scale = wob * p.bit_radius;
+  const bool torque_fits = std::isfinite(scale * p.mu_static);
+  if (torque_fits && std::isfinite(scale * (p.mu_static - p.mu_coulomb) * (p.stribeck_decay / p.stribeck_velocity))) return;
+  std::ostringstream o;
+  o << "wob = " << shortest(wob) << " is not allowed with bit_radius = " << shortest(p.bit_radius)
+    << ", mu_static = " << shortest(p.mu_static);
+  if (torque_fits) {
+    o << ", mu_coulomb = " << shortest(p.mu_coulomb) << ", stribeck_decay = " << shortest(p.stribeck_decay)
+      << " and stribeck_velocity = " << shortest(p.stribeck_velocity)
+      << ": the friction's Stribeck slope at rest, wob * bit_radius * (mu_static - mu_coulomb) * "
+         "stribeck_decay / stribeck_velocity, overflows a double (N·m·s/rad)";
+  } else {
+    o << ": the static torque mu_static * wob * bit_radius overflows a double (N·m)";
+  }
+  throw std::invalid_argument(o.str());
+}
+
 namespace {
 constexpr int kMaxPresetDof = 100'000;
 }  // namespace

@@ -99,6 +99,7 @@ void check_delta(double delta) {
 double stribeck_slope(const Params& p, double wob, double omega) {
   p.validate();
   check_operating_point(wob, 0.0);
+  check_bit_friction(p, wob);  // wob · stribeck_factor = inf times exp(−big) = 0 was NaN
   if (!std::isfinite(omega) || !(omega >= 0)) {
     std::ostringstream o;
     o << "omega = " << detail::shortest(omega) << " is not allowed: the Stribeck slope is defined at a finite bit velocity >= 0 rad/s";

@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "pydrill/equilibrium.hpp"
 #include "pydrill/simulator.hpp"
 #include "pydrill/stability.hpp"
 
@@ -89,4 +90,36 @@ TEST_CASE("a slow string has the crossings of the fast one it is a time scaling 
       CHECK(crossings[i].frequency * std::sqrt(s) == Approx(reference[i].frequency).epsilon(1e-9));
     }
   }
+}
+
+TEST_CASE("a bit friction beyond the doubles is refused, not run or linearised as inf or NaN",
+          "[stability][extreme]") {
+  // Measured before: mu_static = 1.8e308 (valid alone) ran as a bit stuck against an infinite
+  // static_torque and was reported as a success; every number 1e150 gave a stribeck_slope of
+  // inf × exp(−1e150) = NaN; stribeck_decay / stribeck_velocity = inf a friction magnitude of
+  // inf × 0 = NaN at rest.
+  const Params paper = preset("reduced-scale", 4);
+  SimulationOptions o;
+  o.t_end = 1.0;
+  Params p = paper;
+  p.mu_static = std::numeric_limits<double>::max();
+  REQUIRE_NOTHROW(p.validate());
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o),
+                    Catch::StartsWith("wob = 100 is not allowed with bit_radius = 0.1, mu_static = 1.7976931348623157e+308:") &&
+                        Catch::Contains("static torque"));
+  CHECK_THROWS_AS(stribeck_slope(p, 100.0, 1.0), std::invalid_argument);
+  CHECK_THROWS_AS(stability_at_torque(p, 100.0, 8.3), std::invalid_argument);
+  p = paper;
+  p.stribeck_decay = 1e308;
+  p.stribeck_velocity = 1e-10;
+  REQUIRE_NOTHROW(p.validate());
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::Contains("Stribeck slope at rest"));
+  CHECK_THROWS_AS(equilibrium_velocities(p, 100.0, 8.3), std::invalid_argument);
+  p = paper;
+  p.bit_radius = 1e150;
+  p.mu_coulomb = 1e150;
+  p.mu_static = 1e300;
+  CHECK_THROWS_AS(stribeck_slope(p, 1e150, 1e150), std::invalid_argument);
+  // What a real string needs stays allowed, however heavy the weight.
+  CHECK_NOTHROW(stribeck_slope(preset("real-string", 2), 1e15, 1.0));
 }

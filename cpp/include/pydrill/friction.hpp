@@ -15,7 +15,8 @@ struct BitFriction {
   double decay;       // γ_b / v_f, s/rad
 
   // Checks the friction law and W_ob first (std::invalid_argument naming the bad one): a
-  // zero v_f or μ_sb < μ_cb would otherwise come back as silent NaN or negative torques.
+  // zero v_f or μ_sb < μ_cb would otherwise come back as silent NaN or negative torques, and
+  // a static torque or slope beyond the doubles as inf (check_bit_friction).
   BitFriction(const Params& p, double wob)
       : scale((check(p, wob), wob * p.bit_radius)),
         mu_c(p.mu_coulomb),
@@ -57,6 +58,7 @@ struct BitFriction {
   static int check(const Params& p, double wob) {
     p.validate();
     check_operating_point(wob, 0.0);
+    check_bit_friction(p, wob);
     return 0;
   }
 };

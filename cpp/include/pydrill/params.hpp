@@ -74,4 +74,12 @@ PYDRILL_API int pipes_to_dof(int pipes);
 // throws std::invalid_argument unless wob (N) is finite and > 0 and torque (N·m) finite.
 PYDRILL_API void check_operating_point(double wob, double torque);
 
+// The bit's friction at a valid wob must fit in a double: its static torque
+// mu_static·wob·bit_radius (N·m) and its Stribeck slope at rest
+// wob·bit_radius·(mu_static − mu_coulomb)·stribeck_decay/stribeck_velocity (N·m·s/rad); each
+// parameter finite is not enough (mu_static = 1e308 made the static torque inf, a run "stuck"
+// with an infinite static_torque, and stribeck_slope NaN). Throws std::invalid_argument
+// naming wob and the friction parameters. BitFriction's constructor and stribeck_slope call it.
+PYDRILL_API void check_bit_friction(const Params& params, double wob);
+
 }  // namespace pydrill
