@@ -262,6 +262,18 @@ double first_lyapunov_coefficient(const Params& p, double delta, double w) {
   }
   p.validate();
   check_delta(delta);
+  // Where a banded matrix below is exactly singular there is no coefficient: at the fold
+  // (δ = c_r + c_b, A itself singular; an undamped string's at δ = 0 threw BandLU's bare
+  // runtime_error "band LU: the matrix is singular"), or on a string whose scales a double
+  // cannot separate. A Hopf point of critical_deltas is never at the fold.
+  auto refuse = [&] {
+    std::ostringstream o;
+    o << "delta = " << detail::shortest(delta) << " is not allowed with frequency = " << detail::shortest(w)
+      << ": the linearisation there is singular (the fold is at delta = c_r + c_b = "
+      << detail::shortest(p.top_damping + p.bit_damping) << "), so no first Lyapunov coefficient exists";
+    throw std::invalid_argument(o.str());
+  };
+  if (delta == p.top_damping + p.bit_damping) refuse();
   const int n = 2 * p.dof() - 1, b = n - 1;
   // The Jacobian's band alone, J(r, c) at band[5r + c − r + 2]: built dense, it cost O(n'²)
   // time and memory (1.1 s and 1.2 GB at 6000 pipes).
@@ -281,7 +293,11 @@ double first_lyapunov_coefficient(const Params& p, double delta, double w) {
         lu.at(r, c) = scale * a + (r == c ? shift : complex(0.0));
       }
     }
-    lu.factor();
+    try {
+      lu.factor();
+    } catch (const std::runtime_error&) {  // an exactly zero pivot, BandLU's only error
+      refuse();
+    }
     return lu;
   };
   auto dot = [](const CVec& x, const CVec& y) {  // x̄ᵀy

@@ -123,3 +123,16 @@ TEST_CASE("a bit friction beyond the doubles is refused, not run or linearised a
   // What a real string needs stays allowed, however heavy the weight.
   CHECK_NOTHROW(stribeck_slope(preset("real-string", 2), 1e15, 1.0));
 }
+
+TEST_CASE("first_lyapunov_coefficient at the fold is refused, naming delta", "[stability][extreme]") {
+  // Measured before: an undamped string (c_r = c_b = 0, allowed) at δ = 0 threw BandLU's bare
+  // std::runtime_error "band LU: the matrix is singular", undocumented and naming nothing; a
+  // damped one at its fold δ = c_r + c_b returned -1.5e12 from a rounded singular solve.
+  Params p = preset("reduced-scale", 4);
+  CHECK_THROWS_WITH(first_lyapunov_coefficient(p, 0.19, 1.0),
+                    Catch::StartsWith("delta = 0.19 is not allowed with frequency = 1: the linearisation there is singular"));
+  p.top_damping = 0.0;
+  p.bit_damping = 0.0;
+  CHECK_THROWS_AS(first_lyapunov_coefficient(p, 0.0, 1.0), std::invalid_argument);
+  CHECK(std::isfinite(first_lyapunov_coefficient(p, 0.01, 1.0)));
+}
