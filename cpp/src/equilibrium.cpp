@@ -80,17 +80,20 @@ std::vector<double> equilibrium_velocities(const Params& params, double wob, dou
     }
     return roots;
   }
-  auto right_root = [&](double lo) {
+  // The steady state on g's rising branch, if a double holds it: as with no damping above, a
+  // curve that reaches the torque only beyond the doubles has none (it returned 2^1023 rad/s,
+  // where g is 1e306 N·m, as the root for a torque of 1.8e308 N·m and c_r + c_b = 0.011).
+  auto push_right_root = [&](double lo) {
     double hi = std::max(1.0, 2.0 * lo);
     while (g(hi) <= torque && std::isfinite(hi)) {  // g grows at least like C·Ω: ends
       lo = hi;
       hi *= 2.0;
     }
-    return bisect(g, torque, lo, hi);
+    if (std::isfinite(hi)) roots.push_back(bisect(g, torque, lo, hi));
   };
   if (omega_min == 0.0) {
     // g increases from T_s: one steady state iff the torque exceeds T_s.
-    if (torque > ts) roots.push_back(right_root(0.0));
+    if (torque > ts) push_right_root(0.0);
     return roots;
   }
   const double gmin = g(omega_min);
@@ -98,7 +101,7 @@ std::vector<double> equilibrium_velocities(const Params& params, double wob, dou
     roots.push_back(omega_min);  // fold: the two branches meet
   } else if (torque > gmin) {
     if (torque < ts) roots.push_back(bisect(g, torque, 0.0, omega_min));
-    roots.push_back(right_root(omega_min));
+    push_right_root(omega_min);
   }
   return roots;
 }

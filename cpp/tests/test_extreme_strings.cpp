@@ -136,3 +136,16 @@ TEST_CASE("first_lyapunov_coefficient at the fold is refused, naming delta", "[s
   CHECK_THROWS_AS(first_lyapunov_coefficient(p, 0.0, 1.0), std::invalid_argument);
   CHECK(std::isfinite(first_lyapunov_coefficient(p, 0.01, 1.0)));
 }
+
+TEST_CASE("equilibrium_velocities returns no steady state that a double cannot hold", "[stability][extreme]") {
+  // Measured before: u = 1.8e308 N·m with c_r + c_b = 0.19 needs Ω ≈ 9.5e308 rad/s, beyond the
+  // doubles; the search's bracket ran to inf and 2^1023 rad/s came back as a root, where the
+  // torque curve is 1.7e307 N·m. As without damping, no steady state is returned.
+  const Params p = preset("reduced-scale", 4);
+  CHECK(equilibrium_velocities(p, 100.0, std::numeric_limits<double>::max()).empty());
+  CHECK(stability_at_torque(p, 100.0, std::numeric_limits<double>::max()).empty());
+  // One that fits is still found, and holds its torque.
+  const auto omegas = equilibrium_velocities(p, 100.0, 1e300);
+  REQUIRE(omegas.size() == 1);
+  CHECK(equilibrium_torque(p, 100.0, omegas[0]) == Approx(1e300).epsilon(1e-12));
+}
