@@ -169,9 +169,16 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
   // six crossings): relative below 1 rad/s, unchanged above.
   const double w_bound = 2.0 * std::sqrt(w2max) + rate;
   const double w_hi = w_bound + 1e-9 * std::min(w_bound, 1.0);
-  // The fundamental as estimate_stiffness gives it, safe from overflow; never 0 (a log below).
-  const double w_lo = std::max(1e-4 * estimate_stiffness(p).fundamental,
-                               std::numeric_limits<double>::denorm_min());
+  // The fundamental as estimate_stiffness gives it (the string on a still bit), safe from
+  // overflow, or the bit's own mode on the whole string held at the top if that is slower: a
+  // bit far heavier than the rest (or a top held by its damping) swings slower than the
+  // fundamental, and a 2-DOF string with a top of 4e-14 kg·m² lost its Hopf point at 1.5 rad/s,
+  // below a grid that began at 24 rad/s. Never 0 (a log below).
+  const double fundamental = estimate_stiffness(p).fundamental;
+  double above = 0.0;
+  for (int i = 0; i < N - 1; ++i) above += p.inertias[i];
+  const double bit_mode = fundamental * std::sqrt(above / p.inertias.back());
+  const double w_lo = std::max(1e-4 * std::min(fundamental, bit_mode), std::numeric_limits<double>::denorm_min());
   // Start from a uniform grid (the dense upper spectrum) merged with a
   // geometric one (the low modes of long strings), then split every interval
   // over which arg Z_b turns by more than π/4 until it does not: a zero of

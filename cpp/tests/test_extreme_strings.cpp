@@ -149,3 +149,29 @@ TEST_CASE("equilibrium_velocities returns no steady state that a double cannot h
   REQUIRE(omegas.size() == 1);
   CHECK(equilibrium_torque(p, 100.0, omegas[0]) == Approx(1e300).epsilon(1e-12));
 }
+
+TEST_CASE("a Hopf point slower than the string's fundamental is found", "[stability][extreme]") {
+  // A 2-DOF string whose top (4e-14 kg·m², held by its damping: 1.5e11 /s) is far lighter than
+  // its bit swings at 1.5 rad/s, the bit on the spring, far below the fundamental of the string
+  // on a still bit (2.4e5 rad/s). Measured before: the frequency grid began at 1e-4 of that,
+  // 24 rad/s, and critical_deltas missed the Hopf point the closed form finds, so its unstable
+  // counts were 2 too low (-1 past the fold).
+  Params p = preset("reduced-scale", 2);
+  p.inertias = {4e-14, 9.834e-4};
+  p.stiffnesses = {2.393e-3};
+  p.dampings = {3.278e-6};
+  p.top_damping = 5.9e-3;
+  p.bit_damping = 3.278e-4;
+  const auto closed_form = hopf_deltas_dof2(p);
+  REQUIRE(closed_form.size() == 1);
+  const auto crossings = critical_deltas(p);
+  REQUIRE(crossings.size() == 2);
+  CHECK(crossings[0].type == CrossingType::Hopf);
+  CHECK(crossings[0].delta == Approx(closed_form[0]).epsilon(1e-9));
+  CHECK(crossings[0].direction == 1);
+  for (double delta : {1e-3, 1e-2, 1.0}) {
+    int dense = 0;
+    for (const auto& z : eigenvalues(p, delta)) dense += z.real() > 0;
+    CHECK(unstable_count(crossings, delta) == dense);
+  }
+}
