@@ -109,7 +109,8 @@ PYDRILL_API std::vector<Crossing> critical_deltas(const Params& params,
 // (Kuznetsov's formula; the only nonlinearity is the bit friction, whose
 // Taylor terms about Ω are T'' = δγ/v_f and T''' = −δ(γ/v_f)²). Negative:
 // supercritical (a small stable oscillation is born); positive: subcritical
-// (the motion jumps away, with hysteresis). frequency finite and > 0 (rad/s).
+// (the motion jumps away, with hysteresis). frequency finite and > 0 (rad/s); std::invalid_argument
+// too where the linearisation is singular (δ at the fold, c_r + c_b).
 // Normalisation: the eigenvector q of iω has unit Euclidean norm in twist coordinates
 // (which mix rad and rad/s) and ⟨p, q⟩ = 1, so the value depends on that choice: use
 // its sign, and compare sizes only between Hopf points of one string. O(dof): banded solves.
