@@ -78,6 +78,7 @@ void SimulationOptions::validate(int dof) const {
   auto refuse = [](const std::string& what) { throw std::invalid_argument(what); };
   const auto num = detail::shortest;
   if (!std::isfinite(t_end) || !(t_end > 0)) refuse("t_end = " + num(t_end) + " is not allowed: must be a finite time > 0 s");
+  if (t_end > kMaxTEnd) refuse("t_end = " + num(t_end) + " is not allowed: need 0 < t_end <= " + num(kMaxTEnd) + " s (317 years; beyond, a run's times overflow)");
   // Below kMinRtol a step's error is rounding: CVODES and ARKODE stop with "too much
   // accuracy requested" at 1e-16, DOP853 grinds on. Below kMinAtol the weight 1/atol of a
   // component sitting at 0 swamps the error norm: BDF took 3.7 million steps at 1e-30 and

@@ -175,3 +175,19 @@ TEST_CASE("a Hopf point slower than the string's fundamental is found", "[stabil
     CHECK(unstable_count(crossings, delta) == dense);
   }
 }
+
+TEST_CASE("a t_end beyond 1e10 s is refused, as Python refuses it", "[simulate][extreme]") {
+  // Measured before: t_end = 1.8e308 s (finite, so allowed) made the n_out grid
+  // t_end·i/(n_out − 1) inf, and a run of 9 outputs returned 2; with a top inertia of 5.9e307
+  // ERK returned NaN states and called the run "stuck", BDF a bit still after 1.8e308 s.
+  const Params p = preset("reduced-scale", 4);
+  SimulationOptions o;
+  o.t_end = std::numeric_limits<double>::max();
+  o.n_out = 9;
+  CHECK_THROWS_WITH(simulate(p, 1e-300, 0.0, o),
+                    Catch::StartsWith("t_end = 1.7976931348623157e+308 is not allowed: need 0 < t_end <= 1e+10 s"));
+  o.t_end = 1.0000001e10;
+  CHECK_THROWS_AS(o.validate(4), std::invalid_argument);
+  o.t_end = kMaxTEnd;
+  CHECK_NOTHROW(o.validate(4));
+}

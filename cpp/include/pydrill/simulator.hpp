@@ -56,11 +56,15 @@ constexpr double kMinAtol = 1e-20;
 // velocity, not atol). At rtol 1e-2 and atol 1e-3 every method judged every case right.
 constexpr double kMaxRtol = 1e-2;
 constexpr double kMaxAtol = 1e-3;
+// The longest run, s (317 years, as Python's MAX_T_END): near the top of the doubles a run's
+// times overflow (t_end = 1.8e308 s: the n_out grid t_end·i/(n_out − 1) was inf, a run of 9
+// outputs came back with 2, ERK returned NaN states as a success), and no bit lasts longer.
+constexpr double kMaxTEnd = 1e10;
 
 // validate() (called by simulate) throws std::invalid_argument naming the option, its value
 // and the allowed range, for any value outside the ranges below.
 struct PYDRILL_API SimulationOptions {
-  double t_end = 300.0;              // s, finite and > 0
+  double t_end = 300.0;              // s, 0 < t_end <= kMaxTEnd (1e10)
   std::vector<double> t_out;         // s, strictly increasing in [0, t_end]; empty: n_out uniform
   int n_out = 3001;                  // used when t_out is empty; 2 .. 1e8 (each keeps 2·dof + 4 doubles)
   Method method = Method::Auto;
