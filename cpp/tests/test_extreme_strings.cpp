@@ -51,17 +51,41 @@ TEST_CASE("a top inertia at the doubles' top keeps the string's crossings and st
   CHECK(std::isfinite(z.imag()));
 }
 
-TEST_CASE("a subnormal stiffness keeps the string's crossings and stiffness", "[stability][extreme]") {
-  // Measured before: 1/k = inf made the fundamental 0 and critical_deltas' geometric frequency
-  // grid NaN (sorted, which std::sort does not allow), and a Hopf crossing came out twice.
+TEST_CASE("a tiny stiffness keeps the string's crossings and stiffness", "[stability][extreme]") {
+  // Measured before: with stiffnesses[0] = 1e-310 (subnormal, allowed then) 1/k = inf made the
+  // fundamental 0 and critical_deltas' geometric frequency grid NaN (then sorted, which
+  // std::sort does not allow), and a Hopf crossing came out twice. Subnormals are refused now
+  // (below); the smallest normal stiffness keeps the crossings of 1e-300.
   Params p = preset("reduced-scale", 4);
   p.stiffnesses[0] = 1e-300;
   const auto reference = critical_deltas(p);
-  p.stiffnesses[0] = 1e-310;
+  p.stiffnesses[0] = std::numeric_limits<double>::min();
   REQUIRE_NOTHROW(p.validate());
   same_crossings(critical_deltas(p), reference);
   CHECK(estimate_stiffness(p).fundamental > 0);
   CHECK(std::isfinite(stiffness_ratio(p)));
+}
+
+TEST_CASE("a subnormal parameter is refused: a run reads it as 0", "[params][extreme]") {
+  // Measured before: stiffnesses[0] = 5e-324 passed (> 0); the run, which flushes subnormal
+  // numbers, read it as a broken spring, and critical_deltas found eight spurious Hopf points.
+  Params p = preset("reduced-scale", 3);
+  p.stiffnesses[0] = 5e-324;
+  CHECK_THROWS_WITH(p.validate(), Catch::StartsWith("stiffnesses[0] = ") && Catch::Contains("e-324 is not allowed: a subnormal number"));
+  p = preset("reduced-scale", 3);
+  p.dampings[1] = 1e-310;
+  CHECK_THROWS_WITH(p.validate(), Catch::StartsWith("dampings[1] = 1e-310 is not allowed") && Catch::Contains("give 0 or"));
+  p = preset("reduced-scale", 3);
+  p.mu_coulomb = 1e-320;
+  CHECK_THROWS_WITH(p.validate(), Catch::StartsWith("mu_coulomb = ") && Catch::Contains("is not allowed: a subnormal number"));
+  p = preset("reduced-scale", 3);
+  p.inertias[2] = std::numeric_limits<double>::denorm_min();
+  CHECK_THROWS_AS(p.validate(), std::invalid_argument);
+  p.inertias[2] = 1e-300;  // tiny but normal: allowed, as is damping 0
+  p.top_damping = 0.0;
+  p.bit_damping = 0.0;
+  p.dampings = {0.0, 0.0};
+  CHECK_NOTHROW(p.validate());
 }
 
 TEST_CASE("a slow string has the crossings of the fast one it is a time scaling of", "[stability][extreme]") {

@@ -34,7 +34,8 @@ constexpr double kMaxDecay = 1e15;
 
 // Mechanical chain plus bit–rock friction law. Operating inputs (weight on bit,
 // surface torque) are not part of it: they are the axes of every study.
-// Allowed values (validate() checks them; every number finite):
+// Allowed values (validate() checks them; every number finite, and none subnormal, i.e. none
+// in (0, 2.2250738585072014e-308): a run reads those as 0):
 struct PYDRILL_API Params {
   std::vector<double> inertias;     // I_0 (top drive) ... I_{N-1} (bit), kg·m²; dof >= 2, each > 0
   std::vector<double> stiffnesses;  // k_i joins inertia i and i+1, N·m/rad; dof − 1 of them, > 0
