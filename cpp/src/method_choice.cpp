@@ -40,7 +40,7 @@ StiffnessEstimate estimate_stiffness(const Params& p) {
     for (int i = 0; i < N - 1; ++i) k_min = std::min(k_min, p.stiffnesses[i]), i_max = std::max(i_max, p.inertias[i]);
     double flex = 0.0, mass = 0.0;
     for (int i = 0; i < N - 1; ++i) flex += k_min / p.stiffnesses[i], mass += p.inertias[i] / i_max;
-    e.fundamental = std::sqrt(k_min / flex) / (std::sqrt(i_max) * std::sqrt(mass));
+    e.fundamental = std::sqrt(k_min) / std::sqrt(flex) / (std::sqrt(i_max) * std::sqrt(mass));
   }
   return e;
 }

@@ -139,6 +139,12 @@ void Params::validate() const {
   check_positive("stribeck_decay", stribeck_decay);
   check_positive("stribeck_velocity", stribeck_velocity);
   check_positive("karnopp_band", karnopp_band);
+  // The friction's decay rate γ_b/v_f (s/rad) must be a number: an infinite one made the slip
+  // friction at rest inf × 0 = NaN, and boundary_wob inf / inf.
+  if (!std::isfinite(stribeck_decay / stribeck_velocity)) {
+    refuse("stribeck_decay", stribeck_decay, "with stribeck_velocity = " + shortest(stribeck_velocity) +
+                                                 " their ratio, the friction's decay rate, overflows a double");
+  }
   if (!std::isfinite(mu_coulomb) || !(mu_coulomb > 0)) {
     refuse("mu_coulomb", mu_coulomb, "need 0 < mu_coulomb < mu_static");
   }

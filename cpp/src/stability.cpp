@@ -105,7 +105,11 @@ double stribeck_slope(const Params& p, double wob, double omega) {
     o << "omega = " << detail::shortest(omega) << " is not allowed: the Stribeck slope is defined at a finite bit velocity >= 0 rad/s";
     throw std::invalid_argument(o.str());
   }
-  return wob * stribeck_factor(p) * std::exp(-p.stribeck_decay * omega / p.stribeck_velocity);
+  const double scale = wob * stribeck_factor(p);
+  // wob · factor can overflow where check_bit_friction's product, in BitFriction's order, does
+  // not (wob 2.2e-308, mu_static 8.7e307, stribeck_decay 1e300): inf × exp(−big) was NaN.
+  if (!std::isfinite(scale)) return BitFriction(p, wob).delta(omega);
+  return scale * std::exp(-p.stribeck_decay * omega / p.stribeck_velocity);
 }
 
 double boundary_wob(const Params& p, double delta, double omega) {

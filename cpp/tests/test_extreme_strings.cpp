@@ -120,8 +120,9 @@ TEST_CASE("a bit friction beyond the doubles is refused, not run or linearised a
           "[stability][extreme]") {
   // Measured before: mu_static = 1.8e308 (valid alone) ran as a bit stuck against an infinite
   // static_torque and was reported as a success; every number 1e150 gave a stribeck_slope of
-  // inf × exp(−1e150) = NaN; stribeck_decay / stribeck_velocity = inf a friction magnitude of
-  // inf × 0 = NaN at rest.
+  // inf × exp(−1e150) = NaN; a slope at rest beyond the doubles a friction magnitude of
+  // inf × 0 = NaN at rest (an infinite stribeck_decay / stribeck_velocity is now refused by
+  // validate, see below).
   const Params paper = preset("reduced-scale", 4);
   SimulationOptions o;
   o.t_end = 1.0;
@@ -134,11 +135,11 @@ TEST_CASE("a bit friction beyond the doubles is refused, not run or linearised a
   CHECK_THROWS_AS(stribeck_slope(p, 100.0, 1.0), std::invalid_argument);
   CHECK_THROWS_AS(stability_at_torque(p, 100.0, 8.3), std::invalid_argument);
   p = paper;
-  p.stribeck_decay = 1e308;
-  p.stribeck_velocity = 1e-10;
+  p.stribeck_decay = 1e300;
+  p.stribeck_velocity = 1e-5;
   REQUIRE_NOTHROW(p.validate());
-  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::Contains("Stribeck slope at rest"));
-  CHECK_THROWS_AS(equilibrium_velocities(p, 100.0, 8.3), std::invalid_argument);
+  CHECK_THROWS_WITH(simulate(p, 1e15, 8.3, o), Catch::Contains("Stribeck slope at rest"));
+  CHECK_THROWS_AS(equilibrium_velocities(p, 1e15, 8.3), std::invalid_argument);
   p = paper;
   p.bit_radius = 1e150;
   p.mu_coulomb = 1e150;
@@ -214,4 +215,20 @@ TEST_CASE("a t_end beyond 1e10 s is refused, as Python refuses it", "[simulate][
   CHECK_THROWS_AS(o.validate(4), std::invalid_argument);
   o.t_end = kMaxTEnd;
   CHECK_NOTHROW(o.validate(4));
+}
+
+TEST_CASE("an overflowing friction rate is refused, and a vanishing slope is 0, not NaN",
+          "[stability][extreme]") {
+  // Measured before, each on a valid string: stribeck_decay 1.76e308 / stribeck_velocity 0.03
+  // = inf made boundary_wob inf / inf = NaN; stribeck_slope at wob 2.2e-308 with mu_static
+  // 8.7e307 and stribeck_decay 1e300 was inf × exp(−1.6e299) = NaN.
+  Params p = preset("reduced-scale", 4);
+  p.stribeck_decay = 1.76e308;
+  p.stribeck_velocity = 0.03;
+  CHECK_THROWS_WITH(p.validate(), Catch::StartsWith("stribeck_decay = 1.76e+308 is not allowed: with stribeck_velocity = 0.03"));
+  p = preset("reduced-scale", 4);
+  p.mu_static = 8.7e307;
+  p.stribeck_decay = 1e300;
+  const double slope = stribeck_slope(p, std::numeric_limits<double>::min(), 0.158);
+  CHECK(slope == 0.0);  // e^(−1.6e299): no slope left
 }
