@@ -47,8 +47,25 @@ std::vector<double> jacobian(const Params& p, double delta) {
 }
 
 std::vector<complex> eigenvalues(const Params& p, double delta) {
-  const std::vector<double> J = jacobian(p, delta);
+  std::vector<double> J = jacobian(p, delta);
   const int n = 2 * p.dof() - 1;
+  // A stiff string's Jacobian mixes k/I (a frequency squared) with 1 (θ̇ = Δω), and the
+  // unbalanced QR's error, ε·‖J‖, swamped the real parts: at 2.7e8 rad/s (k = 3e8, J_b = 4e-9,
+  // valid) a stable point had an eigenvalue of +5.7e8, and from 2.7e7 rad/s some counts of
+  // unstable eigenvalues disagreed with the crossings'. The similarity D J D⁻¹ with D =
+  // diag(√I_i at ω_i, √k_i at θ_i) keeps the eigenvalues and makes those entries √(k/I), the
+  // frequencies themselves. Only where an entry exceeds 1e8, so the usual strings' eigenvalues
+  // are those they always were, bit for bit.
+  double largest = 0.0;
+  for (double v : J) largest = std::max(largest, std::fabs(v));
+  if (largest > 1e8) {
+    std::vector<double> d(static_cast<std::size_t>(n));
+    for (int i = 0; i < p.dof(); ++i) d[2 * static_cast<std::size_t>(i)] = std::sqrt(p.inertias[i]);
+    for (int i = 0; i + 1 < p.dof(); ++i) d[2 * static_cast<std::size_t>(i) + 1] = std::sqrt(p.stiffnesses[i]);
+    for (std::size_t r = 0; r < d.size(); ++r) {
+      for (std::size_t c = 0; c < d.size(); ++c) J[r * d.size() + c] *= d[r] / d[c];
+    }
+  }
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> M(
       J.data(), n, n);
   Eigen::EigenSolver<Eigen::MatrixXd> solver(M, false);

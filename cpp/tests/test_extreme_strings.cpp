@@ -232,3 +232,27 @@ TEST_CASE("an overflowing friction rate is refused, and a vanishing slope is 0, 
   const double slope = stribeck_slope(p, std::numeric_limits<double>::min(), 0.158);
   CHECK(slope == 0.0);  // e^(−1.6e299): no slope left
 }
+
+TEST_CASE("a stiff string's dense eigenvalues agree with its crossings", "[stability][extreme]") {
+  // A 2-DOF string with a bit of 4e-9 kg·m² on a spring of 3e8 N·m/rad rings at 2.7e8 rad/s
+  // (valid: the limit is 1e150). Measured before: the unbalanced dense QR put a real eigenvalue
+  // of +5.7e8 /s at δ = 1e-4, below the first crossing, and 242 of 341 slopes from 1e-6 to 1e4
+  // had counts of unstable eigenvalues other than the crossings' (10 already at 2.7e7 rad/s).
+  Params p = preset("reduced-scale", 2);
+  p.inertias = {0.0686, 4e-9};
+  p.stiffnesses = {3e8};
+  p.dampings = {3.16e-9};
+  p.top_damping = 0.00569;
+  p.bit_damping = 0.000316;
+  const auto crossings = critical_deltas(p);
+  REQUIRE(!crossings.empty());
+  for (double delta = 1e-6; delta < 1e4; delta *= 1.07) {
+    bool near = false;
+    for (const Crossing& c : crossings) near = near || std::fabs(c.delta - delta) < 1e-3 * delta;
+    if (near) continue;
+    int dense = 0;
+    for (const auto& z : eigenvalues(p, delta)) dense += z.real() > 0;
+    INFO("delta = " << delta);
+    CHECK(dense == unstable_count(crossings, delta));
+  }
+}
