@@ -1,6 +1,7 @@
 // The simulation options' names (method, regime, friction law, initial state, switch kind),
 // their parsers, and SimulationOptions::validate: what simulate refuses before it starts.
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -110,12 +111,23 @@ void SimulationOptions::validate(int dof) const {
   if (!(window_fraction > 0) || !(window_fraction <= 1)) refuse("window_fraction = " + num(window_fraction) + " is not allowed: need 0 < window_fraction <= 1");
   if (!(max_switch_rate > 0) || std::isnan(max_switch_rate)) refuse("max_switch_rate = " + num(max_switch_rate) + " is not allowed: must be > 0 switches/s");
   if (!std::isfinite(perturbation) || std::fabs(perturbation) >= 1) refuse("perturbation = " + num(perturbation) + " is not allowed: need |perturbation| < 1 (relative to the steady bit velocity)");
+  // A run flushes subnormal numbers to 0 (flush_subnormals.hpp): output times below the
+  // smallest normal double are 0 to it. t_end = 5e-324 s was judged "steady" from rest, and
+  // t_out = {0, 1e-320, 1} came back as times {0, 0, 1}.
+  constexpr double tiny = std::numeric_limits<double>::min();
   if (t_out.empty()) {
     if (n_out < 2 || n_out > 100'000'000) refuse("n_out = " + std::to_string(n_out) + " is not allowed: need 2 <= n_out <= 1e8");
+    const double spacing = t_end / (n_out - 1);
+    if (spacing < tiny) {
+      refuse("t_end = " + num(t_end) + " is not allowed with n_out = " + std::to_string(n_out) + ": its output times would be " + num(spacing) +
+             " s apart, below the smallest normal float (2.23e-308) the core computes with; need t_end >= (n_out - 1) * 2.2e-308 s");
+    }
   } else {
+    if (t_end < tiny) refuse("t_end = " + num(t_end) + " is not allowed: below the smallest normal float (2.23e-308 s), which the core computes with");
     for (std::size_t i = 0; i < t_out.size(); ++i) {
       const double t = t_out[i];
       if (!std::isfinite(t) || t < 0 || t > t_end) refuse("t_out[" + std::to_string(i) + "] = " + num(t) + " is not allowed: output times must lie in [0, t_end = " + num(t_end) + "]");
+      if (t > 0 && t < tiny) refuse("t_out[" + std::to_string(i) + "] = " + num(t) + " is not allowed: an output time is 0 or at least 2.23e-308 s (the smallest normal float, which the core computes with)");
       if (i > 0 && !(t > t_out[i - 1])) refuse("t_out[" + std::to_string(i) + "] = " + num(t) + " is not allowed: output times must increase strictly");
     }
   }

@@ -191,3 +191,29 @@ TEST_CASE("tolerances looser than the regimes allow are refused", "[simulator]")
     o.rtol = o.atol = 1e-8;
   }
 }
+
+TEST_CASE("output times a run cannot tell from 0 are refused", "[simulator]") {
+  // A run flushes subnormal numbers to 0: t_end = 5e-324 s was judged "steady" from rest
+  // with every output time 0, and t_out = {0, 1e-320, 1} came back as times {0, 0, 1}.
+  const Params p = preset("reduced-scale", 2);
+  SimulationOptions o;
+  o.t_end = 5e-324;
+  o.n_out = 2;
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::StartsWith("t_end = 4.94066e-324 is not allowed with n_out = 2: its output times would be"));
+  o.t_end = 1e-305;  // normal, but 3001 times 3.3e-309 s apart
+  o.n_out = 3001;
+  CHECK_THROWS_WITH(o.validate(2), Catch::Contains("below the smallest normal float"));
+  o.n_out = 2;
+  CHECK_NOTHROW(o.validate(2));
+  const Result r = simulate(p, 100.0, 8.3, o);  // the smallest run allowed still moves on
+  CHECK(r.t.back() == 1e-305);
+  CHECK(r.t.front() == 0.0);
+  o.t_end = 1.0;
+  o.t_out = {0.0, 1e-320, 1.0};
+  CHECK_THROWS_WITH(o.validate(2), Catch::StartsWith("t_out[1] = 9.99989e-321 is not allowed: an output time is 0 or at least 2.23e-308 s"));
+  o.t_out = {0.0, 1e-300, 1.0};
+  CHECK_NOTHROW(o.validate(2));
+  o.t_end = 1e-310;
+  o.t_out = {0.0};
+  CHECK_THROWS_WITH(o.validate(2), Catch::StartsWith("t_end = 1e-310 is not allowed: below the smallest normal float"));
+}

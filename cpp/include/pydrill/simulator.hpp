@@ -65,7 +65,9 @@ constexpr double kMaxTEnd = 1e10;
 // and the allowed range, for any value outside the ranges below.
 struct PYDRILL_API SimulationOptions {
   double t_end = 300.0;              // s, 0 < t_end <= kMaxTEnd (1e10)
-  std::vector<double> t_out;         // s, strictly increasing in [0, t_end]; empty: n_out uniform
+  std::vector<double> t_out;         // s, strictly increasing in [0, t_end], each 0 or normal
+                                     // (>= 2.2e-308: a run flushes subnormals); empty: n_out
+                                     // uniform, at least 2.2e-308 s apart
   int n_out = 3001;                  // used when t_out is empty; 2 .. 1e8 (each keeps 2·dof + 4 doubles)
   Method method = Method::Auto;
   FrictionLaw friction = FrictionLaw::Exact;
