@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from .model import MAX_LOAD, Params, _load, _number, _plain, _show
-from .stability_checks import _checked, _finite
+from .stability_checks import _check_grid_memory, _checked, _finite
 
 
 def _velocity(omega: float) -> float:
@@ -364,7 +364,8 @@ def stability_map(
     """Unstable-eigenvalue counts on the grid ``omega`` × ``wob`` (shape (len(wob), len(omega)))
     — one lookup per point, whatever the string's length. ``omega`` (rad/s, finite, >= 0) and
     ``wob`` (N, finite, > 0) are 1-D, or numbers (an axis of one value); ``crossings``, if
-    given, this string's ``critical_deltas(params)`` (see :func:`stability`)."""
+    given, this string's ``critical_deltas(params)`` (see :func:`stability`). A grid that would
+    not fit in the memory available (about 32 bytes a point) is refused before it is made."""
     params = _params(params)
     axes = []
     for name, values, strict in (("omega", omega, False), ("wob", wob, True)):
@@ -375,6 +376,7 @@ def stability_map(
             )
         axes.append(np.atleast_1d(a))
     omega, wob = axes
+    _check_grid_memory(omega.size, wob.size)
     if crossings is None:
         crossings = critical_deltas(params)
     else:

@@ -1,5 +1,6 @@
 """Checks of the stability functions' numbers, going in (``_checked``: finite, in range) and
-coming out of the core (``_finite``: not overflowed). Apart from stability.py to keep it short;
+coming out of the core (``_finite``: not overflowed), and the memory a grid takes
+(``_check_grid_memory``). Apart from stability.py to keep it short;
 ``pydrill.window`` takes ``_checked`` too."""
 
 from __future__ import annotations
@@ -39,3 +40,24 @@ def _finite(name: str, value: object, what: str, result: list[float]) -> NDArray
             "a float (it overflows); give a smaller one"
         )
     return a
+
+
+#: bytes per point that stability_map holds at once: the slopes, their product's temporary,
+#: the searchsorted indices and the counts, 8 bytes each
+GRID_BYTES_PER_POINT = 32
+
+
+def _check_grid_memory(n_omega: int, n_wob: int) -> None:
+    """Refuse, before it is allocated, a ``stability_map`` grid larger than the memory
+    available now: numpy's lazy pages let a grid past it start, and the kernel's OOM killer
+    then ended the whole process part way (two axes of 1e5 values take 320 GB)."""
+    import psutil  # a dependency of distributed's
+
+    need = GRID_BYTES_PER_POINT * n_omega * n_wob
+    free = psutil.virtual_memory().available
+    if need > free:
+        raise ValueError(
+            f"a grid of {n_wob} wob x {n_omega} omega values is not allowed here: it needs about "
+            f"{need / 1e9:.3g} GB of memory and {free / 1e9:.3g} GB is available; give shorter "
+            "axes, or map the grid in parts"
+        )

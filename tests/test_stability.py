@@ -330,3 +330,38 @@ def test_turning_backwards_mirrors_the_steady_states(wob, torque):
             run = pydrill.simulate(p, wob=wob, torque=-torque, t_end=300.0, initial=initial)
             assert run.summary.regime == "steady"
             assert run.summary.bit_mean == pytest.approx(back[0].omega, rel=1e-3)
+
+
+def test_a_stability_map_larger_than_the_memory_is_refused_before_it_is_allocated(monkeypatch):
+    """Two axes of 1e5 values (320 GB) are refused at once, naming the grid and the memory; a
+    grid that fits is computed. The guard's bytes per point are at least what numpy's peak
+    takes (measured with tracemalloc, which sees numpy's arrays), so it cannot let through a
+    grid that would not fit."""
+    import time
+    import tracemalloc
+
+    import psutil
+
+    from pydrill import stability_checks
+    from pydrill.stability import stability_map
+
+    p = pydrill.preset(dof=4)
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match=r"a grid of 100000 wob x 100000 omega values .* 320 GB"):
+        stability_map(p, np.linspace(0.0, 10.0, 100_000), np.linspace(1.0, 200.0, 100_000))
+    assert time.perf_counter() - start < 1.0  # refused, not attempted
+    crossings = st.critical_deltas(p)
+    tracemalloc.start()
+    counts = stability_map(p, np.linspace(0.0, 10.0, 1000), np.linspace(1.0, 200.0, 500), crossings)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert counts.shape == (500, 1000)
+    assert peak <= stability_checks.GRID_BYTES_PER_POINT * counts.size
+
+    # where less memory is available, the same grid is refused
+    class Low:
+        available = stability_checks.GRID_BYTES_PER_POINT * counts.size - 1
+
+    monkeypatch.setattr(psutil, "virtual_memory", lambda: Low)
+    with pytest.raises(ValueError, match=r"500 wob x 1000 omega .* 0.016 GB is available"):
+        stability_map(p, np.linspace(0.0, 10.0, 1000), np.linspace(1.0, 200.0, 500), crossings)
