@@ -86,6 +86,8 @@ class Params:
     name: str = field(default="custom", compare=False)  #: label (the preset's name)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.name, str):  # it labels results, JSON and atlases as text
+            raise TypeError(f"name = {self.name!r} is not allowed: a label, must be a str")
         for key in _LISTS:
             values = getattr(self, key)
             n = _length(values)

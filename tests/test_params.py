@@ -1,5 +1,6 @@
 """Parameter sets, overrides and their validation."""
 
+import dataclasses
 import math
 import pickle
 
@@ -136,3 +137,14 @@ def test_params_pickle_after_a_run_without_the_cores_copy():
     after = pydrill.simulate(back, wob=60.0, torque=8.3, t_end=20.0)
     assert after.summary == before.summary
     assert (after.states == before.states).all()
+
+
+@pytest.mark.parametrize("name", [5, None, b"rig", ["rig"]])
+def test_a_name_that_is_not_text_is_refused(name):
+    """A Params' name labels results, --json and atlases as text: 5 was taken as it was."""
+    p = pydrill.preset(dof=2)
+    with pytest.raises(TypeError, match=r"name = .* is not allowed: a label, must be a str"):
+        dataclasses.replace(p, name=name)
+    with pytest.raises(TypeError, match=r"name = .* is not allowed: a label"):
+        pydrill.Params.from_dict({**p.to_dict(), "name": name})
+    assert dataclasses.replace(p, name="rig 2").name == "rig 2"
