@@ -147,32 +147,25 @@ def window_figure(
             "stick-slip": ("X", REGIME_COLORS["stick-slip"]),
             "stuck": ("s", REGIME_COLORS["stuck"]),
             "oscillation": ("^", REGIME_COLORS["oscillation"]),
+            # drawn, not left out: the text says why each failed
+            FAILED: (FAILED_MARKER, FAILED_COLOR),
         }
         for regime, (marker, color) in marks.items():
             pts = [(w / 1e3, r) for w, r, g in checks if g == regime]
-            if pts:
-                ax.scatter(
-                    [pt[0] for pt in pts],
-                    [pt[1] for pt in pts],
-                    marker=marker,
-                    s=46,
-                    zorder=5,
-                    color=color,
-                    edgecolors="black",
-                    linewidths=0.6,
-                    label=f"simulated from {check_initial}: "
-                    + regime.replace("elsewhere", "at another rpm"),
-                )
-        failed = [(w / 1e3, r) for w, r, g in checks if g == FAILED]
-        if failed:  # drawn, not left out: the text says why each failed
+            if not pts:
+                continue
+            failed = regime == FAILED  # (a glyph, not a shape: no outline)
+            said = FAILED_LABEL if failed else regime.replace("elsewhere", "at another rpm")
             ax.scatter(
-                [pt[0] for pt in failed],
-                [pt[1] for pt in failed],
-                marker=FAILED_MARKER,
-                s=110,
+                [pt[0] for pt in pts],
+                [pt[1] for pt in pts],
+                marker=marker,
+                s=110 if failed else 46,
                 zorder=5,
-                color=FAILED_COLOR,
-                label=f"simulated from {check_initial}: {FAILED_LABEL}",
+                color=color,
+                edgecolors=None if failed else "black",
+                linewidths=None if failed else 0.6,
+                label=f"simulated from {check_initial}: {said}",
             )
     ax.set_xlim(0, x_max)
     ax.set_ylim(0, rpm_max)
