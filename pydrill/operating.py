@@ -130,8 +130,11 @@ def hopf_curve_wu(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The two-parameter Hopf (or fold) curve δ(Ω, W_ob) = δ_k in (W_ob, u), by Ω: at the
     ``omega`` (1-D) where its W_ob is at most 1e300 N (beyond, the boundary's exponential
-    overflows a float; a figure's axes end far below)."""
+    overflows a float; a figure's axes end far below). A crossing at δ = 0 has no curve in the
+    map (its W_ob is 0 at every Ω): empty arrays."""
     omega = np.asarray(omega, dtype=float)
+    if delta == 0:  # (the logarithm below divided by it: ZeroDivisionError)
+        return np.empty(0), np.empty(0)
     # Ω where W_ob = δ exp(γ_b Ω / v_f) / factor reaches 1e300, in logarithms (no overflow):
     # a string of γ_b = 20 failed every map of its atlas ("wob = inf is not allowed").
     p = params

@@ -27,8 +27,14 @@ def hopf_figure(params, crossings, omega_max: float | None = None, n: int = 400)
 
     from .stability import boundary_wob, stability_map
 
-    first = next((c for c in crossings if c.direction > 0), crossings[0])
-    w0 = float(boundary_wob(params, first.delta, 0.0))  # the first Hopf curve at Ω = 0
+    # Crossings at δ = 0 (no damping at the ends, or none at all) lie on the axis W_ob = 0:
+    # every W_ob drawn is past them, and they set no scale.
+    drawn = [c for c in crossings if c.delta > 0]
+    at_zero = sum(c.multiplicity for c in crossings if c.delta == 0 and c.direction > 0)
+    first = next((c for c in drawn if c.direction > 0), drawn[0] if drawn else None)
+    # The first Hopf curve at Ω = 0; with none above δ = 0, a W_ob range of real bits (10 kN
+    # to 2000 kN below), uniformly unstable.
+    w0 = float(boundary_wob(params, first.delta, 0.0)) if first is not None else 3e4
     w_lo = w0 / 3.0
     # ln W_ob grows by γ/v_f per rad/s along a Hopf curve: in log space, as e^{γΩ/v_f}
     # overflows past Ω ≈ 700 v_f/γ.
@@ -43,7 +49,7 @@ def hopf_figure(params, crossings, omega_max: float | None = None, n: int = 400)
     # slope than δ_1: the map is one colour from there on. Draw a little past it, not on to
     # an Ω_max thousands of times further (an empty map).
     omega_top = math.log(w_hi / w0) / rate if rate > 0 else math.inf
-    omega_shown = min(omega_max, 1.25 * omega_top)
+    omega_shown = min(omega_max, 1.25 * omega_top) if first is not None else omega_max
     omega = np.linspace(0.0, omega_shown, n)
     wob = np.geomspace(w_lo, w_hi, n)
     counts = stability_map(params, omega, wob, crossings)
@@ -61,7 +67,7 @@ def hopf_figure(params, crossings, omega_max: float | None = None, n: int = 400)
         rasterized=True,
     )
     shown = 0
-    for c in crossings:
+    for c in drawn:
         w = boundary_wob(params, c.delta, omega)
         if c.type == "fold":
             ax.plot(omega, w, "--", color="#1f618d", lw=1.4)
@@ -88,19 +94,28 @@ def hopf_figure(params, crossings, omega_max: float | None = None, n: int = 400)
     rpm.set_xlabel("steady bit speed (rpm)", fontsize=9)  # what a driller sets and reads
     cbar = fig.colorbar(mesh, ax=ax, ticks=range(0, top + 1, max(1, top // 10)))
     cbar.set_label("unstable eigenvalues of the steady state")
-    legend = [
-        Line2D(
-            [],
-            [],
-            color="#7b241c",
-            lw=2.2,
-            label=f"first Hopf: $\\delta_1$ = {first.delta:.4g} N·m·s/rad, "
-            f"{(first.frequency or 0):.3g} rad/s{_criticality_note(params, first)}",
-        ),
-        Line2D([], [], color="#922b21", lw=0.8, label="further Hopf crossings"),
-        Line2D([], [], color="#1f618d", ls="--", label="fold ($\\delta = c_r + c_b$)"),
-    ]
-    ax.legend(handles=legend, loc="lower right", fontsize=9, framealpha=0.95)
+    legend = (
+        []
+        if first is None
+        else [
+            Line2D(
+                [],
+                [],
+                color="#7b241c",
+                lw=2.2,
+                label=f"first Hopf: $\\delta_1$ = {first.delta:.4g} N·m·s/rad, "
+                f"{(first.frequency or 0):.3g} rad/s{_criticality_note(params, first)}",
+            )
+        ]
+    )
+    if sum(c.type == "hopf" for c in drawn) > 1:  # (a kind with no curve drawn is not listed)
+        legend.append(Line2D([], [], color="#922b21", lw=0.8, label="further Hopf crossings"))
+    if any(c.type == "fold" for c in drawn):
+        legend.append(
+            Line2D([], [], color="#1f618d", ls="--", label="fold ($\\delta = c_r + c_b$)")
+        )
+    if legend:
+        ax.legend(handles=legend, loc="lower right", fontsize=9, framealpha=0.95)
     n_hopf = sum(c.type == "hopf" for c in crossings)
     cut = (
         f"\nΩ up to {omega_shown:.3g} rad/s of the {omega_max:g} "
@@ -109,11 +124,18 @@ def hopf_figure(params, crossings, omega_max: float | None = None, n: int = 400)
         if omega_shown < omega_max
         else ""
     )
-    ax.set_title(
-        f"{params.name}, dof {params.dof}: steady drilling is stable below the first Hopf curve "
-        f"({n_hopf} Hopf crossings in all){cut}",
-        fontsize=10,
-    )
+    if at_zero == 0:
+        verdict = (
+            f"steady drilling is stable below the first Hopf curve ({n_hopf} Hopf crossings in all)"
+        )
+    else:  # the whole map is past them: say why no part of it is stable
+        verdict = (
+            "steady drilling is unstable at every $W_{ob}$\n"
+            f"{at_zero} eigenvalue{'s cross' if at_zero > 1 else ' crosses'} at $\\delta$ = 0: "
+            f"the string has no damping {'at all' if first is None else 'at the top or the bit'} "
+            f"({n_hopf} Hopf crossings in all)"
+        )
+    ax.set_title(f"{params.name}, dof {params.dof}: {verdict}{cut}", fontsize=10)
     return fig
 
 

@@ -45,7 +45,7 @@ def _analytic(atlas, ax, xname: str, yname: str, held: dict[str, float]) -> list
     crossings = critical_deltas(params)
     first = next((c for c in crossings if c.type == "hopf" and c.direction > 0), None)
     curves = [(wob, ts, "black", "-", STUCK_LABEL)]
-    if first is not None:
+    if first is not None and first.delta > 0:  # (at δ = 0 it is the axis W_ob = 0)
         from .operating import hopf_curve_wu
 
         w, u = hopf_curve_wu(params, first.delta, np.linspace(1e-3, 80, 3000))

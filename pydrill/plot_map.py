@@ -74,6 +74,8 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
     omega = np.linspace(1e-3, 60.0, 2000)
     first = next((c for c in crossings if c.direction > 0 and c.type == "hopf"), None)
     for c in crossings:
+        if c.delta == 0:  # on the axis W_ob = 0: no curve in the map (its colours say it)
+            continue
         w, u = hopf_curve_wu(params, c.delta, omega)
         keep = (w <= omap.wob.max() * 1.05) & (u <= omap.torque.max() * 1.05)
         if c.type == "fold":

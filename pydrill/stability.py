@@ -163,9 +163,10 @@ def stribeck_slope(params: Params, wob: ArrayLike, omega: ArrayLike) -> NDArray[
 
 def boundary_wob(params: Params, delta: float, omega: ArrayLike) -> NDArray[np.float64]:
     """W_ob at which δ(Ω, W_ob) = delta (N); broadcasts over Ω. ``delta`` must be finite and
-    > 0 (a crossing's, :func:`critical_deltas`), every Ω finite and >= 0 (rad/s)."""
+    >= 0 (a crossing's, :func:`critical_deltas`), every Ω finite and >= 0 (rad/s). A crossing
+    at δ = 0 (a string without damping at an end) has its boundary on the Ω axis: W_ob = 0."""
     p = _params(params)
-    slope = _checked("delta", delta, 0.0, strict=True)
+    slope = _checked("delta", delta, 0.0, strict=False)
     omega = _checked("omega", omega, 0.0, strict=False)
     factor = p.bit_radius * p.stribeck_decay / p.stribeck_velocity * (p.mu_static - p.mu_coulomb)
     with np.errstate(over="ignore"):  # refused below, by name: inf was returned, with a warning
@@ -182,7 +183,11 @@ def boundary_wob(params: Params, delta: float, omega: ArrayLike) -> NDArray[np.f
 
 
 def critical_deltas(params: Params) -> list[Crossing]:
-    """Every δ > 0 at which the steady state changes stability, in increasing order.
+    """Every δ >= 0 at which the steady state changes stability, in increasing order.
+
+    With c_r = c_b = 0 the fold is at δ = 0 (the string turns freely as one body), and on a
+    string with no damping at all every Hopf point is there too: each of its modes grows at any
+    slope δ > 0 (those Hopf points are degenerate, l₁ = 0: at δ = 0 the friction is flat).
 
     >>> from pydrill import preset
     >>> [c.type for c in critical_deltas(preset("reduced-scale", dof=2))]
@@ -226,18 +231,21 @@ def _crossing_list(crossings: Iterable[Crossing]) -> list[Crossing]:
 
 
 def _check_crossings(params: Params, crossings: Iterable[Crossing]) -> list[Crossing]:
-    """``crossings`` as a list, refused when they cannot be the string's: every damped string
-    has its fold at δ = c_r + c_b (DESIGN.md §3), an undamped one none. Crossings carry
-    nothing else to compare: those of another string with the same damping pass."""
+    """``crossings`` as a list, refused when they cannot be the string's: every string has
+    its one fold at δ = c_r + c_b (DESIGN.md §3; at 0 without damping at the ends). Crossings
+    carry nothing else to compare: those of another string with the same damping pass."""
     crossings = _crossing_list(crossings)
     fold = params.top_damping + params.bit_damping
     folds = [c.delta for c in crossings if c.type == "fold"]
-    expected = [fold] if fold > 0 else []
-    if len(folds) != len(expected) or not all(
-        math.isclose(a, b, rel_tol=1e-9) for a, b in zip(folds, expected, strict=True)
-    ):
-        had = f"a fold at delta = {folds[0]:g}" if folds else "no fold"
-        want = f"one at c_r + c_b = {fold:g}" if fold > 0 else "none"
+    if len(folds) != 1 or not math.isclose(folds[0], fold, rel_tol=1e-9):
+        had = (
+            "no fold"
+            if not folds
+            else f"a fold at delta = {folds[0]:g}"
+            if len(folds) == 1
+            else f"{len(folds)} folds"
+        )
+        want = f"one at c_r + c_b = {fold:g}"
         raise ValueError(
             f"crossings are not this string's ({had}; its own have {want}): give "
             "critical_deltas(params) of the same params"

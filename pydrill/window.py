@@ -152,6 +152,8 @@ class Limits:
         """Slowest surface rpm at which the bit cannot stay stuck under ``wob`` (N)."""
         w = _checked("wob", wob, 0.0, strict=False)
         c = self.params.top_damping + self.params.bit_damping
+        if c == 0:  # no damping at the ends: the steady torque never reaches T_s (nan before)
+            return np.where(w > 0, np.inf, 0.0)
         s = np.asarray(w * self._a * self._g / c, dtype=float)
         x = np.zeros_like(s)
         big = s > 1

@@ -211,7 +211,7 @@ CROSSINGS = st.critical_deltas(P)
         (lambda: st.stribeck_slope(P, -100, 1), ValueError, r"wob = -100 is not allowed: .* > 0"),
         (lambda: st.stribeck_slope(P, 100, -1), ValueError, r"omega = -1 is not allowed: .* >= 0"),
         (lambda: st.stribeck_slope(P, "100", 1), TypeError, r"wob = '100' is not allowed"),
-        (lambda: st.boundary_wob(P, -1, 1), ValueError, r"delta = -1 is not allowed: .* > 0"),
+        (lambda: st.boundary_wob(P, -1, 1), ValueError, r"delta = -1 is not allowed: .* >= 0"),
         (lambda: st.boundary_wob(P, 1, [0, math.inf]), ValueError, r"omega\[1\] = inf"),
         (lambda: st.unstable_count(CROSSINGS, math.nan), ValueError, r"delta = nan is not"),
         (lambda: st.criticality(math.nan), ValueError, r"l1 = nan is not allowed"),
@@ -219,7 +219,7 @@ CROSSINGS = st.critical_deltas(P)
         (
             lambda: st.stability(P, 100.0, torque=8.3, crossings=[]),
             ValueError,
-            r"crossings are not this string's \(no fold",
+            r"crossings are not this string's \(no fold; its own have one at c_r",
         ),
         (
             lambda: st.stability(
@@ -239,7 +239,7 @@ def test_stability_map_takes_numbers_as_one_value_axes():
     counts = st.stability_map(P, 5.0, 100.0)
     assert counts.shape == (1, 1)
     assert counts[0, 0] == st.unstable_count(CROSSINGS, st.stribeck_slope(P, 100.0, 5.0))
-    # The string's own crossings pass, also for an undamped string (no fold).
+    # The string's own crossings pass, also for one without damping at its ends (fold at 0).
     undamped = P.replace(top_damping=0.0, bit_damping=0.0)
     own = st.critical_deltas(undamped)
     assert st.stability_map(undamped, [1.0], [100.0], own).shape == (1, 1)

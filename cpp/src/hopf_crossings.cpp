@@ -137,6 +137,55 @@ int crossing_direction(const Params& p, double omega) {
   return re > 0 ? 1 : (re < 0 ? -1 : 0);
 }
 
+// Does the free chain's mode at ω strain none of the dampers? With the bit's amplitude 1, the
+// spring below inertia i twists by ω² S_i / k_i, where S_i = Σ_{m>i} J_m x_m is the swing of
+// everything below it; so a damper works on the mode unless S_i = 0 where it sits. (Its ends
+// always move, so c_r = c_b = 0 is needed too; the caller checks that.) S_i is 0 up to
+// rounding in such a mode (a symmetric string with one damper at its middle, say), and of the
+// order of the swing below otherwise: relative 1e-9 tells the two apart.
+bool strains_no_damper(const Params& p, double w) {
+  const int n = p.dof();
+  double x = 1.0, swing = p.inertias[n - 1], size = swing;
+  for (int i = n - 2; i >= 0; --i) {
+    if (p.dampings[i] != 0.0 && !(std::fabs(swing) <= 1e-9 * size)) return false;
+    x -= w * w * swing / p.stiffnesses[i];  // the spring holds the swing below: k_i (x_i − x_{i+1}) = −ω² S_i
+    swing += p.inertias[i] * x;
+    size += p.inertias[i] * std::fabs(x);
+  }
+  return std::isfinite(size);
+}
+
+// Hopf points at δ = 0: the modes of a string with c_r = c_b = 0 that strain none of its
+// dampers, every one of them on a string with no damping at all. Such a mode is an eigenvalue
+// ±iω at δ = 0 with Z_b(iω) = 0 exactly, where Re Z_b >= 0 has its minimum 0; the phase the
+// search below follows never passes through 0 there (on an undamped string Z_b(iω) = iX(ω) and
+// the phase only jumps between ±π/2), so it found none of them, and an undamped string was
+// called stable at every δ while each of its modes grows for any δ > 0. They all leave to the
+// right: Z_b'(iω) = X'(ω) > 0 (Foster's reactance theorem). In a chain no mode has a node at
+// the bit (the amplitudes follow from the bit's by the recurrence), so these are among the
+// N − 1 nonzero modes of the free chain, which interlace strictly with the clamped chain's
+// (Cauchy: its matrix is the free one's without the bit's row), the poles of Im Z_b.
+std::vector<Crossing> hopf_at_zero(const Params& p, detail::InterruptPoll& poll) {
+  std::vector<Crossing> out;
+  if (p.top_damping != 0.0 || p.bit_damping != 0.0) return out;
+  const std::vector<double> free = undamped_frequencies(p, false, poll);    // N, from 0
+  const std::vector<double> clamped = undamped_frequencies(p, true, poll);  // N − 1
+  auto x = [&](double w) { return std::imag(impedance(p, complex(0.0, w))); };
+  for (std::size_t j = 1; j < free.size(); ++j) {
+    poll.tick(p.dof());
+    double w = free[j];
+    if (!(w > 0) || !strains_no_damper(p, w)) continue;
+    // The zero lies between the poles clamped[j − 1] and clamped[j] (or beyond the last one),
+    // where Im Z_b rises through 0: bracket it halfway to each, and polish the eigenvalue.
+    const double lo = 0.5 * (clamped[j - 1] + w);
+    const double hi = j < clamped.size() ? 0.5 * (w + clamped[j]) : 2.0 * w;
+    const double xlo = x(lo), xhi = x(hi);
+    if (xlo < 0 && xhi > 0) w = brent(x, lo, hi, xlo, xhi);
+    out.push_back({CrossingType::Hopf, 0.0, w, crossing_direction(p, w), 2});
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool()>& interrupt) {
@@ -147,12 +196,19 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
   // long string; the poll hears of them once per grid point (below).
   detail::InterruptPoll poll(interrupt);
 
-  // Fold: λ = 0 is an eigenvalue when δ = Z_b(0) = c_r + c_b.
+  // Fold: λ = 0 is an eigenvalue when δ = Z_b(0) = c_r + c_b. With neither damping it is at
+  // δ = 0: the string turns freely as one body, and any slope δ > 0 sets it accelerating (the
+  // fold was left out then, and the count at δ > 0 was one short).
   const double fold = p.top_damping + p.bit_damping;
-  if (fold > 0) {
+  {
     const double dz = std::real(impedance_slope(p, complex(0.0)));
     out.push_back({CrossingType::Fold, fold, 0.0, dz > 0 ? 1 : -1, 1});
   }
+  const std::vector<Crossing> at_zero = hopf_at_zero(p, poll);
+  out.insert(out.end(), at_zero.begin(), at_zero.end());
+  const bool undamped = std::all_of(p.dampings.begin(), p.dampings.end(), [](double c) { return c == 0.0; }) &&
+                        p.top_damping == 0.0 && p.bit_damping == 0.0;
+  if (undamped) return out;  // (the fold first, at 0 too: in increasing δ already)
 
   // Hopf: zeros of Im Z_b(iω) with Re Z_b > 0. No zero lies above the
   // highest natural frequency of the chain, where J_b ω dominates.
@@ -227,7 +283,29 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
     if ((ga < 0) == (gb < 0) || std::cos(pa) + std::cos(pb) <= 0) return;
     const double w = brent(g, wa, wb, ga, gb);
     const complex z = impedance(p, complex(0.0, w));
-    if (std::real(z) > 0 && std::fabs(std::imag(z)) <= 1e-6 * std::abs(z)) {
+    // (At a mode of hopf_at_zero, Re Z_b is 0 up to rounding: that crossing is counted once.)
+    const bool known = std::any_of(at_zero.begin(), at_zero.end(),
+                                   [&](const Crossing& c) { return std::fabs(c.frequency - w) <= 1e-9 * w; });
+    // Im Z_b is 0 there to 1e-6 of |Z_b|, or it changes sign within 8 ε ω of ω (Brent's
+    // bracket): on a lightly damped string one ulp of ω moves Im Z_b by more than 1e-6 of |Z_b|
+    // (a chain of J = 0.4, k = 2.5 with c_r = 1e-9: Re Z_b = 1e-9 at its destabilising Hopf
+    // points, 1e9 at its restabilising ones), and 7 of its 13 crossings were dropped.
+    auto converged = [&] {
+      if (std::fabs(std::imag(z)) <= 1e-6 * std::abs(z)) return true;
+      const double w_below = w * (1 - 8 * std::numeric_limits<double>::epsilon());
+      const double w_above = w * (1 + 8 * std::numeric_limits<double>::epsilon());
+      const complex zb = impedance(p, complex(0.0, w_below)), za = impedance(p, complex(0.0, w_above));
+      // ... and Re Z_b, the crossing's δ, is the same across that bracket: where a resonance is
+      // narrower than an ulp of ω (a top inertia of 1e40 and more), Re Z_b jumps tenfold from one
+      // double to the next, and such a "crossing" had a δ and a direction of rounding alone.
+      // (And Im Z_b is below Re Z_b even so, the phase within 45°: at a pole of Im Z_b, where it changes sign
+      // through infinity, it is not.)
+      const double re = std::real(z);
+      return std::fabs(std::imag(z)) <= re && (std::imag(zb) < 0) != (std::imag(za) < 0) &&
+             std::fabs(std::real(zb) - re) <= 1e-6 * re &&
+             std::fabs(std::real(za) - re) <= 1e-6 * re;
+    };
+    if (!known && std::real(z) > 0 && converged()) {
       out.push_back({CrossingType::Hopf, std::real(z), w, crossing_direction(p, w), 2});
     }
   };
@@ -269,6 +347,10 @@ double first_lyapunov_coefficient(const Params& p, double delta, double w) {
   }
   p.validate();
   check_delta(delta);
+  // At δ = 0 the friction is flat about Ω to every order (its Taylor terms are all ∝ δ), so
+  // the normal form has no cubic term: 0, a degenerate Hopf point. An undamped string has its
+  // Hopf points there, at its fold too, where the solves below would refuse.
+  if (delta == 0.0) return 0.0;
   // Where a banded matrix below is exactly singular there is no coefficient: at the fold
   // (δ = c_r + c_b, A itself singular; an undamped string's at δ = 0 threw BandLU's bare
   // runtime_error "band LU: the matrix is singular"), or on a string whose scales a double

@@ -147,23 +147,23 @@ constexpr int kStructuredDof = 24;
 
 // Crossings handed in must be the string's: the unstable counts come from them, and an empty
 // or foreign list answered "stable" for every point. Every damped string has its fold at
-// δ = c_r + c_b, an undamped one none; nothing else in a crossing names its string (the same
-// test as Python's, which runs it first, with math.isclose's rel_tol = 1e-9).
+// δ = c_r + c_b; nothing else in a crossing names its string (the same
+// test as Python's, which runs it first, with math.isclose's rel_tol = 1e-9). Every string
+// has one fold, at δ = c_r + c_b (at 0 without damping at the ends: it turns freely as one body).
 void check_crossings(const Params& p, const std::vector<Crossing>& crossings) {
   const double fold = p.top_damping + p.bit_damping;
   std::vector<double> folds;
   for (const Crossing& c : crossings) {
     if (c.type == CrossingType::Fold) folds.push_back(c.delta);
   }
-  const bool ok = fold > 0 ? folds.size() == 1 && std::fabs(folds[0] - fold) <=
-                                                      1e-9 * std::max(std::fabs(folds[0]), fold)
-                           : folds.empty();
+  const bool ok = folds.size() == 1 && std::fabs(folds[0] - fold) <= 1e-9 * std::max(std::fabs(folds[0]), fold);
   if (!ok) {
     std::ostringstream o;
     o << "crossings are not this string's ("
-      << (folds.empty() ? std::string("no fold") : "a fold at delta = " + detail::shortest(folds[0]))
-      << "; its own have "
-      << (fold > 0 ? "one at c_r + c_b = " + detail::shortest(fold) : std::string("none"))
+      << (folds.empty()       ? std::string("no fold")
+          : folds.size() == 1 ? "a fold at delta = " + detail::shortest(folds[0])
+                              : std::to_string(folds.size()) + " folds")
+      << "; its own have one at c_r + c_b = " << detail::shortest(fold)
       << "): give critical_deltas(params) of the same params";
     throw std::invalid_argument(o.str());
   }

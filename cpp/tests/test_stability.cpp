@@ -115,10 +115,17 @@ TEST_CASE("crossings that cannot be the string's are refused", "[stability]") {
   other.top_damping = 0.3;
   CHECK_THROWS_WITH(stability_at_torque(p, critical_deltas(other), 100.0, 8.3),
                     Catch::Contains("a fold at delta = 0.31"));
+  // Free ends (c_r = c_b = 0): the fold is at δ = 0, and the string's own crossings pass.
   Params undamped = p;
   undamped.top_damping = undamped.bit_damping = 0.0;
   CHECK_NOTHROW(stability_at_torque(undamped, critical_deltas(undamped), 40.0, 3.0));
-  CHECK_THROWS_AS(stability_at_torque(undamped, critical_deltas(p), 40.0, 3.0), std::invalid_argument);
+  CHECK_THROWS_WITH(stability_at_torque(undamped, critical_deltas(p), 40.0, 3.0),
+                    Catch::StartsWith("crossings are not this string's (a fold at delta = 0.19; its own have one at "
+                                      "c_r + c_b = 0)"));
+  std::vector<Crossing> two = critical_deltas(p);
+  two.push_back(*std::find_if(two.begin(), two.end(), [](const Crossing& c) { return c.type == CrossingType::Fold; }));
+  std::sort(two.begin(), two.end(), [](const Crossing& a, const Crossing& b) { return a.delta < b.delta; });
+  CHECK_THROWS_WITH(stability_at_torque(p, two, 100.0, 8.3), Catch::Contains("(2 folds; its own"));
 }
 
 namespace {

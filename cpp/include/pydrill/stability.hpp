@@ -99,9 +99,12 @@ struct Crossing {
   int multiplicity = 0; // eigenvalues that cross: 2 (Hopf) or 1 (fold)
 };
 
-// Every crossing with δ > 0, in increasing δ. Found from the zeros of
+// Every crossing, in increasing δ (every δ >= 0). Found from the zeros of
 // Im Z_b(iω) on a frequency grid fine enough to separate the string's modes,
 // refined to machine precision; O(dof²) in all (`interrupt`: see StabilityInterrupted).
+// A crossing at δ = 0 is the fold of a string with c_r = c_b = 0 (it turns freely as one
+// body) and, on a string with no damping at all, every Hopf point too: each of its modes
+// grows for any δ > 0, and none comes back.
 PYDRILL_API std::vector<Crossing> critical_deltas(const Params& params,
                                                   const std::function<bool()>& interrupt = {});
 
@@ -110,7 +113,8 @@ PYDRILL_API std::vector<Crossing> critical_deltas(const Params& params,
 // Taylor terms about Ω are T'' = δγ/v_f and T''' = −δ(γ/v_f)²). Negative:
 // supercritical (a small stable oscillation is born); positive: subcritical
 // (the motion jumps away, with hysteresis). frequency finite and > 0 (rad/s); std::invalid_argument
-// too where the linearisation is singular (δ at the fold, c_r + c_b).
+// too where the linearisation is singular (δ at the fold, c_r + c_b, unless δ = 0).
+// At δ = 0 it is 0 (degenerate): the friction is flat about Ω to every order there.
 // Normalisation: the eigenvector q of iω has unit Euclidean norm in twist coordinates
 // (which mix rad and rad/s) and ⟨p, q⟩ = 1, so the value depends on that choice: use
 // its sign, and compare sizes only between Hopf points of one string. O(dof): banded solves.
@@ -144,9 +148,9 @@ PYDRILL_API std::vector<StabilityPoint> stability_at_torque(
 // depend on the string alone, and finding them costs more than the rest on a short
 // string (a sweep over W_ob and u computes them once per string, not once per point).
 // They come right after the string they belong to, so that stability_at_torque(p, wob, u, {})
-// has one meaning (no interrupt). They must be this string's: its fold at δ = c_r + c_b when
-// c_r + c_b > 0, none otherwise (std::invalid_argument for an empty list of a damped string, or
-// another string's; crossings of another string with the same damping pass unnoticed).
+// has one meaning (no interrupt). They must be this string's: its one fold, at δ = c_r + c_b
+// (std::invalid_argument for an empty list, or another string's; crossings of another string
+// with the same damping pass unnoticed).
 PYDRILL_API std::vector<StabilityPoint> stability_at_torque(
     const Params& params, const std::vector<Crossing>& crossings, double wob, double torque,
     const std::function<bool()>& interrupt = {});

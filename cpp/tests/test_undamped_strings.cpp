@@ -1,0 +1,157 @@
+// Strings with damping missing at the ends or altogether. Their crossings sit at δ = 0, where
+// the search along the impedance's phase cannot see them: an undamped string came back with
+// none and was called stable at every δ, and a string with c_r = c_b = 0 lost its fold. The
+// references here share nothing with critical_deltas: the free chain's modes in closed form,
+// the dense eigenvalues (LAPACK-free Eigen QR), and the limit of a vanishing top damping.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "pydrill/stability.hpp"
+
+using namespace pydrill;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A uniform chain of n inertias J and springs k, with the given element dampings.
+Params uniform(int n, std::vector<double> dampings, double top = 0.0, double bit = 0.0) {
+  Params p = preset("reduced-scale", n);
+  p.inertias.assign(static_cast<std::size_t>(n), 0.4);
+  p.stiffnesses.assign(static_cast<std::size_t>(n - 1), 2.5);
+  p.dampings = std::move(dampings);
+  p.top_damping = top;
+  p.bit_damping = bit;
+  return p;
+}
+
+// Eigenvalues in the open right half-plane, from the dense solver. Only asked where every
+// real part is far from 0 against the spectrum's size (no crossing nearby).
+int dense_unstable(const Params& p, double delta) {
+  int n = 0;
+  for (const auto& z : eigenvalues(p, delta)) n += z.real() > 0;
+  return n;
+}
+
+// Every probe between and beyond the crossings' distinct δ, as in test_stability.cpp.
+void counts_agree(const Params& p, const std::vector<Crossing>& crossings) {
+  std::vector<double> at;
+  for (const Crossing& c : crossings)
+    if (at.empty() || c.delta > at.back() * (1 + 1e-9)) at.push_back(c.delta);
+  std::vector<double> probes;
+  for (std::size_t i = 0; i + 1 < at.size(); ++i) probes.push_back(0.5 * (at[i] + at[i + 1]));
+  probes.push_back(at.back() > 0 ? 2.0 * at.back() : 1e-3);
+  for (double d : probes) {
+    INFO("delta " << d);
+    CHECK(dense_unstable(p, d) == unstable_count(crossings, d));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("an undamped string: the fold and every Hopf point at delta = 0, all destabilising",
+          "[stability][undamped]") {
+  for (int n : {2, 3, 6, 25}) {
+    INFO("dof " << n);
+    const Params p = uniform(n, std::vector<double>(static_cast<std::size_t>(n - 1), 0.0));
+    const auto crossings = critical_deltas(p);
+    REQUIRE(crossings.size() == static_cast<std::size_t>(n));
+    CHECK(crossings[0].type == CrossingType::Fold);
+    int total = 0;
+    for (std::size_t j = 0; j < crossings.size(); ++j) {
+      const Crossing& c = crossings[j];
+      CHECK(c.delta == 0.0);
+      CHECK(c.direction == 1);
+      total += c.multiplicity;
+      if (j == 0) continue;
+      // The free uniform chain's modes: ω_j = 2 √(k/J) sin(jπ / 2n).
+      CHECK(c.type == CrossingType::Hopf);
+      CHECK(c.frequency == Approx(2.0 * std::sqrt(2.5 / 0.4) * std::sin(j * kPi / (2.0 * n))).epsilon(1e-12));
+      CHECK(first_lyapunov_coefficient(p, c.delta, c.frequency) == 0.0);  // flat friction at δ = 0
+    }
+    CHECK(total == 2 * n - 1);  // every eigenvalue
+    // Any slope, however small or large, leaves all of them in the right half-plane: none comes
+    // back, as Z_b(iω) = iX(ω) is never a real δ > 0.
+    for (double d : {1e-6, 1e-2, 1.0, 30.0}) {
+      INFO("delta " << d);
+      CHECK(unstable_count(crossings, d) == 2 * n - 1);
+      CHECK(dense_unstable(p, d) == 2 * n - 1);
+    }
+    CHECK(unstable_count(crossings, 0.0) == 0);  // at δ = 0 itself they are on the axis
+  }
+}
+
+TEST_CASE("an undamped string's crossings are the limit of a vanishing top damping", "[stability][undamped]") {
+  // With c_r = d > 0 the search along the phase applies: the fold and the Hopf points sit at
+  // δ = d (to first order) with the same frequencies, and the restabilising crossings run off
+  // to δ ∝ 1/d. Both searches, each on its own path, must meet in the limit. (At d = 1e-9 the
+  // search along the phase dropped three of the six Hopf points: its test that Im Z_b is 0
+  // there asked 1e-6 of |Z_b| ≈ 1e-9, below what one ulp of ω moves it.)
+  const int n = 7;
+  const Params p = uniform(n, std::vector<double>(n - 1, 0.0));
+  const auto at_zero = critical_deltas(p);
+  const Params q = uniform(n, std::vector<double>(n - 1, 0.0), 1e-9);
+  std::vector<Crossing> first;
+  for (const Crossing& c : critical_deltas(q))
+    if (c.direction > 0) first.push_back(c);
+  REQUIRE(first.size() == at_zero.size());
+  // All at δ ≈ d, in no particular order there: by frequency (the fold's is 0).
+  auto by_frequency = [](const Crossing& a, const Crossing& b) { return a.frequency < b.frequency; };
+  std::sort(first.begin(), first.end(), by_frequency);
+  for (std::size_t j = 0; j < first.size(); ++j) {
+    CHECK(first[j].delta == Approx(1e-9).epsilon(1e-3));
+    CHECK(first[j].frequency == Approx(at_zero[j].frequency).epsilon(1e-6));
+  }
+  for (const Crossing& c : critical_deltas(q))
+    if (c.direction < 0) CHECK(c.delta > 1e3);
+}
+
+TEST_CASE("a string without damping at its ends has its fold at delta = 0", "[stability][undamped]") {
+  // c_r = c_b = 0 with damped elements: the string turns freely as one body, and any slope
+  // δ > 0 sets that motion accelerating. The fold was left out (it was pushed only for
+  // c_r + c_b > 0), and every count above 0 was one short.
+  const Params p = uniform(5, {0.01, 0.01, 0.01, 0.01});
+  const auto crossings = critical_deltas(p);
+  REQUIRE(!crossings.empty());
+  CHECK(crossings[0].type == CrossingType::Fold);
+  CHECK(crossings[0].delta == 0.0);
+  CHECK(crossings[0].direction == 1);
+  for (std::size_t j = 1; j < crossings.size(); ++j) CHECK(crossings[j].delta > 0);
+  CHECK(unstable_count(crossings, 1e-9) == 1);
+  counts_agree(p, crossings);
+  // The steady states see it too: one eigenvalue in Re > 0 even at a slope far below every Hopf point.
+  const StabilityPoint s = stability_at_velocity(p, 0.5, 1.0);  // δ ≈ 0.0055
+  CHECK(s.delta < crossings[1].delta);
+  CHECK_FALSE(s.stable);
+  CHECK(s.unstable == 1);
+  CHECK(s.unstable == dense_unstable(p, s.delta));
+}
+
+TEST_CASE("a mode that strains no damper stays undamped: its Hopf point is at delta = 0", "[stability][undamped]") {
+  // A symmetric chain of six with one damper in the middle spring: the modes symmetric about
+  // the middle (j = 2, 4 of the free chain) do not twist that spring, so no damping acts on
+  // them, while j = 1, 3, 5 are damped. The search along the phase missed the two undamped
+  // ones (their impedance is 0 there, with no phase to follow), and counted two pairs short.
+  const Params p = uniform(6, {0.0, 0.0, 0.05, 0.0, 0.0});
+  const auto crossings = critical_deltas(p);
+  std::vector<double> at_zero;
+  for (const Crossing& c : crossings)
+    if (c.type == CrossingType::Hopf && c.delta == 0.0) at_zero.push_back(c.frequency);
+  REQUIRE(at_zero.size() == 2);
+  for (int k = 0; k < 2; ++k)
+    CHECK(at_zero[k] == Approx(2.0 * std::sqrt(2.5 / 0.4) * std::sin((2 * k + 2) * kPi / 12.0)).epsilon(1e-12));
+  for (const Crossing& c : crossings)
+    if (c.delta == 0.0) CHECK(c.direction == 1);
+  counts_agree(p, crossings);
+  // Moved to the top spring, the damper strains every mode (x_0 − x_1 = cos(jπ/12) −
+  // cos(3jπ/12) ≠ 0 for j = 1 ... 5): no Hopf point at 0, only the fold.
+  const Params off = uniform(6, {0.05, 0.0, 0.0, 0.0, 0.0});
+  const auto moved = critical_deltas(off);
+  int zeros = 0;
+  for (const Crossing& c : moved) zeros += c.delta == 0.0;
+  CHECK(zeros == 1);
+  counts_agree(off, moved);
+}

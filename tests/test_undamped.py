@@ -1,0 +1,156 @@
+"""Strings with no damping at their ends, or none at all: their crossings sit at δ = 0.
+
+critical_deltas returned none for an undamped string (stability called it stable at every
+slope, while numpy's eigenvalues put all 2 dof - 1 in the right half-plane), and left out the
+fold of a string with c_r = c_b = 0. The references: numpy's dense eigenvalues (LAPACK, no
+code shared with the core), the free uniform chain's modes in closed form, and the limit of a
+vanishing top damping. Then what every command and figure makes of such a string."""
+
+import itertools
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pydrill
+from pydrill import stability as st
+from pydrill.operating import hopf_curve_wu, operating_map
+from pydrill.plot_analysis import hopf_figure
+from pydrill.window import Limits
+
+TALLY = Path(__file__).resolve().parents[1] / "examples" / "tallies" / "5.5in-dp-8in-collars.toml"
+
+#: The fuzzer's reproducer: six equal inertias and springs, no damping anywhere.
+UNDAMPED = pydrill.Params(
+    inertias=[3e-5] * 6,
+    stiffnesses=[7.3e-5] * 5,
+    dampings=[0.0] * 5,
+    top_damping=0.0,
+    bit_damping=0.0,
+    bit_radius=1.0,
+    mu_coulomb=5e-4,
+    mu_static=8e-4,
+    stribeck_decay=9e-4,
+)
+
+
+def dense_unstable(params, delta):
+    return int(np.sum(st.eigenvalues(params, delta).real > 0))
+
+
+def test_an_undamped_string_is_unstable_at_every_slope():
+    crossings = st.critical_deltas(UNDAMPED)
+    assert [c.type for c in crossings] == ["fold"] + ["hopf"] * 5
+    assert all(c.delta == 0.0 and c.direction == 1 for c in crossings)
+    # The free uniform chain: ω_j = 2 √(k/J) sin(jπ / 2n).
+    expected = [2 * math.sqrt(7.3e-5 / 3e-5) * math.sin(j * math.pi / 12) for j in range(1, 6)]
+    assert [c.frequency for c in crossings[1:]] == pytest.approx(expected, rel=1e-12)
+    for delta in (1e-9, 3.16e-4, 1.0, 1e3):  # 3.16e-4: the fuzzer's, which counted 0
+        assert int(st.unstable_count(crossings, delta)) == 11 == dense_unstable(UNDAMPED, delta)
+    assert int(st.unstable_count(crossings, 0.0)) == 0  # on the axis at δ = 0 itself
+    # Flat friction at δ = 0: every Hopf point there is degenerate.
+    assert {c.criticality(UNDAMPED) for c in crossings[1:]} == {"degenerate"}
+
+
+def test_the_undamped_crossings_are_the_limit_of_a_vanishing_top_damping():
+    at_zero = st.critical_deltas(UNDAMPED)
+    back = {}
+    for d in (1e-8, 1e-10):  # damping ratios near 1e-4 and 1e-6: frequencies shift by ζ²
+        damped = st.critical_deltas(UNDAMPED.replace(top_damping=d))
+        first = sorted((c for c in damped if c.direction > 0), key=lambda c: c.frequency or 0)
+        assert len(first) == len(at_zero)
+        assert [c.delta for c in first] == pytest.approx([d] * len(first), rel=1e-3)
+        assert [c.frequency or 0 for c in first] == pytest.approx(
+            [c.frequency or 0 for c in at_zero], rel=1e-6
+        )
+        back[d] = [c.delta for c in damped if c.direction < 0]
+    # What comes back does so at δ ∝ 1/d: beyond any slope, as d → 0.
+    assert len(back[1e-8]) == 5
+    assert back[1e-10] == pytest.approx([100 * x for x in back[1e-8]], rel=1e-6)
+
+
+@pytest.mark.parametrize(
+    "dampings",
+    [[1e-6] * 5, [0.0, 0.0, 1e-6, 0.0, 0.0], [1e-6, 0.0, 0.0, 0.0, 0.0]],
+    ids=["damped elements", "one damper in the middle", "one damper at the top"],
+)
+def test_free_ends_put_the_fold_at_zero_and_every_count_agrees(dampings):
+    """c_r = c_b = 0: the string turns freely as one body, and any δ > 0 sets it accelerating.
+    With one damper in the middle of this symmetric string, the modes symmetric about it do not
+    twist it: their Hopf points stay at δ = 0 (two of them), and were lost too."""
+    p = UNDAMPED.replace(dampings=dampings)
+    crossings = st.critical_deltas(p)
+    assert (crossings[0].type, crossings[0].delta, crossings[0].direction) == ("fold", 0.0, 1)
+    at_zero = [c for c in crossings if c.delta == 0 and c.type == "hopf"]
+    assert len(at_zero) == (2 if dampings[2] and not dampings[0] else 0)
+    deltas = sorted({c.delta for c in crossings})
+    probes = [0.5 * (a + b) for a, b in itertools.pairwise(deltas)] + [2 * deltas[-1]]
+    for delta in probes:
+        assert int(st.unstable_count(crossings, delta)) == dense_unstable(p, delta), delta
+
+
+def test_the_boundary_of_a_crossing_at_zero_is_the_omega_axis():
+    assert np.all(st.boundary_wob(UNDAMPED, 0.0, [0.0, 5.0]) == 0.0)
+    w, u = hopf_curve_wu(UNDAMPED, 0.0, np.linspace(0.0, 5.0, 11))
+    assert w.size == u.size == 0  # no curve in a map of W_ob > 0 (it divided by 0)
+    with pytest.raises(ValueError, match=r"delta = -1 is not allowed: .* >= 0"):
+        st.boundary_wob(UNDAMPED, -1.0, 1.0)
+
+
+def test_no_safe_window_and_no_stable_cell_without_damping():
+    lim = Limits.of(UNDAMPED)
+    assert lim.delta_limit == 0.0
+    assert np.all(lim.wob_max([10.0, 100.0]) == 0.0)
+    # The steady torque c Ω + T_fb(Ω) never reaches T_s with c = 0: no speed frees the bit
+    # (nan before: 0/0 in the closed form).
+    assert np.all(lim.rpm_min_unstuck([1e-3, 1.0]) == np.inf)
+    assert lim.rpm_min_unstuck(0.0) == 0.0
+    omap = operating_map(UNDAMPED, [1e-3, 1e-2], [1e-6, 1e-5, 1e-4])
+    assert set(np.unique(omap.category)) <= {2, 3}  # no stable steady state anywhere
+
+
+def test_the_hopf_figure_says_why_nothing_is_stable():
+    for params, cause in (
+        (UNDAMPED, "at all"),
+        (UNDAMPED.replace(dampings=[1e-6] * 5), "at the top"),
+    ):
+        fig = hopf_figure(params, st.critical_deltas(params))
+        title = fig.axes[0].get_title()
+        assert "steady drilling is unstable at every" in title and cause in title, title
+        assert "eigenvalues cross at $\\delta$ = 0" in title or "eigenvalue crosses" in title
+        fig.canvas.draw()  # renders: no curve on the axis W_ob = 0 of the log scale
+
+
+def write_tally(tmp_path, beta):
+    text = TALLY.read_text()
+    text = text.replace("damping = 500.0", "damping = 0.0").replace(
+        "damping = 40.0", "damping = 0.0"
+    )
+    text = text.replace("beta = 0.2 ", f"beta = {beta} ")
+    path = tmp_path / "tally.toml"
+    path.write_text(text)
+    return path
+
+
+def run(*args):
+    return subprocess.run(
+        [sys.executable, "-m", "pydrill", *map(str, args)], capture_output=True, text=True
+    )
+
+
+def test_the_commands_on_a_string_with_no_damping(tmp_path):
+    tally = write_tally(tmp_path, 0.0)
+    out = run("hopf", "--tally", tally, "--lump", 30, "--json", "--plot", tmp_path / "h.png")
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    crossings = data["crossings"]
+    assert len(crossings) == data["dof"] and all(c["delta"] == 0 for c in crossings)
+    assert (tmp_path / "h.png").stat().st_size > 0
+    out = run("map", "--tally", tally, "--lump", 30, "--plot", tmp_path / "m.png")
+    assert out.returncode == 0, out.stderr
+    out = run("window", tally, "--lump", 30, "--depth", "3000m", "--json")
+    assert out.returncode == 0 and out.stderr == "", out.stderr  # (RuntimeWarnings before)
