@@ -34,7 +34,7 @@ def boundaries(atlas, ax, xname: str, yname: str, held: dict[str, float], index:
 def _analytic(atlas, ax, xname: str, yname: str, held: dict[str, float]) -> list:
     import numpy as np
 
-    from .stability import critical_deltas
+    from .stability import critical_deltas, unstable_count
 
     x, y = atlas.axes[xname], atlas.axes[yname]
     params = atlas.spec.params_at(held)  # the string at the held values (dof, depth, ...)
@@ -45,7 +45,10 @@ def _analytic(atlas, ax, xname: str, yname: str, held: dict[str, float]) -> list
     crossings = critical_deltas(params)
     first = next((c for c in crossings if c.type == "hopf" and c.direction > 0), None)
     curves = [(wob, ts, "black", "-", STUCK_LABEL)]
-    if first is not None and first.delta > 0:  # (at δ = 0 it is the axis W_ob = 0)
+    # A stability boundary only where nothing is unstable before it: a string without damping
+    # at its ends has its fold at δ = 0 (on the axis W_ob = 0), and its steady states are
+    # stable on neither side of its first Hopf curve (the legend would say "stable below").
+    if first is not None and first.delta > 0 and unstable_count(crossings, first.delta) == 0:
         from .operating import hopf_curve_wu
 
         w, u = hopf_curve_wu(params, first.delta, np.linspace(1e-3, 80, 3000))

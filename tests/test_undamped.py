@@ -154,3 +154,33 @@ def test_the_commands_on_a_string_with_no_damping(tmp_path):
     assert out.returncode == 0, out.stderr
     out = run("window", tally, "--lump", 30, "--depth", "3000m", "--json")
     assert out.returncode == 0 and out.stderr == "", out.stderr  # (RuntimeWarnings before)
+
+
+ATLAS_SPEC = """
+[model]
+preset = "reduced-scale"
+dof = 3
+{extra}
+[axes]
+wob = {{ start = 60.0, stop = 160.0, num = 3 }}
+torque = [6.0, 10.0]
+[simulation]
+t_end = 20.0
+initial = ["rest"]
+"""
+
+
+@pytest.mark.parametrize("extra", ["", "top_damping = 0.0\nbit_damping = 0.0"])
+def test_an_atlas_map_draws_the_first_hopf_curve_only_as_a_stability_boundary(tmp_path, extra):
+    """With the fold at δ = 0 nothing is stable on either side of the first Hopf curve: its
+    legend said "steady state stable below" (the side it tried). The same map of the damped
+    string keeps it."""
+    from pydrill.sweep import run_sweep
+
+    run_sweep(pydrill.parse_spec(ATLAS_SPEC.format(extra=extra)), tmp_path / "a.h5", serial=True)
+    with pydrill.Atlas(tmp_path / "a.h5") as atlas:
+        labels = [line.get_label() for line in atlas.plot().axes[0].get_lines()]
+        stable = atlas.safe_region().any()
+    drawn = any("first Hopf curve" in label for label in labels)
+    assert drawn == (extra == "")
+    assert drawn or not stable  # (the free-ends string has no stable cell to bound)
