@@ -225,6 +225,18 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
         )
     if len(crossings) > 40:
         print(f"... {len(crossings) - 40} more (use --json for all)")
+    at_zero = sum(c.multiplicity for c in crossings if c.delta == 0 and c.direction > 0)
+    if at_zero:  # a table of zeros says little by itself
+        where = (
+            "at all"
+            if all(c.delta == 0 for c in crossings)
+            else "at the top or the bit (c_r + c_b = 0)"
+        )
+        print(
+            f"{counted(at_zero, 'eigenvalue')} {'crosses' if at_zero == 1 else 'cross'} at "
+            f"delta = 0: the string has no damping {where}, so steady drilling is unstable at "
+            "every W_ob"
+        )
     if args.plot:
         print(f"figure: {args.plot}")
     return 0

@@ -223,6 +223,16 @@ def _cmd_window(args: argparse.Namespace) -> int:
             raise
         raise for_option(exc, "--depth", "depth") from None
     _window_notes(args, depths, at_rpm, at_wob)
+    if tally.top_damping + tally.bit_damping == 0:  # a table of zeros and infs says no why
+        from .cli_string import _say
+
+        _say(
+            [
+                "the tally has no damping at the top drive or the bit (c_r + c_b = 0): the "
+                "steady torque never exceeds the static friction, so the bit may stay stuck at "
+                "every speed, and no window is safe"
+            ]
+        )
     grid = _grid_windows(tally, depths, args)
     checks = {}
     if args.check:

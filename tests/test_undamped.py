@@ -150,10 +150,24 @@ def test_the_commands_on_a_string_with_no_damping(tmp_path):
     crossings = data["crossings"]
     assert len(crossings) == data["dof"] and all(c["delta"] == 0 for c in crossings)
     assert (tmp_path / "h.png").stat().st_size > 0
+    text = run("hopf", "--tally", tally, "--lump", 30).stdout
+    assert text.splitlines()[-1] == (
+        f"{2 * data['dof'] - 1} eigenvalues cross at delta = 0: the string has no damping at all, "
+        "so steady drilling is unstable at every W_ob"
+    )
+    text = run("hopf", "--tally", write_tally(tmp_path, 0.2), "--lump", 30).stdout
+    assert text.splitlines()[-1].startswith(
+        "1 eigenvalue crosses at delta = 0: the string has no damping at the top or the bit"
+    )
     out = run("map", "--tally", tally, "--lump", 30, "--plot", tmp_path / "m.png")
     assert out.returncode == 0, out.stderr
     out = run("window", tally, "--lump", 30, "--depth", "3000m", "--json")
-    assert out.returncode == 0 and out.stderr == "", out.stderr  # (RuntimeWarnings before)
+    assert out.returncode == 0, out.stderr
+    # Why every weight is 0 and every speed inf; no RuntimeWarning of 0/0 (nan before).
+    assert "no damping at the top drive or the bit (c_r + c_b = 0)" in out.stderr
+    assert "Warning" not in out.stderr, out.stderr
+    data = json.loads(out.stdout)
+    assert data == json.loads(json.dumps(data))  # plain JSON (no nan)
 
 
 ATLAS_SPEC = """
