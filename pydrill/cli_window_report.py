@@ -129,8 +129,11 @@ def checks_note(checks: dict, args) -> str | None:
     parts = []
     for d, every in list(checks.items())[:NOTE_DEPTHS]:
         failed = sum(c[6] is not None for c in every)
-        said = check_agreement(every, args.check_from) or "every check failed"
-        parts.append(f"{d:,.0f} m: {said}" + (f" ({failed} failed)" if 0 < failed else ""))
+        said = check_agreement(every, args.check_from)
+        if not said:  # all failed ("every check failed (4 failed)" said it twice)
+            parts.append(f"{d:,.0f} m: all {failed} checks failed")
+        else:
+            parts.append(f"{d:,.0f} m: {said}" + (f" ({failed} failed)" if 0 < failed else ""))
     if len(checks) > NOTE_DEPTHS:
         parts.append(f"and {len(checks) - NOTE_DEPTHS} more depths (the text output gives each)")
     k = args.check

@@ -253,3 +253,7 @@ def test_the_depth_chart_says_how_each_depths_checks_came_out(tmp_path, capsys, 
     capsys.readouterr()
     plain = _drawn(monkeypatch, WINDOW[:4], tmp_path)
     assert plain._supxlabel is None  # no checks, no note
+    # Every check of a depth failed: said once ("every check failed (4 failed)" said it twice).
+    forced(monkeypatch, {0, 1, 2, 3})
+    note = " ".join(_drawn(monkeypatch, WINDOW, tmp_path)._supxlabel.get_text().split())
+    assert "1,000 m: all 4 checks failed;" in note and "(4 failed)" not in note
