@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as hst
 
 import pydrill
 from pydrill import stability as st
@@ -198,3 +200,45 @@ def test_an_atlas_map_draws_the_first_hopf_curve_only_as_a_stability_boundary(tm
     drawn = any("first Hopf curve" in label for label in labels)
     assert drawn == (extra == "")
     assert drawn or not stable  # (the free-ends string has no stable cell to bound)
+
+
+@hst.composite
+def strings(draw):
+    """A short string with each damping present or missing (half the time symmetric, where a
+    damper in the middle leaves modes undamped): a sample of where crossings sit at δ = 0."""
+    n = draw(hst.integers(2, 7))
+    decade = hst.floats(-0.5, 0.5)
+    inertias = [10 ** draw(decade) for _ in range(n)]
+    stiffnesses = [10 ** draw(decade) for _ in range(n - 1)]
+    damper = hst.one_of(hst.just(0.0), hst.floats(1e-3, 1e-1))
+    dampings = [draw(damper) for _ in range(n - 1)]
+    if draw(hst.booleans()):
+        inertias = [(a + b) / 2 for a, b in zip(inertias, inertias[::-1], strict=True)]
+        stiffnesses = [(a + b) / 2 for a, b in zip(stiffnesses, stiffnesses[::-1], strict=True)]
+        dampings = [(a + b) / 2 for a, b in zip(dampings, dampings[::-1], strict=True)]
+    return UNDAMPED.replace(
+        inertias=inertias,
+        stiffnesses=stiffnesses,
+        dampings=dampings,
+        top_damping=draw(damper),
+        bit_damping=draw(damper),
+    )
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(params=strings())
+def test_the_crossings_count_what_the_dense_eigenvalues_say_with_damping_missing(params):
+    """Between and beyond the crossings, unstable_count equals the eigenvalues numpy puts in
+    the right half-plane, wherever they are far enough from the axis to tell."""
+    crossings = st.critical_deltas(params)
+    assert [c.type for c in crossings].count("fold") == 1
+    deltas = sorted({c.delta for c in crossings})
+    probes = [0.5 * (a + b) for a, b in itertools.pairwise(deltas)]
+    probes += [2 * deltas[-1] if deltas[-1] > 0 else 1.0, 1e-3 * deltas[0] if deltas[0] else 1e-6]
+    for delta in probes:
+        if any(abs(delta - c.delta) <= 1e-6 * delta for c in crossings):
+            continue
+        ev = st.eigenvalues(params, delta)
+        if np.min(np.abs(ev.real)) <= 1e-9 * np.max(np.abs(ev)):
+            continue  # too near the axis for a dense solver to say which side
+        assert int(st.unstable_count(crossings, delta)) == int(np.sum(ev.real > 0)), delta
