@@ -155,3 +155,22 @@ TEST_CASE("a mode that strains no damper stays undamped: its Hopf point is at de
   CHECK(zeros == 1);
   counts_agree(off, moved);
 }
+
+TEST_CASE("a top held nearly still by its damping keeps the Hopf points of the held string", "[stability]") {
+  // Found by comparing with the dense eigenvalues on random strings: c_r = 320 N·m·s/rad on
+  // inertias of 0.098 kg·m² (2000 times the top's critical damping) moves the zeros of Im Z_b
+  // to those of the string held at the top, and two of them, at 2.88 and 2.93 rad/s, fell in
+  // one interval of the frequency grid seeded with the free top's modes: a Hopf point and its
+  // return were lost, and the count was 6 where the eigenvalues say 8.
+  Params p = uniform(5, {3.2781211513934589e-4, 3.2781211513934589e-4, 3.2781211513934589e-4, 3.7855152492586302e-6});
+  p.inertias.assign(5, 0.098343634541803754);
+  p.stiffnesses.assign(4, 0.23930284405172247);
+  p.top_damping = 320.09029380700611;
+  p.bit_damping = 1e-14;
+  const auto crossings = critical_deltas(p);
+  int hopf = 0;
+  for (const Crossing& c : crossings) hopf += c.type == CrossingType::Hopf;
+  CHECK(hopf == 7);  // four destabilising, three back
+  CHECK(unstable_count(crossings, 0.032781211513934587) == 8);
+  counts_agree(p, crossings);
+}
