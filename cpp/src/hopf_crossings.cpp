@@ -207,10 +207,8 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
   // δ = 0: the string turns freely as one body, and any slope δ > 0 sets it accelerating (the
   // fold was left out then, and the count at δ > 0 was one short).
   const double fold = p.top_damping + p.bit_damping;
-  {
-    const double dz = std::real(impedance_slope(p, complex(0.0)));
-    out.push_back({CrossingType::Fold, fold, 0.0, dz > 0 ? 1 : -1, 1});
-  }
+  const double dz = std::real(impedance_slope(p, complex(0.0)));
+  out.push_back({CrossingType::Fold, fold, 0.0, dz > 0 ? 1 : -1, 1});
   const std::vector<Crossing> at_zero = hopf_at_zero(p, poll);
   out.insert(out.end(), at_zero.begin(), at_zero.end());
   const bool undamped = std::all_of(p.dampings.begin(), p.dampings.end(), [](double c) { return c == 0.0; }) &&
@@ -258,13 +256,14 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
   }
   // Seed the resonances and anti-resonances of the undamped chain, and the
   // midpoints between them, so that clustered modes get their own intervals.
-  std::vector<double> seeds = undamped_frequencies(p, true, poll);
-  for (const auto& [bit_clamped, top_clamped] : {std::pair{false, false}, {false, true}, {true, true}}) {
-    // (Held at the top too: a string of 0.1 kg·m² inertias with c_r = 320 N·m·s/rad lost two
-    // Hopf points at 2.88 and 2.93 rad/s, two zeros of Im Z_b inside one interval.)
-    // Only where c_r exceeds the top's own critical damping √(k_0 J_0): there it holds the top
-    // nearly still; elsewhere these seeds cost a longer grid (1.6 times the time at 3000 pipes).
-    if (top_clamped && !(p.top_damping > std::sqrt(p.stiffnesses[0] * p.inertias[0]))) continue;
+  // Held at the top too where c_r exceeds the top's own critical damping √(k_0 J_0), which
+  // holds it nearly still (a string of 0.1 kg·m² inertias with c_r = 320 N·m·s/rad lost two Hopf
+  // points at 2.88 and 2.93 rad/s, two zeros of Im Z_b inside one interval); not elsewhere,
+  // where these seeds only lengthen the grid (1.6 times the time at 3000 pipes).
+  const bool held = p.top_damping > std::sqrt(p.stiffnesses[0] * p.inertias[0]);
+  std::vector<double> seeds;
+  for (const auto& [bit_clamped, top_clamped] : {std::pair{true, false}, {false, false}, {false, true}, {true, true}}) {
+    if (top_clamped && !held) continue;
     const std::vector<double> more = undamped_frequencies(p, bit_clamped, poll, top_clamped);
     seeds.insert(seeds.end(), more.begin(), more.end());
   }
@@ -312,8 +311,8 @@ std::vector<Crossing> critical_deltas(const Params& p, const std::function<bool(
       // ... and Re Z_b, the crossing's δ, is the same across that bracket: where a resonance is
       // narrower than an ulp of ω (a top inertia of 1e40 and more), Re Z_b jumps tenfold from one
       // double to the next, and such a "crossing" had a δ and a direction of rounding alone.
-      // (And Im Z_b is below Re Z_b even so, the phase within 45°: at a pole of Im Z_b, where it changes sign
-      // through infinity, it is not.)
+      // (And Im Z_b is below Re Z_b even so, the phase within 45°: at a pole of Im Z_b, where
+      // it changes sign through infinity, it is not.)
       const double re = std::real(z);
       return std::fabs(std::imag(z)) <= re && (std::imag(zb) < 0) != (std::imag(za) < 0) &&
              std::fabs(std::real(zb) - re) <= 1e-6 * re &&
