@@ -28,6 +28,7 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
     from matplotlib.patches import Patch
 
     from .operating import CATEGORIES, hopf_curve_wu
+    from .stability import unstable_count
 
     # Stable but the bit can stay stuck: the safe green, paler and hatched grey (both may
     # happen). It was light blue, the colour the atlas maps give "no steady state".
@@ -73,6 +74,10 @@ def operating_figure(params, omap, crossings, checks=None) -> Figure:
     )
     omega = np.linspace(1e-3, 60.0, 2000)
     first = next((c for c in crossings if c.direction > 0 and c.type == "hopf"), None)
+    if first is not None and unstable_count(crossings, first.delta) > 0:
+        # Something is unstable before it (the fold at δ = 0 of a string without damping at
+        # its ends): a crossing, but no boundary of stable drilling; as atlas plot draws it.
+        first = None
     for c in crossings:
         if c.delta == 0:  # on the axis W_ob = 0: no curve in the map (its colours say it)
             continue

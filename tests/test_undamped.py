@@ -115,6 +115,23 @@ def test_no_safe_window_and_no_stable_cell_without_damping():
     assert set(np.unique(omap.category)) <= {2, 3}  # no stable steady state anywhere
 
 
+def test_the_operating_map_draws_no_first_hopf_curve_where_nothing_is_stable():
+    """A free-ends string's first Hopf crossing is no boundary of stable drilling: the map drew
+    it as "first Hopf curve" over cells stable on neither side. The damped string keeps it."""
+    from pydrill.plot_map import operating_figure
+
+    for params, drawn in (
+        (UNDAMPED.replace(dampings=[1e-6] * 5), False),
+        (pydrill.preset("reduced-scale", dof=4), True),
+    ):
+        crossings = st.critical_deltas(params)
+        wob = np.linspace(1e-3, 3e-3, 5) if not drawn else np.linspace(20.0, 200.0, 10)
+        torque = np.linspace(1e-7, 3e-6, 5) if not drawn else np.linspace(1.0, 16.0, 10)
+        fig = operating_figure(params, operating_map(params, wob, torque, crossings), crossings)
+        labels = [line.get_label() for line in fig.axes[0].get_lines()]
+        assert ("first Hopf curve" in labels) == drawn, labels
+
+
 def test_the_hopf_figure_says_why_nothing_is_stable():
     for params, cause in (
         (UNDAMPED, "at all"),
