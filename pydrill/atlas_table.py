@@ -90,10 +90,23 @@ class AtlasTable:
             n += len(part)
         return n
 
-    def _apply_block(self, part: list[dict[str, Any]], flat: dict[str, np.ndarray]) -> None:
-        """``_apply`` of each record of ``part``, field by field; a record's absent values
-        are stored as their fill, as ``put`` stores a block's."""
-        idx = np.array([rec["i"] for rec in part], dtype=np.int64)
+    def fill(self, records: list[dict[str, Any]]) -> None:
+        """Store ``records`` in rows 0, 1, ... of a block (``points=len(records)``), field by
+        field as ``apply_all`` does: a worker encodes its batch so (record by record, the
+        encoding cost a tenth of what computing the points did)."""
+        self._apply_block(records, self._flat(), np.arange(len(records)))
+
+    def _apply_block(
+        self,
+        part: list[dict[str, Any]],
+        flat: dict[str, np.ndarray],
+        idx: np.ndarray | None = None,
+    ) -> None:
+        """``_apply`` of each record of ``part``, field by field, at the flat indices ``idx``
+        (their own, ``rec["i"]``, by default); a record's absent values are stored as their
+        fill, as ``put`` stores a block's."""
+        if idx is None:
+            idx = np.array([rec["i"] for rec in part], dtype=np.int64)
         flat["status"][idx] = [STATUS[rec["status"]] for rec in part]
         messages = np.empty(len(part), dtype=object)
         messages[:] = [rec.get("message", "") for rec in part]

@@ -127,8 +127,7 @@ def encode_batch(
     """Finished records as the client absorbs them: their flat indices, their rows as a block
     of columns (``AtlasTable.columns``) and their journal lines."""
     block = fmt.AtlasTable(spec, points=len(records))
-    for row, rec in enumerate(records):
-        block.apply(rec, row=row)
+    block.fill(records)
     lines = "".join(json.dumps(rec, allow_nan=False) + "\n" for rec in records)
     return np.array([rec["i"] for rec in records], dtype=np.int64), block.columns(), lines
 

@@ -118,7 +118,7 @@ def test_a_resumed_sweeps_log_progress_counts_its_rate_from_the_first_batch(monk
     assert said == "sweep: 3100/10000 points (31 %), 97 points/s, about 1 min 11 s left\n"
 
 
-def test_a_journal_replayed_in_blocks_equals_its_records_applied_one_by_one():
+def test_a_journal_replayed_in_blocks_or_a_workers_block_equals_records_applied_one_by_one():
     # The replay stores a few thousand records a field at a time (a million-point journal
     # took over a minute record by record); every kind of record must land as it did.
     # stick-slip needs more steps than this: those points fail
@@ -134,12 +134,18 @@ def test_a_journal_replayed_in_blocks_equals_its_records_applied_one_by_one():
     assert by_block.apply_all(iter(records), chunk=4) == spec.size
     for rec in records:
         by_record.apply(rec)
+    # and as a worker encodes its batch: rows 0, 1, ... of a block, put at the points' indices
+    order = [3, 0, 5, 1, 4, 2, *range(6, spec.size)]
+    worker = fmt.AtlasTable(spec, points=spec.size)
+    worker.fill([records[i] for i in order])
+    by_worker = fmt.AtlasTable(spec)
+    by_worker.put(np.array(order), worker.columns())
     for name, a in by_block.columns().items():
-        b = by_record.columns()[name]
-        if a.dtype.kind in "fc":
-            np.testing.assert_array_equal(a, b, err_msg=name)  # NaN where NaN
-        else:
-            assert a.tolist() == b.tolist(), name
+        for b in (by_record.columns()[name], by_worker.columns()[name]):
+            if a.dtype.kind in "fc":
+                np.testing.assert_array_equal(a, b, err_msg=name)  # NaN where NaN
+            else:
+                assert a.tolist() == b.tolist(), name
 
 
 def _chunk_layouts(path):
