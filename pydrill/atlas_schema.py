@@ -33,7 +33,10 @@ CAVEAT_TEXT = {
     "short-window": "the judged window is shorter than the slowest period; simulate longer",
     # (new kinds go last: an atlas stores the codes)
     "late-stick": "the bit slipped, then stuck to the window's end (u <= T_s); simulate longer",
+    "run-away": "no steady state holds the bit (c_r + c_b = 0, |u| > T_c): it speeds up for ever",
 }
+#: caveats a longer run would not lift: the judgement is final, its note says why
+FINAL_CAVEATS = ("run-away",)
 CAVEATS = {"": 0, **{name: code for code, name in enumerate(CAVEAT_TEXT, start=1)}}
 CAVEAT_NAMES = {v: k for k, v in CAVEATS.items()}
 STATUS = {"missing": 0, "done": 1, "failed": 2}

@@ -66,7 +66,8 @@ def summary(atlas: Atlas) -> dict[str, Any]:
             int(np.sum(atlas.safe_region())) if atlas.spec.record["stability"] else None
         ),
         "coexistence_points": int(np.sum(f["coexistence"][...] == 1)),
-        # Judgements that carry a note, by start and kind (runs to simulate longer)
+        # Judgements that carry a note, by start and kind (runs to simulate longer; a
+        # run-away, fmt.FINAL_CAVEATS, is final)
         "caveats": caveats,
         # A journal beside the atlas: a sweep is running, or was stopped; what it holds
         # but the atlas does not yet is completed by --resume.

@@ -286,8 +286,18 @@ def _cmd_info(args: argparse.Namespace) -> int:
     safe = "unknown (stability not recorded)" if safe is None else safe
     print(f"  safe points {safe}{disagree}")
     for init, counts in s["caveats"].items():
-        notes = ", ".join(f"{k} {v}" for k, v in counts.items())
-        print(f"  caveats from {init}: {notes} (points to simulate longer; query shows which)")
+        from . import atlas_format as fmt
+
+        longer = {k: v for k, v in counts.items() if k not in fmt.FINAL_CAVEATS}
+        if longer:
+            notes = ", ".join(f"{k} {v}" for k, v in longer.items())
+            print(f"  caveats from {init}: {notes} (points to simulate longer; query shows which)")
+        if n := counts.get("run-away"):
+            note = (
+                f"run-away from {init}: {n} point{'s' * (n > 1)} (c_r + c_b = 0 and |u| > T_c: "
+                "no steady state holds the bit, which speeds up without bound)"
+            )
+            print(textwrap.fill(note, 79, initial_indent="  ", subsequent_indent="        "))
     if s["journal"]:
         from pathlib import Path
 

@@ -169,9 +169,14 @@ def atlas_figure(
         if "caveat" in atlas._f:  # runs whose judgement carries a note: simulate them longer
             caveat = atlas._f["caveat"][..., j][tuple(index)]
             caveat = caveat.T if order.index(xname) > order.index(yname) else caveat
-            if np.any(caveat):
+            away = np.isin(caveat, [fmt.CAVEATS[c] for c in fmt.FINAL_CAVEATS])
+            longer = (caveat != 0) & ~away
+            if np.any(longer):
                 label = "judged with a caveat: simulate longer"
-                handles.append(_hatch_cells(ax, mesh, caveat != 0, "..", label))
+                handles.append(_hatch_cells(ax, mesh, longer, "..", label))
+            if np.any(away):  # c_r + c_b = 0: no longer run settles these
+                label = "run-away: no steady state holds the bit"
+                handles.append(_hatch_cells(ax, mesh, away, "xx", label))
         from .plot_atlas_bounds import safe_outline
 
         swap = order.index(xname) > order.index(yname)

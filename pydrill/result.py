@@ -88,7 +88,9 @@ class Summary:
     omega_equilibrium: tuple[float, ...]
     note: str = ""  #: caveat about the judgement (e.g. the run was too short)
     #: the note's kind, for tables (an atlas keeps this): "first-wind-up", "one-stick-phase",
-    #: "one-break-away", "late-stick", "growing", "short-window"; "" without a note
+    #: "one-break-away", "late-stick", "growing", "short-window", "run-away" (no damping at
+    #: the ends, c_r + c_b = 0, and |u| > T_c: the bit speeds up without bound); "" without
+    #: a note
     caveat: str = ""
 
 

@@ -259,3 +259,60 @@ def test_the_crossings_count_what_the_dense_eigenvalues_say_with_damping_missing
         if np.min(np.abs(ev.real)) <= 1e-9 * np.max(np.abs(ev)):
             continue  # too near the axis for a dense solver to say which side
         assert int(st.unstable_count(crossings, delta)) == int(np.sum(ev.real > 0)), delta
+
+
+RUNAWAY_SPEC = """
+[model]
+preset = "reduced-scale"
+dof = 4
+top_damping = 0.0
+bit_damping = 0.0
+[axes]
+wob = [50.0, 60.0]
+torque = [2.4, 3.25, 4.4, 10.0]
+[simulation]
+t_end = 300.0
+initial = ["rest"]
+"""
+
+
+def test_a_bit_nothing_holds_runs_away_and_the_atlas_says_so(tmp_path):
+    """With c_r + c_b = 0 the net torque on the turning string is u - T_fb(omega_b), and the
+    slip friction falls to T_c = mu_cb R_b W_ob: above it the bit speeds up without bound, the
+    string gaining speed at (u - T_c) / sum(J) once fast (the reference: that rigid-body
+    balance, between runs of 200 s and 300 s, whose windows' centres are 75 s apart). It was
+    judged "steady" at u = 3.25 N m (mean 287 rad/s, beside a steady state at 0.77)."""
+    from pydrill.sweep import run_sweep
+
+    spec = pydrill.parse_spec(RUNAWAY_SPEC)
+    params = spec.params_at(spec.coords(0))
+    total = sum(params.inertias)
+    for u in (3.25, 4.4, 10.0):
+        early, late = (
+            pydrill.simulate(params, wob=50.0, torque=u, t_end=t).summary for t in (200.0, 300.0)
+        )
+        assert (late.regime, late.caveat) == ("oscillation", "run-away")
+        assert "speeds up without bound" in late.note and late.period is None
+        gain = (late.bit_mean - early.bit_mean) / 75.0
+        assert gain == pytest.approx((u - 2.5) / total, rel=0.03)
+    run_sweep(spec, tmp_path / "a.h5", serial=True)
+    with pydrill.Atlas(tmp_path / "a.h5") as atlas:
+        for w, u in itertools.product((50.0, 60.0), (2.4, 3.25, 4.4, 10.0)):
+            v = atlas.value(wob=w, torque=u)
+            coulomb = params.mu_coulomb * params.bit_radius * w
+            # below T_c it sticks; at 60 N, T_c = 3 N m and u = 3.25 slips on into stick-slip
+            away = u > coulomb and not (w == 60.0 and u == 3.25)
+            regime, caveat = v["regime"]["rest"], v["caveat"]["rest"]
+            assert (caveat == "run-away") == away, (w, u, regime, caveat)
+            assert regime == "oscillation" if away else regime in ("stuck", "stick-slip")
+        labels = [h.get_label() for h in atlas.plot().axes[0].get_legend().legend_handles]
+    assert "run-away: no steady state holds the bit" in labels
+    assert not any("simulate longer" in label for label in labels)
+    out = subprocess.run(
+        [sys.executable, "-m", "pydrill", "atlas", "info", str(tmp_path / "a.h5")],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert "run-away from rest: 5 points (c_r + c_b = 0 and |u| > T_c" in out
+    assert "simulate longer" not in out

@@ -104,6 +104,47 @@ bool circles_unstable_state(const Chain& chain, const std::vector<double>& omega
   return unstable_count(critical_deltas(p, interrupt), delta) > 0;
 }
 
+// The bit's mean velocity over [a, b], from the samples (trapezoids).
+double sampled_mean(const Trace& tr, double a, double b) {
+  double area = 0.0, length = 0.0;
+  for (std::size_t i = 1; i < tr.t.size(); ++i) {
+    const double t0 = std::max(tr.t[i - 1], a), t1 = std::min(tr.t[i], b);
+    if (!(t1 > t0)) continue;
+    const double h = tr.t[i] - tr.t[i - 1];
+    const auto at = [&](double t) { return tr.bit[i - 1] + (tr.bit[i] - tr.bit[i - 1]) * (t - tr.t[i - 1]) / h; };
+    area += 0.5 * (at(t0) + at(t1)) * (t1 - t0);
+    length += t1 - t0;
+  }
+  return length > 0.0 ? area / length : 0.0;
+}
+
+// The Coulomb torque T_c = μ_cb R_b W_ob: the slip friction's limit as the bit speeds up.
+double coulomb_torque(const Chain& chain) {
+  const auto& p = chain.params();
+  return p.mu_coulomb * p.bit_radius * std::fabs(chain.wob());
+}
+
+// Whether a bit that slipped through the whole window is running away: nothing at the top or
+// the bit damps the string's rotation (c_r + c_b = 0), so the net torque on it as a whole is
+// |u| − f_b(|ω_b|), and the slip friction f_b falls towards the Coulomb torque T_c as the bit
+// speeds up. With |u| > T_c, a bit turning faster than its one steady state (there is none
+// when |u| >= T_s, and it is unstable: every eigenvalue crosses at δ = 0) meets less
+// friction the faster it turns, and speeds up without bound. Judged "steady" it once was,
+// from a mean of 287 rad/s and a swing shrinking against it, beside a steady state at 0.77.
+// `rise`: how much the mean bit velocity grew from the window's first half to its second.
+bool runs_away(const Chain& chain, const Summary& s, double rise) {
+  const auto& p = chain.params();
+  if (p.top_damping + p.bit_damping != 0.0) return false;
+  const double u = chain.torque(), dir = u < 0 ? -1.0 : 1.0;
+  if (!(std::fabs(u) > coulomb_torque(chain))) return false;
+  for (double o : s.omega_equilibrium) {
+    if (!(dir * s.bit_mean > dir * o)) return false;
+  }
+  // The mean rises: by more than 1 % of itself across the window, which no bounded motion
+  // about a steady state does once its swing has settled (and none exists above this one).
+  return dir * rise > 0.01 * std::fabs(s.bit_mean);
+}
+
 }  // namespace
 
 Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeChange>& modes,
@@ -235,7 +276,25 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
         s.note = o.str();
       }
     }
-    if (steady) {
+    const double middle = 0.5 * (w.t0 + w.t1);
+    if (runs_away(chain, s, sampled_mean(tr, middle, w.t1) - sampled_mean(tr, w.t0, middle))) {
+      // Neither steady (it never settles) nor stick-slip: judged an oscillation, the one
+      // label of a motion that never sticks and never settles, with the reason beside it.
+      s.regime = Regime::Oscillation;
+      s.period = -1.0;  // no cycle: the string swings about a mean that keeps rising
+      s.caveat = "run-away";
+      std::ostringstream o;
+      o.precision(3);
+      o << "no steady state holds the bit: nothing damps the string's rotation at the top or "
+        << "the bit (c_r + c_b = 0) and |u| = " << std::fabs(chain.torque())
+        << " N m exceeds the Coulomb torque T_c = "
+        << coulomb_torque(chain) << " N m, so the bit speeds up without bound (mean "
+        << std::fabs(sampled_mean(tr, w.t0, middle)) << " rad/s in the window's first half, "
+        << std::fabs(sampled_mean(tr, middle, w.t1)) << " in its second): judged an oscillation "
+        << "that never settles; give the top drive or the bit a damping (c_r, c_b)";
+      s.note = o.str();
+      unresolved = false;
+    } else if (steady) {
       s.regime = Regime::Steady;
     } else {
       s.regime = Regime::Oscillation;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "pydrill/simulator.hpp"
 #include "pydrill/stability.hpp"
 
 using namespace pydrill;
@@ -173,4 +174,56 @@ TEST_CASE("a top held nearly still by its damping keeps the Hopf points of the h
   CHECK(hopf == 7);  // four destabilising, three back
   CHECK(unstable_count(crossings, 0.032781211513934587) == 8);
   counts_agree(p, crossings);
+}
+
+namespace {
+
+// The string's angular momentum L = Σ J_i ω_i at each output time (twist coordinates: the
+// velocities sit at the even places of a state).
+std::vector<double> angular_momentum(const Params& p, const Result& r) {
+  const std::size_t width = 2 * p.inertias.size() - 1;
+  std::vector<double> L;
+  for (std::size_t k = 0; k < r.t.size(); ++k) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < p.inertias.size(); ++i) sum += p.inertias[i] * r.states[k * width + 2 * i];
+    L.push_back(sum);
+  }
+  return L;
+}
+
+}  // namespace
+
+TEST_CASE("no damping at the ends and |u| above the Coulomb torque: the bit runs away",
+          "[summary][undamped]") {
+  // With c_r = c_b = 0 nothing grows with speed to balance u: dL/dt = u − T_fb(ω_b), and the
+  // slip friction falls to T_c = μ_cb R_b W_ob = 2.5 N m at W_ob = 50 N (T_s = 4). Once fast,
+  // the string gains momentum at the rate u − T_c: a rigid-body balance the summary does not
+  // use, against which its "run-away" is checked. It once called u = 3.25 "steady".
+  Params p = preset("reduced-scale", 4);
+  p.top_damping = p.bit_damping = 0.0;
+  SimulationOptions o;
+  o.t_end = 300.0;
+  o.n_out = 301;
+  for (double u : {3.25, 4.4, -4.4}) {
+    INFO("u " << u);
+    const Result r = simulate(p, 50.0, u, o);
+    const auto L = angular_momentum(p, r);
+    const double rate = (L.back() - L[150]) / (r.t.back() - r.t[150]);
+    const double expected = u - std::copysign(2.5, u);
+    CHECK(std::fabs(rate - expected) < 0.01 * std::fabs(expected));
+    CHECK(r.summary.regime == Regime::Oscillation);
+    CHECK(r.summary.caveat == "run-away");
+    CHECK_THAT(r.summary.note, Catch::Contains("speeds up without bound"));
+    CHECK(std::fabs(r.summary.bit_mean) > 200.0);
+  }
+  // Below T_c the friction wins: the bit sticks for good, no run-away.
+  const Result slow = simulate(p, 50.0, 2.4, o);
+  CHECK(slow.summary.regime == Regime::Stuck);
+  CHECK(slow.summary.caveat.empty());
+  // A damping at the bit bounds the speed (steady at (u − T_c)/c_b = 15 rad/s).
+  p.bit_damping = 0.05;
+  const Result held = simulate(p, 50.0, 3.25, o);
+  CHECK(held.summary.regime == Regime::Steady);
+  CHECK(held.summary.caveat.empty());
+  CHECK(std::fabs(held.summary.bit_mean - 15.0) < 1e-3);
 }
