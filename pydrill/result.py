@@ -89,7 +89,8 @@ class Summary:
     note: str = ""  #: caveat about the judgement (e.g. the run was too short)
     #: the note's kind, for tables (an atlas keeps this): "first-wind-up", "one-stick-phase",
     #: "one-break-away", "late-stick", "growing", "short-window", "run-away" (no damping at
-    #: the ends, c_r + c_b = 0, and |u| > T_c: the bit speeds up without bound); "" without
+    #: the ends, c_r + c_b = 0, and |u| > T_c: the bit speeds up without bound),
+    #: "approaching" (steady, its mean still moving by over 1 % across the window); "" without
     #: a note
     caveat: str = ""
 

@@ -316,3 +316,32 @@ def test_a_bit_nothing_holds_runs_away_and_the_atlas_says_so(tmp_path):
     ).stdout
     assert "run-away from rest: 5 points (c_r + c_b = 0 and |u| > T_c" in out
     assert "simulate longer" not in out
+
+
+def test_a_steady_judgement_still_on_its_way_says_so_and_the_atlas_keeps_it(tmp_path):
+    """c_b = 1e-3 alone holds the bit at (u - T_c)/c_b = 750 rad/s, reached at the rate
+    c_b / sum(J) (600 s): after 300 s the bit is at 238 rad/s and rising, judged steady by where
+    it goes, with a caveat (none once settled)."""
+    from pydrill.sweep import run_sweep
+
+    spec = pydrill.parse_spec(
+        RUNAWAY_SPEC.replace("bit_damping = 0.0", "bit_damping = 1e-3")
+        .replace("wob = [50.0, 60.0]", "wob = [50.0]")
+        .replace("torque = [2.4, 3.25, 4.4, 10.0]", "torque = [3.25]")
+    )
+    params = spec.params_at(spec.coords(0))
+    s = pydrill.simulate(params, wob=50.0, torque=3.25, t_end=300.0).summary
+    assert (s.regime, s.caveat) == ("steady", "approaching")
+    assert "on its way to the steady state at 750 rad/s" in s.note
+    assert pydrill.simulate(params, wob=50.0, torque=3.25, t_end=3e4).summary.caveat == ""
+    run_sweep(spec, tmp_path / "a.h5", serial=True)
+    with pydrill.Atlas(tmp_path / "a.h5") as atlas:
+        v = atlas.value(wob=50.0, torque=3.25)
+    assert (v["regime"]["rest"], v["caveat"]["rest"]) == ("steady", "approaching")
+    out = subprocess.run(
+        [sys.executable, "-m", "pydrill", "atlas", "info", str(tmp_path / "a.h5")],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert "caveats from rest: approaching 1 (points to simulate longer" in out

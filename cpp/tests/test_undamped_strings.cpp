@@ -227,3 +227,39 @@ TEST_CASE("no damping at the ends and |u| above the Coulomb torque: the bit runs
   CHECK(held.summary.caveat.empty());
   CHECK(std::fabs(held.summary.bit_mean - 15.0) < 1e-3);
 }
+
+TEST_CASE("a bit damped only by a trace of c_b is steady on its way: caveat approaching",
+          "[summary][undamped]") {
+  // c_b = 1e-3 alone holds the bit at Ω = (u − T_c)/c_b = 750 rad/s (the friction's excess over
+  // T_c is e^-750 there), a stable steady state reached at the rate c_b/ΣJ: the mean closes its
+  // distance to 750 by the factor e^(−c_b·75 s/ΣJ) between the window's half-centres, 75 s
+  // apart. Judged steady without a word at 238 rad/s once.
+  Params p = preset("reduced-scale", 4);
+  p.top_damping = 0.0;
+  p.bit_damping = 1e-3;
+  double total = 0.0;
+  for (double J : p.inertias) total += J;
+  SimulationOptions o;
+  o.t_end = 300.0;
+  const Result r = simulate(p, 50.0, 3.25, o);
+  CHECK(r.summary.regime == Regime::Steady);
+  CHECK(r.summary.caveat == "approaching");
+  CHECK_THAT(r.summary.note, Catch::Contains("on its way to the steady state at 750 rad/s"));
+  // The half-window means the note gives, against the exponential approach.
+  const Result first = [&] {
+    SimulationOptions half = o;
+    half.t_end = 225.0;
+    half.window_fraction = 75.0 / 225.0;
+    return simulate(p, 50.0, 3.25, half);
+  }();
+  const double before = first.summary.bit_mean;  // the mean over [150, 225]
+  const double after = 2.0 * r.summary.bit_mean - before;  // over [225, 300]
+  CHECK((750.0 - after) / (750.0 - before) ==
+        Approx(std::exp(-p.bit_damping * 75.0 / total)).epsilon(0.01));
+  // Settled: no caveat.
+  o.t_end = 30000.0;
+  const Result settled = simulate(p, 50.0, 3.25, o);
+  CHECK(settled.summary.regime == Regime::Steady);
+  CHECK(settled.summary.caveat.empty());
+  CHECK(settled.summary.bit_mean == Approx(750.0).epsilon(1e-6));
+}

@@ -151,7 +151,8 @@ struct Summary {
   // The note's kind, for tables (a sweep's atlas keeps this, not the text): "first-wind-up",
   // "one-stick-phase", "one-break-away", "late-stick", "growing", "short-window", "run-away"
   // (c_r + c_b = 0 and |u| > T_c: no steady state holds the bit, which speeds up without
-  // bound; judged an oscillation); empty without a note.
+  // bound; judged an oscillation), "approaching" (judged steady, its mean bit velocity still
+  // moving by over 1 % across the window); empty without a note.
   std::string caveat;
 };
 
