@@ -16,6 +16,8 @@
 namespace pydrill::detail {
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 bool is_held(Mode m) { return m == Mode::Stick || m == Mode::Band; }
 
 // Mean spacing of upward crossings of `level` (linear interpolation between
@@ -301,7 +303,15 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       // Settling, but not there yet: the mean itself still moves by more than 1 % across the
       // window (a converged run's moves by 1e-4 or less; a bit damped by c_b = 1e-3 alone
       // was judged steady at 238 rad/s on its way to 750). Steady is where it is going.
-      if (std::fabs(after - before) > 0.01 * std::fabs(s.bit_mean)) {
+      // A swing that does not span whole periods moves a half-window's mean too, by at most
+      // its amplitude (last / 2) times period / (π · T / 2), the period at most the string's
+      // slowest: the drift must exceed that as well.
+      const double drift = std::fabs(after - before);
+      const auto faked = [&] {
+        const double slowest = 2.0 * kPi / estimate_stiffness(chain.params()).fundamental;
+        return 2.0 * last * slowest / (kPi * T);
+      };
+      if (drift > 0.01 * std::fabs(s.bit_mean) && drift > faked()) {
         approaching = true;
         // The steady state ahead of it: the nearest in the direction its mean moves.
         const double way = after > before ? 1.0 : -1.0;
@@ -338,7 +348,7 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   // as steady (a 3 s window of a 17.5 s cycle did both). Not for a bit held for good.
   // Over a window that short a swing's trend says nothing either: this note replaces it.
   const bool settled_stuck = s.regime == Regime::Stuck && s.note.empty();
-  const double slowest = 2.0 * 3.14159265358979323846 / estimate_stiffness(chain.params()).fundamental;
+  const double slowest = 2.0 * kPi / estimate_stiffness(chain.params()).fundamental;
   if (!settled_stuck && T < slowest && (s.note.empty() || growing || unresolved || approaching)) {
     std::ostringstream o;
     o.precision(3);
