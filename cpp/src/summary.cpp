@@ -300,18 +300,22 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       unresolved = false;
     } else if (steady) {
       s.regime = Regime::Steady;
-      // Settling, but not there yet: the mean itself still moves by more than 1 % across the
-      // window (a converged run's moves by 1e-4 or less; a bit damped by c_b = 1e-3 alone
-      // was judged steady at 238 rad/s on its way to 750). Steady is where it is going.
+      // Settling, but not there yet: the mean itself still moves across the window, by more
+      // than 1 %, or towards a steady state more than 1 % away (a converged run's moves by
+      // 1e-4 or less; a bit damped by c_b = 1e-3 alone was judged steady at 238 rad/s on
+      // its way to 750, another at 478 on its way to 500). Steady is where it is going.
       // A swing that does not span whole periods moves a half-window's mean too, by at most
       // its amplitude (last / 2) times period / (π · T / 2), the period at most the string's
       // slowest: the drift must exceed that as well.
-      const double drift = std::fabs(after - before);
+      const double drift = std::fabs(after - before), size = std::fabs(s.bit_mean);
+      double gap = std::numeric_limits<double>::infinity();  // to the nearest steady state
+      for (double o : s.omega_equilibrium) gap = std::min(gap, std::fabs(after - o));
       const auto faked = [&] {
         const double slowest = 2.0 * kPi / estimate_stiffness(chain.params()).fundamental;
         return 2.0 * last * slowest / (kPi * T);
       };
-      if (drift > 0.01 * std::fabs(s.bit_mean) && drift > faked()) {
+      if ((drift > 0.01 * size || (drift > 1e-3 * size && gap > 0.01 * std::fabs(after))) &&
+          drift > faked()) {
         approaching = true;
         // The steady state ahead of it: the nearest in the direction its mean moves.
         const double way = after > before ? 1.0 : -1.0;
