@@ -302,8 +302,8 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       s.regime = Regime::Steady;
       // Settling, but not there yet: the mean itself still moves across the window, by more
       // than 1 %, or towards a steady state more than 1 % away (a converged run's moves by
-      // 1e-4 or less; a bit damped by c_b = 1e-3 alone was judged steady at 238 rad/s on
-      // its way to 750, another at 478 on its way to 500). Steady is where it is going.
+      // 1e-4 or less; a bit damped by c_b = 1e-3 alone was judged steady at 238 rad/s on its
+      // way to 750). Steady is where it is going.
       // A swing that does not span whole periods moves a half-window's mean too, by at most
       // its amplitude (last / 2) times period / (π · T / 2), the period at most the string's
       // slowest: the drift must exceed that as well.

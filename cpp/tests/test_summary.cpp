@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "pydrill/equilibrium.hpp"
 #include "pydrill/model.hpp"
 #include "pydrill/stability.hpp"
 #include "summary.hpp"
@@ -290,4 +291,40 @@ TEST_CASE("a big slow swing dying out moves its half-windows' means, and is not 
   const Summary r = detail::summarize(chain, s.trace, modes, s.angles, false);
   CHECK(r.regime == Regime::Steady);
   CHECK(r.caveat.empty());
+}
+
+TEST_CASE("a slow approach still a few per cent short of its steady state is approaching",
+          "[summary]") {
+  // ω_b(t) = Ω (1 − 0.05 e^{−(t − 150)/600}): across the window [150, 300] its mean moves by
+  // half a per cent only, but the steady state is still 4 % ahead of it. The caveat names it.
+  const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
+  const std::vector<double> omegas = equilibrium_velocities(chain.params(), 40.0, 8.3);
+  REQUIRE(omegas.size() == 1);
+  const double omega = omegas[0];
+  const auto bit = [&](double t) { return omega * (1.0 - 0.05 * std::exp(-(t - 150.0) / 600.0)); };
+  const auto angle = [&](double t) { return omega * (t + 0.05 * 600.0 * std::exp(-(t - 150.0) / 600.0)); };
+  Synthetic s;
+  for (int i = 0; i <= 20000; ++i) {
+    const double t = 150.0 + 150.0 * i / 20000;
+    s.trace.t.push_back(t);
+    s.trace.bit.push_back(bit(t));
+    s.trace.top.push_back(omega);
+  }
+  s.angles = {150.0, 300.0, omega * 150.0, omega * 300.0, angle(150.0), angle(300.0)};
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  const Summary r = detail::summarize(chain, s.trace, modes, s.angles, false);
+  CHECK(r.regime == Regime::Steady);
+  CHECK(r.caveat == "approaching");
+  std::ostringstream ahead;
+  ahead.precision(3);
+  ahead << "on its way to the steady state at " << omega << " rad/s";
+  CHECK_THAT(r.note, Catch::Contains(ahead.str()));
+  // The same approach 0.1 % short: there, no caveat.
+  Synthetic near = s;
+  for (double& v : near.trace.bit) v = omega - (omega - v) / 50.0;
+  near.angles.bit0 = omega * 150.0 + (angle(150.0) - omega * 150.0) / 50.0;
+  near.angles.bit1 = omega * 300.0 + (angle(300.0) - omega * 300.0) / 50.0;
+  const Summary n = detail::summarize(chain, near.trace, modes, near.angles, false);
+  CHECK(n.regime == Regime::Steady);
+  CHECK(n.caveat.empty());
 }
