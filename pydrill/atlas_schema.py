@@ -34,7 +34,7 @@ CAVEAT_TEXT = {
     # (new kinds go last: an atlas stores the codes)
     "late-stick": "the bit slipped, then stuck to the window's end (u <= T_s); simulate longer",
     "run-away": "no steady state holds the bit (c_r + c_b = 0, |u| > T_c): it speeds up for ever",
-    "approaching": "steady, its mean still moving by > 1 % across the window; simulate longer",
+    "approaching": "steady, its mean still on its way to the steady state; simulate longer",
 }
 #: caveats a longer run would not lift: the judgement is final, its note says why
 FINAL_CAVEATS = ("run-away",)

@@ -90,8 +90,8 @@ class Summary:
     #: the note's kind, for tables (an atlas keeps this): "first-wind-up", "one-stick-phase",
     #: "one-break-away", "late-stick", "growing", "short-window", "run-away" (no damping at
     #: the ends, c_r + c_b = 0, and |u| > T_c: the bit speeds up without bound),
-    #: "approaching" (steady, its mean still moving by over 1 % across the window); "" without
-    #: a note
+    #: "approaching" (steady, its mean still on its way: moving by over 1 % across the window,
+    #: or towards a steady state over 1 % away); "" without a note
     caveat: str = ""
 
 

@@ -152,7 +152,8 @@ struct Summary {
   // "one-stick-phase", "one-break-away", "late-stick", "growing", "short-window", "run-away"
   // (c_r + c_b = 0 and |u| > T_c: no steady state holds the bit, which speeds up without
   // bound; judged an oscillation), "approaching" (judged steady, its mean bit velocity still
-  // moving by over 1 % across the window); empty without a note.
+  // moving by over 1 % across the window, or towards a steady state over 1 % away); empty
+  // without a note.
   std::string caveat;
 };
 
