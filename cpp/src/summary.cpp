@@ -113,7 +113,9 @@ double sampled_mean(const Trace& tr, double a, double b) {
     const double t0 = std::max(tr.t[i - 1], a), t1 = std::min(tr.t[i], b);
     if (!(t1 > t0)) continue;
     const double h = tr.t[i] - tr.t[i - 1];
-    const auto at = [&](double t) { return tr.bit[i - 1] + (tr.bit[i] - tr.bit[i - 1]) * (t - tr.t[i - 1]) / h; };
+    const auto at = [&](double t) {
+      return tr.bit[i - 1] + (tr.bit[i] - tr.bit[i - 1]) * (t - tr.t[i - 1]) / h;
+    };
     area += 0.5 * (at(t0) + at(t1)) * (t1 - t0);
     length += t1 - t0;
   }
@@ -165,6 +167,9 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     std::reverse(s.omega_equilibrium.begin(), s.omega_equilibrium.end());
   }
   const double T = w.t1 - w.t0;
+  // The string's slowest period: what a judged window must span (below), and the longest a
+  // swing that fakes a drift of its mean can have.
+  const double slowest = 2.0 * kPi / estimate_stiffness(chain.params()).fundamental;
 
   if (!tr.t.empty()) {
     std::tie(s.bit_min, s.bit_max) = extremes(tr.t, tr.bit, tr.dbit, modes);
@@ -310,12 +315,9 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       const double drift = std::fabs(after - before), size = std::fabs(s.bit_mean);
       double gap = std::numeric_limits<double>::infinity();  // to the nearest steady state
       for (double o : s.omega_equilibrium) gap = std::min(gap, std::fabs(after - o));
-      const auto faked = [&] {
-        const double slowest = 2.0 * kPi / estimate_stiffness(chain.params()).fundamental;
-        return 2.0 * last * slowest / (kPi * T);
-      };
+      const double faked = 2.0 * last * slowest / (kPi * T);
       if ((drift > 0.01 * size || (drift > 1e-3 * size && gap > 0.01 * std::fabs(after))) &&
-          drift > faked()) {
+          drift > faked) {
         approaching = true;
         // The steady state ahead of it: the nearest in the direction its mean moves.
         const double way = after > before ? 1.0 : -1.0;
@@ -352,7 +354,6 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   // as steady (a 3 s window of a 17.5 s cycle did both). Not for a bit held for good.
   // Over a window that short a swing's trend says nothing either: this note replaces it.
   const bool settled_stuck = s.regime == Regime::Stuck && s.note.empty();
-  const double slowest = 2.0 * kPi / estimate_stiffness(chain.params()).fundamental;
   if (!settled_stuck && T < slowest && (s.note.empty() || growing || unresolved || approaching)) {
     std::ostringstream o;
     o.precision(3);
