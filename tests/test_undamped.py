@@ -276,6 +276,16 @@ initial = ["rest"]
 """
 
 
+def atlas_info(path):
+    """What ``pydrill atlas info`` prints of the atlas at ``path``."""
+    return subprocess.run(
+        [sys.executable, "-m", "pydrill", "atlas", "info", str(path)],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+
+
 def test_a_bit_nothing_holds_runs_away_and_the_atlas_says_so(tmp_path):
     """With c_r + c_b = 0 the net torque on the turning string is u - T_fb(omega_b), and the
     slip friction falls to T_c = mu_cb R_b W_ob: above it the bit speeds up without bound, the
@@ -308,12 +318,7 @@ def test_a_bit_nothing_holds_runs_away_and_the_atlas_says_so(tmp_path):
         labels = [h.get_label() for h in atlas.plot().axes[0].get_legend().legend_handles]
     assert "run-away: no steady state holds the bit" in labels
     assert not any("simulate longer" in label for label in labels)
-    out = subprocess.run(
-        [sys.executable, "-m", "pydrill", "atlas", "info", str(tmp_path / "a.h5")],
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
+    out = atlas_info(tmp_path / "a.h5")
     assert "run-away from rest: 5 points (c_r + c_b = 0 and |u| > T_c" in out
     assert "simulate longer" not in out
 
@@ -338,10 +343,5 @@ def test_a_steady_judgement_still_on_its_way_says_so_and_the_atlas_keeps_it(tmp_
     with pydrill.Atlas(tmp_path / "a.h5") as atlas:
         v = atlas.value(wob=50.0, torque=3.25)
     assert (v["regime"]["rest"], v["caveat"]["rest"]) == ("steady", "approaching")
-    out = subprocess.run(
-        [sys.executable, "-m", "pydrill", "atlas", "info", str(tmp_path / "a.h5")],
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
+    out = atlas_info(tmp_path / "a.h5")
     assert "caveats from rest: approaching 1 (points to simulate longer" in out
