@@ -18,25 +18,34 @@ struct Synthetic {
   detail::WindowAngles angles{};
 };
 
-// ω_b(t) = Ω + A e^{−σt} sin(2πt/T) sampled finely over [t0, t1]; the angles are its
-// exact integral, so the judged mean is Ω up to the oscillation's own contribution.
-Synthetic sine(double omega, double amp, double sigma, double period, double t0, double t1) {
+// A bit velocity `bit` sampled finely over [t0, t1] beside a top turning steadily at
+// `omega`; the bit's angles at the ends are `angle` (its exact integral), so the judged mean
+// is the true one whatever the sampling.
+template <class Bit, class Angle>
+Synthetic sampled(Bit bit, Angle angle, double omega, double t0, double t1) {
   Synthetic s;
   const int n = 20000;
+  for (int i = 0; i <= n; ++i) {
+    const double t = t0 + (t1 - t0) * i / n;
+    s.trace.t.push_back(t);
+    s.trace.bit.push_back(bit(t));
+    s.trace.top.push_back(omega);
+  }
+  s.angles = {t0, t1, omega * t0, omega * t1, angle(t0), angle(t1)};
+  return s;
+}
+
+// ω_b(t) = Ω + A e^{−σt} sin(2πt/T) sampled finely over [t0, t1]: the judged mean is Ω up to
+// the oscillation's own contribution.
+Synthetic sine(double omega, double amp, double sigma, double period, double t0, double t1) {
   const double w = 2 * M_PI / period;
   auto integral = [&](double t) {
     // ∫ A e^{−σt} sin(wt) dt = −A e^{−σt} (σ sin wt + w cos wt) / (σ² + w²)
     return omega * t - amp * std::exp(-sigma * t) * (sigma * std::sin(w * t) + w * std::cos(w * t)) /
                            (sigma * sigma + w * w);
   };
-  for (int i = 0; i <= n; ++i) {
-    const double t = t0 + (t1 - t0) * i / n;
-    s.trace.t.push_back(t);
-    s.trace.bit.push_back(omega + amp * std::exp(-sigma * t) * std::sin(w * t));
-    s.trace.top.push_back(omega);
-  }
-  s.angles = {t0, t1, omega * t0, omega * t1, integral(t0), integral(t1)};
-  return s;
+  auto bit = [&](double t) { return omega + amp * std::exp(-sigma * t) * std::sin(w * t); };
+  return sampled(bit, integral, omega, t0, t1);
 }
 }  // namespace
 
@@ -302,15 +311,10 @@ TEST_CASE("a slow approach still a few per cent short of its steady state is app
   REQUIRE(omegas.size() == 1);
   const double omega = omegas[0];
   const auto bit = [&](double t) { return omega * (1.0 - 0.05 * std::exp(-(t - 150.0) / 600.0)); };
-  const auto angle = [&](double t) { return omega * (t + 0.05 * 600.0 * std::exp(-(t - 150.0) / 600.0)); };
-  Synthetic s;
-  for (int i = 0; i <= 20000; ++i) {
-    const double t = 150.0 + 150.0 * i / 20000;
-    s.trace.t.push_back(t);
-    s.trace.bit.push_back(bit(t));
-    s.trace.top.push_back(omega);
-  }
-  s.angles = {150.0, 300.0, omega * 150.0, omega * 300.0, angle(150.0), angle(300.0)};
+  const auto angle = [&](double t) {
+    return omega * (t + 0.05 * 600.0 * std::exp(-(t - 150.0) / 600.0));
+  };
+  const Synthetic s = sampled(bit, angle, omega, 150.0, 300.0);
   const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
   const Summary r = detail::summarize(chain, s.trace, modes, s.angles, false);
   CHECK(r.regime == Regime::Steady);
