@@ -363,15 +363,18 @@ class Atlas:
             )
         return atlas_figure(self, initial=initial, x=x, y=y, at=at, metric=metric, profile=profile)
 
-    def to_xarray(self):
+    def to_xarray(self, chunks: dict[str, int] | None = None):
         """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates, read
         lazily. ``regime`` is an integer code; its CF attributes ``flag_values`` and
         ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable).
         ``safe`` (int8 on the axes, computed on opening: not in the file) is
-        :meth:`safe_region`, 1 where safe, when the sweep recorded stability."""
+        :meth:`safe_region`, 1 where safe, when the sweep recorded stability.
+        ``chunks``: read into dask arrays of these chunks, as ``xarray.open_dataset`` takes
+        them (``{}``: the atlas's own), for atlases larger than memory; None: each variable
+        is read whole the first time it is used."""
         self._file()  # closed: refused like every other read
         self._heap()  # xarray reads every attribute and dimension list
         try:
-            return _to_xarray(self._source(), self.axes)
+            return _to_xarray(self._source(), self.axes, chunks)
         except (OSError, RuntimeError, KeyError) as exc:  # h5py's, on a damaged file
             raise AtlasError(f"{self.path} is damaged: xarray cannot read it ({exc})") from None

@@ -19,12 +19,25 @@ COUNT_FIELDS = tuple(
 )
 
 
-def to_xarray(source: Path | io.BytesIO, axes: dict[str, Any]) -> Any:
+def to_xarray(
+    source: Path | io.BytesIO, axes: dict[str, Any], chunks: dict[str, int] | None = None
+) -> Any:
     """``Atlas.to_xarray`` of the atlas in ``source`` (a file or the copy taken while a sweep
-    writes it), whose sweep's axes are ``axes``."""
+    writes it), whose sweep's axes are ``axes``; ``chunks`` as ``xarray.open_dataset``'s."""
     import xarray as xr
 
-    ds = xr.open_dataset(source, engine="h5netcdf")
+    # Chunked, the failure messages too: xarray decodes a text variable whole on opening
+    # (70 bytes a point), so they are read by blocks through h5py instead (_lazy_messages).
+    by_blocks = chunks if chunks is not None and _has_messages(source) else None
+    ds = opened = xr.open_dataset(
+        source,
+        engine="h5netcdf",
+        chunks=chunks,
+        drop_variables=None if by_blocks is None else ["message"],
+    )
+    close = opened.close
+    if by_blocks is not None:
+        ds, close = _lazy_messages(ds, source, axes, by_blocks, opened.close)
     if "message" in ds and ds["message"].dims != tuple(axes):
         # Atlases written before ``message`` had its dimension scales: xarray guessed its
         # dimensions from their lengths.
@@ -44,7 +57,42 @@ def to_xarray(source: Path | io.BytesIO, axes: dict[str, Any]) -> Any:
             count = ds[name]
             ds[name] = count.where(count != -1)
             ds[name].encoding.update(dtype=count.dtype, _FillValue=count.dtype.type(-1))
-    return with_safe(ds)
+    ds = with_safe(ds)
+    # What assign makes has no close of its own: its close() left the file open, for as long
+    # as the dataset (or its dask arrays, or a traceback that names it) lived.
+    ds.set_close(close)
+    return ds
+
+
+def _has_messages(source: Path | io.BytesIO) -> bool:
+    import h5py
+
+    with h5py.File(source, "r") as f:
+        return isinstance(f.get("message"), h5py.Dataset)
+
+
+def _lazy_messages(ds, source, axes: dict[str, Any], chunks: dict[str, int], close):
+    """``ds`` with the atlas's ``message`` as a dask array read through h5py by blocks of
+    ``chunks`` (an axis not named: whole), and the close of both files."""
+    import dask.array as da
+    import h5py
+
+    f = h5py.File(source, "r")
+    text = f["message"]
+    blocks = tuple(chunks.get(name, -1) for name in axes)
+    # Objects known to be text (xarray's mark, as it decodes them): written back as
+    # variable-length text without first being read whole to find out what they are.
+    meta = np.empty((0,) * len(axes), dtype=np.dtype("O", metadata={"element_type": str}))
+    values = da.from_array(text.asstr(), chunks=blocks, asarray=False, name=False, meta=meta)
+    attrs = {k: v for k, v in text.attrs.items() if k == "long_name"}
+    order = [name for name in f if name in ds.data_vars or name == "message"]  # the file's
+    ds = ds.assign(message=(tuple(axes), values, attrs))[order]
+
+    def close_both() -> None:
+        close()
+        f.close()
+
+    return ds, close_both
 
 
 #: ``safe``'s attributes: what it means, and its two values named as CF flags

@@ -9,6 +9,7 @@ import os
 import secrets
 import stat
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -23,58 +24,115 @@ def export_path(text: str) -> str:
     return text
 
 
+#: points an export reads, converts and writes at a time (whole rows of the first axis): its
+#: memory is a block's, tens of MB, whatever the atlas's size (made whole in memory, an atlas
+#: of 10^6 points took 1 GB to export to netCDF, 2.3 GB to CSV)
+BLOCK_POINTS = 2**16
+
+
 def cmd_export(args: argparse.Namespace) -> int:
-    from .atlas import COUNT_FIELDS, Atlas
+    import math
+
+    from .atlas import Atlas
 
     out = Path(args.out)
     if out.resolve() == Path(args.atlas).resolve():
         raise ValueError(f"--out {args.out} is the atlas itself; give another file")
-    # The export is made in memory, the atlas closed (its xarray view too, whatever fails),
-    # and only then written out, whole or not at all (_write_whole). h5netcdf writing the file
-    # itself left a half-written one under --out when a write failed (a full disk), and
-    # closing it after the failure crashed Python (a segmentation fault in h5py).
     with Atlas(args.atlas) as atlas:
         atlas.check()  # it is read whole: no code that is none may pass into the export
-        ds = atlas.to_xarray()
-        try:
+        first, *others = atlas.axes
+        per_row = math.prod(len(atlas.axes[name]) for name in others)
+        rows = max(1, BLOCK_POINTS // per_row)
+        with warnings.catch_warnings():
+            # "The specified chunks separate the stored chunks": a block's first and last
+            # chunks are read twice, a small price for reading 10^6 points in ~20 blocks
+            # (chunk by chunk, h5netcdf's 3 ms a read took a minute).
+            warnings.filterwarnings("ignore", "The specified chunks separate", UserWarning)
+            ds = atlas.to_xarray(chunks={first: rows, **dict.fromkeys(others, -1)})
+        try:  # the atlas is closed (its xarray view too) whatever fails
             if out.suffix.lower() == ".nc":
-                with warnings.catch_warnings():
-                    # h5netcdf warns that an enum variable's default fill (0) is a regime's
-                    # code (steady): it masks nothing here, every element is written and no
-                    # _FillValue attribute is (netCDF-C's ncdump, netCDF4 and xarray read 0 as
-                    # steady).
-                    warnings.filterwarnings("ignore", "Creating variable with default fill_value 0")
-                    data = ds.load().to_netcdf(
-                        None, engine="h5netcdf", encoding=_netcdf_encoding(ds)
-                    )
+                _write_whole(out, lambda fd: _write_netcdf(ds, fd))
             else:  # .csv, as export_path allows
-                ds.load()
-                keep = [
-                    v
-                    for v in ds.data_vars
-                    if "eigenvalue" not in ds[v].dims
-                    and "equilibrium" not in ds[v].dims
-                    and (ds[v].dtype.kind != "O" or v == "message")
-                ]
-                table = ds[keep].to_dataframe()
-                for name in COUNT_FIELDS:  # counts as integers, an empty cell where not measured
-                    if name in table:
-                        table[name] = table[name].astype("Int64")
-                _name_codes(table)
-                data = table.to_csv().encode()
+                _write_whole(out, lambda fd: _write_csv(ds, fd, first, rows))
         finally:
             ds.close()
-    _write_whole(out, data)
     print(f"wrote {out}")
     return 0
 
 
-def _write_whole(out: Path, data: bytes | memoryview) -> None:
-    """Write ``data`` to ``out`` whole or not at all: into a new file beside it, put in its
-    place once complete. On a failure that file is removed and ``out`` (if there was one)
-    left as it was; the OSError names ``out``. As writing into it would: a symlink at ``out``
-    is followed (the file it names is replaced, the link kept), and a file there keeps its
-    permissions."""
+def _write_netcdf(ds, fd: int) -> None:
+    """``ds`` (read into dask arrays of blocks of rows) as netCDF-4 into the file open on
+    ``fd``, a block at a time. A failed write raises its OSError once HDF5 is done with the
+    file (``SinkFile``)."""
+    import dask
+
+    from .export_file import SinkFile
+
+    sink = SinkFile(fd)
+    try:
+        with warnings.catch_warnings(), dask.config.set(scheduler="synchronous"):
+            # h5netcdf warns that an enum variable's default fill (0) is a regime's code
+            # (steady): it masks nothing here, every element is written and no _FillValue
+            # attribute is (netCDF-C's ncdump, netCDF4 and xarray read 0 as steady).
+            warnings.filterwarnings("ignore", "Creating variable with default fill_value 0")
+            _by_chunks(ds).to_netcdf(sink, engine="h5netcdf", encoding=_netcdf_encoding(ds))
+    except Exception:
+        if sink.error is None:
+            raise
+    finally:
+        sink.close()
+    if sink.error is not None:  # the cause of whatever HDF5 made of it
+        raise sink.error
+
+
+def _by_chunks(ds):
+    """``ds`` with each variable's blocks made whole rows of its HDF5 chunks (which the
+    export keeps): each chunk is then compressed once, whole. Blocks that cut through
+    chunks made HDF5 read, inflate and deflate a chunk again for every block."""
+    out = ds.copy()
+    for name, var in ds.variables.items():
+        if var.chunks is None:  # the axes, read whole already
+            continue
+        block, chunk = var.chunks[0][0], (var.encoding.get("chunksizes") or (1,))[0]
+        out[name] = var.chunk({var.dims[0]: max(chunk, block // chunk * chunk)})
+    if "regime" in ds:
+        # Whole (a byte a point and start): a dask array cast to the encoding's dtype lost
+        # the enum type it carries, and ncdump showed codes, not names.
+        out["regime"] = ds["regime"].load()
+    return out
+
+
+def _write_csv(ds, fd: int, first: str, rows: int) -> None:
+    """``ds`` as a CSV table (the eigenvalues and steady states left out, each code's name
+    beside it) into the file open on ``fd``, ``rows`` rows of the axis ``first`` at a time."""
+    from .atlas import COUNT_FIELDS
+
+    keep = [
+        v
+        for v in ds.data_vars
+        if "eigenvalue" not in ds[v].dims
+        and "equilibrium" not in ds[v].dims
+        and (ds[v].dtype.kind != "O" or v == "message")
+    ]
+    ds = ds[keep]
+    dims = list(ds.dims)  # the table's row order, as to_dataframe takes it
+    assert dims[0] == first, dims  # blocks of the first axis are blocks of the table's rows
+    with open(fd, "w", closefd=False, newline="", encoding="utf-8") as fh:
+        for start in range(0, ds.sizes[first], rows):
+            table = ds.isel({first: slice(start, start + rows)}).load().to_dataframe(dims)
+            for name in COUNT_FIELDS:  # counts as integers, an empty cell where not measured
+                if name in table:
+                    table[name] = table[name].astype("Int64")
+            _name_codes(table)
+            table.to_csv(fh, header=start == 0)
+
+
+def _write_whole(out: Path, fill: Callable[[int], None]) -> None:
+    """Write ``out`` whole or not at all: ``fill`` writes into a new file beside it (on the
+    descriptor it is given, open for reading and writing), put in its place once complete.
+    On a failure that file is removed and ``out`` (if there was one) left as it was; the
+    OSError names ``out``. As writing into it would: a symlink at ``out`` is followed (the
+    file it names is replaced, the link kept), and a file there keeps its permissions."""
     target = out.resolve() if out.is_symlink() else out
     part = target.with_name(f".{target.name}.{secrets.token_hex(4)}.part")
     try:
@@ -82,14 +140,15 @@ def _write_whole(out: Path, data: bytes | memoryview) -> None:
         if mode is not None and not os.access(target, os.W_OK):  # what writing into it met
             raise PermissionError(errno.EACCES, os.strerror(errno.EACCES))
         # 0o666 as open() makes a file (less the umask); mkstemp's 0o600 would be kept
-        fd = os.open(part, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        fd = os.open(part, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o666)
         try:
-            with open(fd, "wb") as fh:
+            try:
                 if mode is not None:
-                    os.chmod(fh.fileno(), mode)
-                fh.write(data)
-                fh.flush()
-                os.fsync(fh.fileno())
+                    os.chmod(fd, mode)
+                fill(fd)
+                os.fsync(fd)
+            finally:
+                os.close(fd)
             os.replace(part, target)
         except BaseException:
             part.unlink(missing_ok=True)
