@@ -41,7 +41,9 @@ class AtlasBackend(BackendEntrypoint):
             ds = atlas.to_xarray()  # on a handle of its own: it outlives the Atlas
         if isinstance(drop_variables, str):
             drop_variables = [drop_variables]
-        return ds.drop_vars(list(drop_variables or []), errors="ignore")
+        out = ds.drop_vars(list(drop_variables or []), errors="ignore")
+        out.set_close(ds.close)  # what drop_vars makes has no close of its own
+        return out
 
     def guess_can_open(self, filename_or_obj: Any) -> bool:
         """Never: an atlas is an HDF5 file, which xarray's own engines claim first, and to

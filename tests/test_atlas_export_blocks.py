@@ -217,3 +217,13 @@ def test_netcdf_c_reads_an_export_made_by_blocks(atlas, tmp_path, monkeypatch):
 
     shown = dump(blocks)
     assert shown == dump(whole) and "regime_t regime(wob, torque, bit_damping, initial)" in shown
+
+
+@pytest.mark.parametrize("chunks", [None, {}])
+def test_closing_a_dataset_of_the_pydrill_engine_lets_go_of_the_atlas(atlas, chunks):
+    """As ``to_xarray``'s, the engine's dataset (``drop_vars`` of it) had no close: xarray's
+    ``close()`` left the file open."""
+    ds = xr.open_dataset(atlas, engine="pydrill", chunks=chunks, drop_variables="message")
+    assert _open(atlas) != [] and "message" not in ds
+    ds.close()
+    assert _open(atlas) == []
