@@ -1,8 +1,9 @@
-"""``pydrill atlas export`` reads, converts and writes an atlas a block of rows at a time: its
-memory is a block's whatever the atlas's size, and the file is the one a whole export makes.
-A write that fails midway (a full disk) is an error naming --out, with nothing left behind
-and no crash (``SinkFile``). ``Atlas.to_xarray``'s close releases the file, with or without
-dask chunks."""
+"""Large atlases are read by parts. ``pydrill atlas export`` reads, converts and writes one
+a block of rows at a time: its memory is a block's whatever the atlas's size, and the file is
+the one a whole export makes. A write that fails midway (a full disk) is an error naming
+--out, with nothing left behind and no crash (``SinkFile``). ``Atlas.sel`` reads what it
+selects. ``Atlas.to_xarray``'s close (and the xarray engine's) releases the file, with or
+without dask chunks."""
 
 import errno
 import os
@@ -227,3 +228,31 @@ def test_closing_a_dataset_of_the_pydrill_engine_lets_go_of_the_atlas(atlas, chu
     assert _open(atlas) != [] and "message" not in ds
     ds.close()
     assert _open(atlas) == []
+
+
+def test_a_selection_reads_what_it_selects_and_lets_go_of_the_file(atlas, monkeypatch):
+    """``Atlas.sel(torque=...)`` read the whole atlas, then selected (5 s and 750 MB on one of
+    10^6 points), and left its view open. A metric is now read at the selected torque only
+    (the codes and counts, read whole on opening, aside), and the file let go of."""
+    rows: dict[str, int] = {}
+    read = h5py.Dataset.__getitem__
+
+    def counted(self, key, *args, **kwargs):
+        out = read(self, key, *args, **kwargs)
+        if self.name in ("/bit_mean", "/eigenvalues_real") and isinstance(out, np.ndarray):
+            rows[self.name] = max(rows.get(self.name, 0), out.size)
+        return out
+
+    monkeypatch.setattr(h5py.Dataset, "__getitem__", counted)
+    with Atlas(atlas) as a:
+        ds = a.sel(torque=8.3, method="nearest", initial="rest")
+        assert _open(atlas) != []  # the Atlas's own
+    assert _open(atlas) == []
+    assert dict(ds.sizes) == {"wob": 23, "bit_damping": 3, "equilibrium": 2, "eigenvalue": 4}
+    # one torque, one start: 23 x 3 points (the eigenvalues: x 2 steady states x 4)
+    assert rows == {"/bit_mean": 23 * 3, "/eigenvalues_real": 23 * 3 * 2 * 4}
+    with Atlas(atlas) as a:
+        whole = a.to_xarray().load()
+    picked = whole.sel(torque=8.3, method="nearest").sel(initial="rest")
+    np.testing.assert_array_equal(ds["bit_mean"].values, picked["bit_mean"].values)
+    assert ds["regime_name"].dims == ("wob", "bit_damping")
