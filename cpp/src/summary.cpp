@@ -20,16 +20,34 @@ constexpr double kPi = 3.14159265358979323846;
 
 bool is_held(Mode m) { return m == Mode::Stick || m == Mode::Band; }
 
-// Mean spacing of upward crossings of `level` (linear interpolation between
-// samples); < 0 when fewer than two crossings exist.
-double crossing_period(const Trace& tr, double level) {
+// Times the bit velocity crosses `level` upwards (linear interpolation between samples).
+std::vector<double> upward_crossings(const Trace& tr, double level) {
   std::vector<double> ups;
   for (std::size_t i = 1; i < tr.t.size(); ++i) {
     const double a = tr.bit[i - 1] - level, b = tr.bit[i] - level;
     if (a < 0 && b >= 0) ups.push_back(tr.t[i - 1] + (tr.t[i] - tr.t[i - 1]) * (-a) / (b - a));
   }
+  return ups;
+}
+
+// Mean spacing of upward crossings of `level`; < 0 when fewer than two crossings exist.
+double crossing_period(const Trace& tr, double level) {
+  const std::vector<double> ups = upward_crossings(tr, level);
   if (ups.size() < 2) return -1.0;
   return (ups.back() - ups.front()) / static_cast<double>(ups.size() - 1);
+}
+
+// The longest of the swing's cycles about `level` between t0 and t1 (spacing of upward
+// crossings), when it makes at least four whole cycles there; the string's `slowest`
+// period otherwise.
+double longest_cycle(const Trace& tr, double level, double t0, double t1, double slowest) {
+  std::vector<double> ups = upward_crossings(tr, level);
+  ups.erase(std::remove_if(ups.begin(), ups.end(), [&](double t) { return t < t0 || t > t1; }),
+            ups.end());
+  if (ups.size() < 5) return slowest;
+  double longest = 0.0;
+  for (std::size_t i = 1; i < ups.size(); ++i) longest = std::max(longest, ups[i] - ups[i - 1]);
+  return longest;
 }
 
 double span(const Trace& tr, double t0, double t1) {
@@ -310,12 +328,15 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       // 1e-4 or less; a bit damped by c_b = 1e-3 alone was judged steady at 238 rad/s on its
       // way to 750). Steady is where it is going.
       // A swing that does not span whole periods moves a half-window's mean too, by at most
-      // its amplitude (last / 2) times period / (π · T / 2), the period at most the string's
-      // slowest: the drift must exceed that as well.
+      // its amplitude (last / 2) times period / (π · T / 2): the drift must exceed that as
+      // well. The period: the longest of the swing's cycles in the window, if it made four
+      // or more; else the string's slowest. (The slowest alone, 30 s against a swing of
+      // 8.5 s, hid a mean on its way from 231 to 291 rad/s behind a swing of 90 % of it.)
       const double drift = std::fabs(after - before), size = std::fabs(s.bit_mean);
       double gap = std::numeric_limits<double>::infinity();  // to the nearest steady state
       for (double o : s.omega_equilibrium) gap = std::min(gap, std::fabs(after - o));
-      const double faked = 2.0 * last * slowest / (kPi * T);
+      const double period = longest_cycle(tr, s.bit_mean, w.t0, w.t1, slowest);
+      const double faked = 2.0 * last * period / (kPi * T);
       if ((drift > 0.01 * size || (drift > 1e-3 * size && gap > 0.01 * std::fabs(after))) &&
           drift > faked) {
         approaching = true;

@@ -332,3 +332,41 @@ TEST_CASE("a slow approach still a few per cent short of its steady state is app
   CHECK(n.regime == Regime::Steady);
   CHECK(n.caveat.empty());
 }
+
+TEST_CASE("a mean on its way under a big fast swing is approaching, the swing alone is not",
+          "[summary]") {
+  // ω_b(t) = Ω (1 − 0.25 e^{−(t − 150)/300}) + 0.5 Ω e^{−(t − 150)/200} sin(2πt / 8.5 s): the
+  // mean climbs by 5 % of Ω across the window under a swing of half of Ω. Bounded by the
+  // string's slowest period (30 s), such a swing could fake a drift of 7 % of Ω and the
+  // approach went unsaid; by its own cycles (8.5 s), 2 %.
+  const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
+  const std::vector<double> omegas = equilibrium_velocities(chain.params(), 40.0, 8.3);
+  REQUIRE(omegas.size() == 1);
+  const double omega = omegas[0], sigma = 1.0 / 200.0, w = 2 * M_PI / 8.5;
+  const auto swing = [&](double t) {
+    return 0.5 * omega * std::exp(-sigma * (t - 150.0)) * std::sin(w * t);
+  };
+  const auto swing_integral = [&](double t) {
+    return -0.5 * omega * std::exp(-sigma * (t - 150.0)) *
+           (sigma * std::sin(w * t) + w * std::cos(w * t)) / (sigma * sigma + w * w);
+  };
+  const auto bit = [&](double t) {
+    return omega * (1.0 - 0.25 * std::exp(-(t - 150.0) / 300.0)) + swing(t);
+  };
+  const auto angle = [&](double t) {
+    return omega * (t + 75.0 * std::exp(-(t - 150.0) / 300.0)) + swing_integral(t);
+  };
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  const Synthetic s = sampled(bit, angle, omega, 150.0, 300.0);
+  const Summary r = detail::summarize(chain, s.trace, modes, s.angles, false);
+  CHECK(r.regime == Regime::Steady);
+  CHECK(r.severity > 0.4);
+  CHECK(r.caveat == "approaching");
+  // The swing alone, about Ω: its halves' means differ too, by less than it can fake.
+  const auto still = [&](double t) { return omega + swing(t); };
+  const auto still_angle = [&](double t) { return omega * t + swing_integral(t); };
+  const Synthetic q = sampled(still, still_angle, omega, 150.0, 300.0);
+  const Summary n = detail::summarize(chain, q.trace, modes, q.angles, false);
+  CHECK(n.regime == Regime::Steady);
+  CHECK(n.caveat.empty());
+}
