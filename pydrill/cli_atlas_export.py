@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .cli_options import writable_place
+from .cli_options import check_progress, writable_place
 
 
 def export_path(text: str) -> str:
@@ -49,28 +49,35 @@ def cmd_export(args: argparse.Namespace) -> int:
             # (chunk by chunk, h5netcdf's 3 ms a read took a minute).
             warnings.filterwarnings("ignore", "The specified chunks separate", UserWarning)
             ds = atlas.to_xarray(chunks={first: rows, **dict.fromkeys(others, -1)})
+        # On a terminal, a bar: 10^6 points take a minute to CSV
+        bar = check_progress(per_row * len(atlas.axes[first]), "export", unit="pt")
         try:  # the atlas is closed (its xarray view too) whatever fails
             if out.suffix.lower() == ".nc":
-                _write_whole(out, lambda fd: _write_netcdf(ds, fd))
+                _write_whole(out, lambda fd: _write_netcdf(ds, fd, bar))
             else:  # .csv, as export_path allows
-                _write_whole(out, lambda fd: _write_csv(ds, fd, first, rows))
+                _write_whole(out, lambda fd: _write_csv(ds, fd, first, rows, bar))
         finally:
+            bar.close()
             ds.close()
     print(f"wrote {out}")
     return 0
 
 
-def _write_netcdf(ds, fd: int) -> None:
+def _write_netcdf(ds, fd: int, bar: Any) -> None:
     """``ds`` (read into dask arrays of blocks of rows) as netCDF-4 into the file open on
-    ``fd``, a block at a time. A failed write raises its OSError once HDF5 is done with the
-    file (``SinkFile``)."""
+    ``fd``, a block at a time; ``bar`` moves as dask's tasks finish. A failed write raises
+    its OSError once HDF5 is done with the file (``SinkFile``)."""
     import dask
 
     from .export_file import SinkFile
 
     sink = SinkFile(fd)
     try:
-        with warnings.catch_warnings(), dask.config.set(scheduler="synchronous"):
+        with (
+            warnings.catch_warnings(),
+            dask.config.set(scheduler="synchronous"),
+            _task_progress(bar),
+        ):
             # h5netcdf warns that an enum variable's default fill (0) is a regime's code
             # (steady): it masks nothing here, every element is written and no _FillValue
             # attribute is (netCDF-C's ncdump, netCDF4 and xarray read 0 as steady).
@@ -83,6 +90,25 @@ def _write_netcdf(ds, fd: int) -> None:
         sink.close()
     if sink.error is not None:  # the cause of whatever HDF5 made of it
         raise sink.error
+
+
+def _task_progress(bar: Any) -> Any:
+    """A dask callback moving ``bar`` (counted in points) as the tasks of the computations
+    it watches finish: each task a share of the points."""
+    from dask.callbacks import Callback
+
+    class TaskProgress(Callback):
+        tasks = done = 0
+
+        def _start_state(self, dsk: Any, state: Any) -> None:
+            self.tasks += len(dsk)
+
+        def _posttask(self, *args: Any) -> None:
+            self.done += 1
+            bar.n = round(bar.total * min(1.0, self.done / max(self.tasks, 1)))
+            bar.refresh()
+
+    return TaskProgress()
 
 
 def _by_chunks(ds):
@@ -102,9 +128,10 @@ def _by_chunks(ds):
     return out
 
 
-def _write_csv(ds, fd: int, first: str, rows: int) -> None:
+def _write_csv(ds, fd: int, first: str, rows: int, bar: Any) -> None:
     """``ds`` as a CSV table (the eigenvalues and steady states left out, each code's name
-    beside it) into the file open on ``fd``, ``rows`` rows of the axis ``first`` at a time."""
+    beside it) into the file open on ``fd``, ``rows`` rows of the axis ``first`` at a time,
+    ``bar`` moved by each block's points."""
     from .atlas import COUNT_FIELDS
 
     keep = [
@@ -116,6 +143,7 @@ def _write_csv(ds, fd: int, first: str, rows: int) -> None:
     ]
     ds = ds[keep]
     dims = list(ds.dims)  # the table's row order, as to_dataframe takes it
+    per_row = bar.total // ds.sizes[first]  # points
     assert dims[0] == first, dims  # blocks of the first axis are blocks of the table's rows
     with open(fd, "w", closefd=False, newline="", encoding="utf-8") as fh:
         for start in range(0, ds.sizes[first], rows):
@@ -125,6 +153,7 @@ def _write_csv(ds, fd: int, first: str, rows: int) -> None:
                     table[name] = table[name].astype("Int64")
             _name_codes(table)
             table.to_csv(fh, header=start == 0)
+            bar.update((min(start + rows, ds.sizes[first]) - start) * per_row)
 
 
 def _write_whole(out: Path, fill: Callable[[int], None]) -> None:

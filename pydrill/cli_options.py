@@ -349,16 +349,17 @@ def bar_size() -> dict[str, int]:
     return {"ncols": size.columns or 80, "nrows": size.lines or 24}
 
 
-def check_progress(total: int, what: str) -> Any:
-    """A progress bar on stderr for the ``total`` simulations of a --check, on a terminal only
-    (a log or a pipe gets none): 1200 checks of a 334-inertia string take minutes, and the
-    command said nothing until the end. Call ``update()`` after each; ``close()`` at the end."""
+def check_progress(total: int, what: str, unit: str = "run") -> Any:
+    """A progress bar on stderr for the ``total`` simulations of a --check (or the ``total``
+    ``unit`` of other long work), on a terminal only (a log or a pipe gets none): 1200 checks
+    of a 334-inertia string take minutes, and the command said nothing until the end. Call
+    ``update()`` after each; ``close()`` at the end."""
     from tqdm import tqdm
 
     return tqdm(
         total=total,
         desc=what,
-        unit="run",
+        unit=unit,
         file=sys.stderr,
         disable=not sys.stderr.isatty(),
         **bar_size(),

@@ -256,3 +256,20 @@ def test_a_selection_reads_what_it_selects_and_lets_go_of_the_file(atlas, monkey
     picked = whole.sel(torque=8.3, method="nearest").sel(initial="rest")
     np.testing.assert_array_equal(ds["bit_mean"].values, picked["bit_mean"].values)
     assert ds["regime_name"].dims == ("wob", "bit_damping")
+
+
+@pytest.mark.parametrize("suffix", [".nc", ".csv"])
+def test_an_export_shows_its_progress_on_a_terminal_only(atlas, tmp_path, suffix):
+    """10^6 points take a minute to CSV, which the command spent silent: on a terminal a bar
+    counts the points (1311) to the end; a pipe or a log gets none."""
+    from test_cli_field_progress import on_terminal
+
+    out, err = on_terminal("atlas", "export", atlas, "--out", tmp_path / f"a{suffix}")
+    assert "export: 100%" in err and "1311/1311" in err and "pt/s" in err, err
+    assert out == f"wrote {tmp_path / f'a{suffix}'}\n"
+    piped = subprocess.run(
+        [*CMD, "atlas", "export", str(atlas), "--out", str(tmp_path / f"b{suffix}")],
+        capture_output=True,
+        text=True,
+    )
+    assert piped.returncode == 0 and piped.stderr == ""
