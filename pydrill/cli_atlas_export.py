@@ -105,8 +105,8 @@ def _task_progress(bar: Any) -> Any:
 
         def _posttask(self, *args: Any) -> None:
             self.done += 1
-            bar.n = round(bar.total * min(1.0, self.done / max(self.tasks, 1)))
-            bar.refresh()
+            reached = round(bar.total * min(1.0, self.done / max(self.tasks, 1)))
+            bar.update(reached - bar.n)  # drawn at most 10 times a second, as tqdm does
 
     return TaskProgress()
 
