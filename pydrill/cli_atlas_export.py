@@ -83,6 +83,7 @@ def _write_netcdf(ds, fd: int, bar: Any) -> None:
             # attribute is (netCDF-C's ncdump, netCDF4 and xarray read 0 as steady).
             warnings.filterwarnings("ignore", "Creating variable with default fill_value 0")
             _by_chunks(ds).to_netcdf(sink, engine="h5netcdf", encoding=_netcdf_encoding(ds))
+        bar.update(bar.total - bar.n)  # (a graph counts keys that are no task: data)
     except Exception:
         if sink.error is None:
             raise
@@ -105,8 +106,10 @@ def _task_progress(bar: Any) -> Any:
 
         def _posttask(self, *args: Any) -> None:
             self.done += 1
+            # Forwards only: a computation started later adds its tasks to the count.
             reached = round(bar.total * min(1.0, self.done / max(self.tasks, 1)))
-            bar.update(reached - bar.n)  # drawn at most 10 times a second, as tqdm does
+            if reached > bar.n:
+                bar.update(reached - bar.n)  # drawn at most 10 times a second, as tqdm does
 
     return TaskProgress()
 
