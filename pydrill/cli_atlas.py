@@ -223,7 +223,9 @@ def register_atlas(sub) -> None:
         "(wob N, torque N·m, depth m, velocities rad/s, times s). No steady states or "
         "eigenvalues (they are netCDF's). The file is written whole or not at all: "
         "an existing file at --out is replaced once the new one is complete, and kept as it "
-        "was if writing fails (a full disk).",
+        "was if writing fails (a full disk). The atlas is read and written by blocks of "
+        "rows (65,536 points), so memory stays that of a block however large it is; on a "
+        "terminal a bar shows the progress.",
     )
     export.add_argument("atlas", metavar="ATLAS.h5")
     export.add_argument(
