@@ -76,7 +76,7 @@ def _write_netcdf(ds, fd: int, bar: Any) -> None:
         with (
             warnings.catch_warnings(),
             dask.config.set(scheduler="synchronous"),
-            _task_progress(bar),
+            _task_progress(bar, sink),
         ):
             # h5netcdf warns that an enum variable's default fill (0) is a regime's code
             # (steady): it masks nothing here, every element is written and no _FillValue
@@ -93,9 +93,11 @@ def _write_netcdf(ds, fd: int, bar: Any) -> None:
         raise sink.error
 
 
-def _task_progress(bar: Any) -> Any:
+def _task_progress(bar: Any, sink: Any) -> Any:
     """A dask callback moving ``bar`` (counted in points) as the tasks of the computations
-    it watches finish: each task a share of the points."""
+    it watches finish, each task a share of the points; and stopping them once a write to
+    ``sink`` has failed (the rest would only go to memory: up to the whole file, for
+    nothing). HDF5, which never heard of the failure, then closes the file as usual."""
     from dask.callbacks import Callback
 
     class TaskProgress(Callback):
@@ -105,6 +107,8 @@ def _task_progress(bar: Any) -> Any:
             self.tasks += len(dsk)
 
         def _posttask(self, *args: Any) -> None:
+            if sink.error is not None:
+                raise sink.error
             self.done += 1
             # Forwards only: a computation started later adds its tasks to the count.
             reached = round(bar.total * min(1.0, self.done / max(self.tasks, 1)))

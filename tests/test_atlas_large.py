@@ -19,7 +19,7 @@ import xarray as xr
 from sweeping import CMD
 
 from pydrill import atlas_format as fmt
-from pydrill import cli, cli_atlas_export
+from pydrill import cli, cli_atlas_export, export_file
 from pydrill.atlas import Atlas
 from pydrill.atlas_table import AtlasTable
 from pydrill.export_file import SinkFile
@@ -273,3 +273,38 @@ def test_an_export_shows_its_progress_on_a_terminal_only(atlas, tmp_path, suffix
         text=True,
     )
     assert piped.returncode == 0 and piped.stderr == ""
+
+
+def test_a_netcdf_export_stops_soon_after_the_disk_fills_up(tmp_path, monkeypatch):
+    """The disk fills up with 30 % of the file written: the export stops at its next task,
+    HDF5 closing the file into memory (what its caches held), and says so. It went on to the
+    end, all of the rest kept in memory for nothing: 24 MB of this 32 MB file (and 190 MB,
+    13 s, of an atlas of 10^6 points)."""
+    spec = SPEC.replace("num = 23", "num = 400").replace("num = 19", "num = 200")
+    source = synthetic_atlas(
+        tmp_path / "big.h5", spec.replace("bit_damping = [0.02, 0.05, 0.08]", "")
+    )
+    whole = export(source, tmp_path / "whole.nc").stat().st_size
+    limit = int(0.3 * whole)
+    write = os.pwrite
+
+    def full_disk(fd, data, offset):
+        if offset + len(data) > limit:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return write(fd, data, offset)
+
+    kept: list[int] = []
+    close = SinkFile.close
+
+    def closing(self):
+        kept.append(sum(len(chunk) for _, chunk in self.later))
+        close(self)
+
+    monkeypatch.setattr(export_file.os, "pwrite", full_disk)
+    monkeypatch.setattr(SinkFile, "close", closing)
+    out = tmp_path / "cut" / "big.nc"
+    out.parent.mkdir()
+    with pytest.raises(OSError, match="No space left on device") as failed:
+        export(source, out)
+    assert failed.value.filename == str(out) and list(out.parent.iterdir()) == []
+    assert len(kept) == 1 and 0 < kept[0] < 0.25 * (whole - limit), (kept, whole - limit)
