@@ -75,3 +75,48 @@ def test_an_atlas_is_readable_while_its_sweep_rewrites_it(tmp_path):
     with Atlas(out) as atlas:  # and once the sweep is over, the file itself
         assert atlas._image is None
         assert atlas.summary()["status"]["done"] == 3200
+
+
+def test_an_atlas_exports_while_its_sweep_rewrites_it(tmp_path):
+    """The export reads the copy of the last complete write by blocks, through xarray and
+    h5py at once (the messages): a netCDF and a CSV export made mid-sweep hold one write,
+    each point marked done with its regime, fewer done than in the end."""
+    import xarray as xr
+
+    spec, out = tmp_path / "live.toml", tmp_path / "live.h5"
+    spec.write_text(SPEC)
+    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(spec), str(out)])
+    try:
+        deadline = time.monotonic() + 60
+        while writer_of(out) is None or not out.exists():
+            assert writer.poll() is None, "the sweep ended before it could be read"
+            assert time.monotonic() < deadline
+            time.sleep(0.01)
+        for suffix in (".nc", ".csv"):
+            target = tmp_path / f"live{suffix}"
+            export = subprocess.run(
+                [
+                    sys.executable,
+                    "-m",
+                    "pydrill",
+                    "atlas",
+                    "export",
+                    str(out),
+                    "--out",
+                    str(target),
+                ],
+                capture_output=True,
+                text=True,
+            )
+            assert export.returncode == 0, export.stderr
+        midway = writer.poll() is None
+        assert writer.wait() == 0
+    finally:
+        writer.kill()
+        writer.wait()
+    with xr.open_dataset(tmp_path / "live.nc", engine="h5netcdf") as ds:
+        done = ds["status"].values == fmt.STATUS["done"]
+        assert np.array_equal(ds["regime"].values[..., 0] >= 0, done)
+    rows = (tmp_path / "live.csv").read_text().splitlines()
+    assert len(rows) == 1 + 3200 and sum(",done," in r for r in rows) >= int(done.sum())
+    assert not midway or int(done.sum()) < 3200
