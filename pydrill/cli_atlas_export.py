@@ -225,5 +225,7 @@ def _name_codes(table) -> None:
     for column, meaning in names.items():
         if column not in table:
             continue
-        named = table[column].map(lambda c, meaning=meaning: meaning.get(int(c), "?"))
+        # A dict, not a function: pandas looks the codes up at once (a function, called for
+        # each of 2 million rows, took 8 of an export's 60 s); a code without a name: "?"
+        named = table[column].map(meaning).fillna("?")
         table.insert(table.columns.get_loc(column) + 1, f"{column}_name", named)
