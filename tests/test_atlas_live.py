@@ -4,6 +4,7 @@ Before readers took a copy of the last complete write (``atlas_lock.snapshot``),
 read in four failed with "filter returned failure during read" or "addr overflow" while a
 sweep rewrote the file."""
 
+import contextlib
 import subprocess
 import sys
 import textwrap
@@ -41,7 +42,10 @@ WRITER = textwrap.dedent(
 )
 
 
-def test_an_atlas_is_readable_while_its_sweep_rewrites_it(tmp_path):
+@contextlib.contextmanager
+def sweep_writing(tmp_path):
+    """The sweep above, started; (its process, its atlas) once it writes the atlas. Killed
+    on the way out, whatever happened."""
     spec, out = tmp_path / "live.toml", tmp_path / "live.h5"
     spec.write_text(SPEC)
     writer = subprocess.Popen([sys.executable, "-c", WRITER, str(spec), str(out)])
@@ -51,6 +55,14 @@ def test_an_atlas_is_readable_while_its_sweep_rewrites_it(tmp_path):
             assert writer.poll() is None, "the sweep ended before it could be read"
             assert time.monotonic() < deadline
             time.sleep(0.01)
+        yield writer, out
+    finally:
+        writer.kill()
+        writer.wait()
+
+
+def test_an_atlas_is_readable_while_its_sweep_rewrites_it(tmp_path):
+    with sweep_writing(tmp_path) as (writer, out):
         reads_while_writing, done_seen = 0, []
         while writer.poll() is None:
             with Atlas(out) as atlas:
@@ -65,9 +77,6 @@ def test_an_atlas_is_readable_while_its_sweep_rewrites_it(tmp_path):
             done_seen.append(summary["status"]["done"])
             reads_while_writing += 1
         assert writer.wait() == 0
-    finally:
-        writer.kill()
-        writer.wait()
     assert reads_while_writing >= 5
     # The reads saw the atlas grow, not only its first or last state.
     assert len(set(done_seen)) >= 3, done_seen
@@ -77,43 +86,24 @@ def test_an_atlas_is_readable_while_its_sweep_rewrites_it(tmp_path):
         assert atlas.summary()["status"]["done"] == 3200
 
 
+EXPORT = [sys.executable, "-m", "pydrill", "atlas", "export"]
+
+
 def test_an_atlas_exports_while_its_sweep_rewrites_it(tmp_path):
     """The export reads the copy of the last complete write by blocks, through xarray and
     h5py at once (the messages): a netCDF and a CSV export made mid-sweep hold one write,
     each point marked done with its regime, fewer done than in the end."""
     import xarray as xr
 
-    spec, out = tmp_path / "live.toml", tmp_path / "live.h5"
-    spec.write_text(SPEC)
-    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(spec), str(out)])
-    try:
-        deadline = time.monotonic() + 60
-        while writer_of(out) is None or not out.exists():
-            assert writer.poll() is None, "the sweep ended before it could be read"
-            assert time.monotonic() < deadline
-            time.sleep(0.01)
+    with sweep_writing(tmp_path) as (writer, out):
         for suffix in (".nc", ".csv"):
             target = tmp_path / f"live{suffix}"
             export = subprocess.run(
-                [
-                    sys.executable,
-                    "-m",
-                    "pydrill",
-                    "atlas",
-                    "export",
-                    str(out),
-                    "--out",
-                    str(target),
-                ],
-                capture_output=True,
-                text=True,
+                [*EXPORT, str(out), "--out", str(target)], capture_output=True, text=True
             )
             assert export.returncode == 0, export.stderr
         midway = writer.poll() is None
         assert writer.wait() == 0
-    finally:
-        writer.kill()
-        writer.wait()
     with xr.open_dataset(tmp_path / "live.nc", engine="h5netcdf") as ds:
         done = ds["status"].values == fmt.STATUS["done"]
         assert np.array_equal(ds["regime"].values[..., 0] >= 0, done)
