@@ -47,6 +47,13 @@ Synthetic sine(double omega, double amp, double sigma, double period, double t0,
   auto bit = [&](double t) { return omega + amp * std::exp(-sigma * t) * std::sin(w * t); };
   return sampled(bit, integral, omega, t0, t1);
 }
+// The steady velocity of a chain that has exactly one (the approaches' target).
+double only_steady_state(const Chain& chain) {
+  const std::vector<double> omegas =
+      equilibrium_velocities(chain.params(), chain.wob(), chain.torque());
+  REQUIRE(omegas.size() == 1);
+  return omegas[0];
+}
 }  // namespace
 
 TEST_CASE("a sustained swing without sticking is an oscillation with its period", "[summary]") {
@@ -307,9 +314,7 @@ TEST_CASE("a slow approach still a few per cent short of its steady state is app
   // ω_b(t) = Ω (1 − 0.05 e^{−(t − 150)/600}): across the window [150, 300] its mean moves by
   // half a per cent only, but the steady state is still 4 % ahead of it. The caveat names it.
   const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
-  const std::vector<double> omegas = equilibrium_velocities(chain.params(), 40.0, 8.3);
-  REQUIRE(omegas.size() == 1);
-  const double omega = omegas[0];
+  const double omega = only_steady_state(chain);
   const auto bit = [&](double t) { return omega * (1.0 - 0.05 * std::exp(-(t - 150.0) / 600.0)); };
   const auto angle = [&](double t) {
     return omega * (t + 0.05 * 600.0 * std::exp(-(t - 150.0) / 600.0));
@@ -340,9 +345,7 @@ TEST_CASE("a mean on its way under a big fast swing is approaching, the swing al
   // string's slowest period (30 s), such a swing could fake a drift of 7 % of Ω and the
   // approach went unsaid; by its own cycles (8.5 s), 2 %.
   const Chain chain(preset("reduced-scale", 4), 40.0, 8.3);
-  const std::vector<double> omegas = equilibrium_velocities(chain.params(), 40.0, 8.3);
-  REQUIRE(omegas.size() == 1);
-  const double omega = omegas[0], sigma = 1.0 / 200.0, w = 2 * M_PI / 8.5;
+  const double omega = only_steady_state(chain), sigma = 1.0 / 200.0, w = 2 * M_PI / 8.5;
   const auto swing = [&](double t) {
     return 0.5 * omega * std::exp(-sigma * (t - 150.0)) * std::sin(w * t);
   };
