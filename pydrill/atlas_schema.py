@@ -28,7 +28,7 @@ REGIME_NAMES = {v: k for k, v in REGIMES.items()}
 CAVEAT_TEXT = {
     "first-wind-up": "the bit had not broken free yet although |u| > T_s; simulate longer",
     "one-stick-phase": "the window held one stick phase of a slow cycle; simulate longer",
-    "one-break-away": "the bit broke free once and had not stuck again; simulate longer",
+    "one-break-away": "the bit broke free and had not stuck again since; simulate longer",
     "growing": "an oscillation still growing away from the steady state; simulate longer",
     "short-window": "the judged window is shorter than the slowest period; simulate longer",
     # (new kinds go last: an atlas stores the codes)

@@ -12,6 +12,8 @@
 #include "pydrill/equilibrium.hpp"
 #include "pydrill/simulator.hpp"
 #include "pydrill/stability.hpp"
+#include "stick_phases.hpp"
+#include "swing.hpp"
 
 namespace pydrill::detail {
 namespace {
@@ -19,66 +21,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 bool is_held(Mode m) { return m == Mode::Stick || m == Mode::Band; }
-
-// Times the bit velocity crosses `level` upwards (linear interpolation between samples).
-std::vector<double> upward_crossings(const Trace& tr, double level) {
-  std::vector<double> ups;
-  for (std::size_t i = 1; i < tr.t.size(); ++i) {
-    const double a = tr.bit[i - 1] - level, b = tr.bit[i] - level;
-    if (a < 0 && b >= 0) ups.push_back(tr.t[i - 1] + (tr.t[i] - tr.t[i - 1]) * (-a) / (b - a));
-  }
-  return ups;
-}
-
-// Mean spacing of upward crossings of `level`; < 0 when fewer than two crossings exist.
-double crossing_period(const Trace& tr, double level) {
-  const std::vector<double> ups = upward_crossings(tr, level);
-  if (ups.size() < 2) return -1.0;
-  return (ups.back() - ups.front()) / static_cast<double>(ups.size() - 1);
-}
-
-// The longest of the swing's cycles about `level` between t0 and t1 (spacing of upward
-// crossings), when it makes at least four whole cycles there; the string's `slowest`
-// period otherwise.
-double longest_cycle(const Trace& tr, double level, double t0, double t1, double slowest) {
-  std::vector<double> ups = upward_crossings(tr, level);
-  ups.erase(std::remove_if(ups.begin(), ups.end(), [&](double t) { return t < t0 || t > t1; }),
-            ups.end());
-  if (ups.size() < 5) return slowest;
-  double longest = 0.0;
-  for (std::size_t i = 1; i < ups.size(); ++i) longest = std::max(longest, ups[i] - ups[i - 1]);
-  return longest;
-}
-
-double span(const Trace& tr, double t0, double t1) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (std::size_t i = 0; i < tr.t.size(); ++i) {
-    if (tr.t[i] < t0 || tr.t[i] > t1) continue;
-    lo = std::min(lo, tr.bit[i]);
-    hi = std::max(hi, tr.bit[i]);
-  }
-  return hi >= lo ? hi - lo : 0.0;
-}
-
-// The trend of the bit velocity's swing over the window: the least-squares slope of
-// log(swing) over its four quarters, times the window's length (so 0 is sustained, ln 0.5 a
-// swing halved across the window). `floor` stands in for a quarter without any swing;
-// `last` is the last quarter's swing.
-double swing_trend(const Trace& tr, double t0, double t1, double floor, double& last) {
-  constexpr int kParts = 4;
-  const double h = (t1 - t0) / kParts;
-  double x[kParts], y[kParts];
-  for (int q = 0; q < kParts; ++q) {
-    x[q] = (q + 0.5) / kParts;
-    last = span(tr, t0 + q * h, t0 + (q + 1) * h);
-    y[q] = std::log(std::max(last, floor));
-  }
-  double xm = 0.0, ym = 0.0;
-  for (int q = 0; q < kParts; ++q) xm += x[q] / kParts, ym += y[q] / kParts;
-  double sxy = 0.0, sxx = 0.0;
-  for (int q = 0; q < kParts; ++q) sxy += (x[q] - xm) * (y[q] - ym), sxx += (x[q] - xm) * (x[q] - xm);
-  return sxy / sxx;
-}
 
 // The extremes of v(t) from its samples and their slopes dv: on each interval between two
 // samples, the cubic Hermite interpolant of both ends (fourth-order accurate) has its extreme
@@ -109,6 +51,45 @@ std::pair<double, double> extremes(const std::vector<double>& t, const std::vect
   return {lo, hi};
 }
 
+// Whether the steady state at `omega` has an eigenvalue in the right half-plane (from the
+// string's crossings, O(dof²): asked only of a swing that the window alone cannot judge).
+bool unstable_at(const Chain& chain, double omega, const std::function<bool()>& interrupt) {
+  if (!(std::fabs(omega) > 0.0)) return false;
+  const auto& p = chain.params();
+  const double delta = stribeck_slope(p, std::fabs(chain.wob()), std::fabs(omega));
+  return unstable_count(critical_deltas(p, interrupt), delta) > 0;
+}
+
+// Whether the mean bit velocity is still on its way, from `before` (the window's first half)
+// to `after` (its second): moving by more than 1 % of itself, or towards a steady state more
+// than 1 % away (a converged run's moves by 1e-4 or less; a bit damped by c_b = 1e-3 alone
+// was judged steady at 238 rad/s on its way to 750). A swing that does not span whole periods
+// moves a half-window's mean too, by at most its amplitude (`last` / 2) times period /
+// (π · T / 2): the drift must exceed that as well. The period: the longest of the swing's
+// cycles in the window, if it made four or more; else the string's `slowest`. (The slowest
+// alone, 30 s against a swing of 8.5 s, hid a mean on its way from 231 to 291 rad/s behind a
+// swing of 90 % of it.) `target`: the steady state ahead of it, the nearest in the direction
+// it moves (NaN: none).
+bool mean_moves(const Trace& tr, const Summary& s, double before, double after, double last,
+                double slowest, double& target) {
+  const double T = s.window_end - s.window_start;
+  const double drift = std::fabs(after - before), size = std::fabs(s.bit_mean);
+  double gap = std::numeric_limits<double>::infinity();  // to the nearest steady state
+  for (double o : s.omega_equilibrium) gap = std::min(gap, std::fabs(after - o));
+  const double period = longest_cycle(tr, s.bit_mean, s.window_start, s.window_end, slowest);
+  const double faked = 2.0 * last * period / (kPi * T);
+  target = std::numeric_limits<double>::quiet_NaN();
+  if (!((drift > 0.01 * size || (drift > 1e-3 * size && gap > 0.01 * std::fabs(after))) &&
+        drift > faked)) {
+    return false;
+  }
+  const double way = after > before ? 1.0 : -1.0;
+  for (double o : s.omega_equilibrium) {
+    if (way * (o - after) > 0 && !(way * (o - target) >= 0)) target = o;
+  }
+  return true;
+}
+
 // Whether the steady state nearest the run's mean bit velocity has an eigenvalue in the
 // right half-plane (from the string's crossings, O(dof²): only asked of an ambiguous swing).
 bool circles_unstable_state(const Chain& chain, const std::vector<double>& omegas, double mean,
@@ -118,26 +99,7 @@ bool circles_unstable_state(const Chain& chain, const std::vector<double>& omega
   for (double o : omegas) {
     if (std::fabs(o - mean) < std::fabs(omega - mean)) omega = o;
   }
-  if (!(std::fabs(omega) > 0.0)) return false;
-  const auto& p = chain.params();
-  const double delta = stribeck_slope(p, std::fabs(chain.wob()), std::fabs(omega));
-  return unstable_count(critical_deltas(p, interrupt), delta) > 0;
-}
-
-// The bit's mean velocity over [a, b], from the samples (trapezoids).
-double sampled_mean(const Trace& tr, double a, double b) {
-  double area = 0.0, length = 0.0;
-  for (std::size_t i = 1; i < tr.t.size(); ++i) {
-    const double t0 = std::max(tr.t[i - 1], a), t1 = std::min(tr.t[i], b);
-    if (!(t1 > t0)) continue;
-    const double h = tr.t[i] - tr.t[i - 1];
-    const auto at = [&](double t) {
-      return tr.bit[i - 1] + (tr.bit[i] - tr.bit[i - 1]) * (t - tr.t[i - 1]) / h;
-    };
-    area += 0.5 * (at(t0) + at(t1)) * (t1 - t0);
-    length += t1 - t0;
-  }
-  return length > 0.0 ? area / length : 0.0;
+  return unstable_at(chain, omega, interrupt);
 }
 
 // The Coulomb torque T_c = μ_cb R_b W_ob: the slip friction's limit as the bit speeds up.
@@ -271,6 +233,33 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
       s.caveat = "one-break-away";
       s.note = "the bit broke free once in the window and has not stuck again: simulate longer "
                "to tell stick-slip from steady drilling";
+    } else if (const CycleEnd end = cycle_end(modes, w.t0, w.t1);
+               end.kind == CycleEnd::Kind::Free ||
+               (end.kind == CycleEnd::Kind::Stuck &&
+                std::fabs(chain.torque()) <= chain.static_torque())) {
+      // Sticks and slips that stopped inside the window: its last phase has outlasted every
+      // one of its kind before it, over twice (a cycle's repeat within 4 %). Judged by the
+      // last phase, as above: stuck for good (|u| <= T_s can hold the bit), or free since a
+      // last break-away. 15 of 32 random strings whose 300 s stick-slip a 3000 s run found
+      // steady or stuck were so, and none of 309 it confirmed.
+      const bool stuck = end.kind == CycleEnd::Kind::Stuck;
+      std::ostringstream o;
+      o.precision(3);
+      o << "the bit has " << (stuck ? "been stuck" : "turned without sticking") << " since t = "
+        << end.since << " s, for " << w.t1 - end.since << " s: over " << kCycleEnded
+        << " times its longest " << (stuck ? "stick" : "slip") << " phase before it in the "
+        << "window (" << end.longest << " s)";
+      if (stuck) {
+        s.regime = Regime::Stuck;
+        s.caveat = "late-stick";
+        o << ": |u| <= T_s lets the rock hold it, but the string's swing may still break it "
+          << "free; simulate longer to be sure";
+      } else {
+        s.caveat = "one-break-away";
+        o << ": the stick-slip may have died out; simulate longer to tell stick-slip from "
+          << "steady drilling";
+      }
+      s.note = o.str();
     }
   } else {
     // No sticking: steady if the bit velocity settles, oscillation if its swing is
@@ -304,6 +293,16 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     }
     const double middle = 0.5 * (w.t0 + w.t1);
     const double before = sampled_mean(tr, w.t0, middle), after = sampled_mean(tr, middle, w.t1);
+    double target = 0.0;  // the steady state ahead of a mean still on its way
+    const bool moving = mean_moves(tr, s, before, after, last, slowest, target);
+    // A swing neither growing nor dying out about a mean still on its way to a steady state
+    // that is linearly stable: a bit spinning up, whose swing is the transient of where it
+    // is now, not a limit cycle (a limit cycle's mean stays put). Near its steady state the
+    // swing dies out: steady by where it is going. 7 of 7 random lightly damped strings so
+    // judged an oscillation at 300 s were steady at 3000 s, their means 25 % up across the
+    // window on their way to steady states of 1900-21000 rad/s.
+    const bool settling = !steady && !unresolved && trend <= change && moving &&
+                          std::isfinite(target) && !unstable_at(chain, target, interrupt);
     if (runs_away(chain, s, after - before)) {
       // Neither steady (it never settles) nor stick-slip: judged an oscillation, the one
       // label of a motion that never sticks and never settles, with the reason beside it.
@@ -321,37 +320,23 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
         << "that never settles; give the top drive or the bit a damping (c_r, c_b)";
       s.note = o.str();
       unresolved = false;
-    } else if (steady) {
+    } else if (steady || settling) {
       s.regime = Regime::Steady;
-      // Settling, but not there yet: the mean itself still moves across the window, by more
-      // than 1 %, or towards a steady state more than 1 % away (a converged run's moves by
-      // 1e-4 or less; a bit damped by c_b = 1e-3 alone was judged steady at 238 rad/s on its
-      // way to 750). Steady is where it is going.
-      // A swing that does not span whole periods moves a half-window's mean too, by at most
-      // its amplitude (last / 2) times period / (π · T / 2): the drift must exceed that as
-      // well. The period: the longest of the swing's cycles in the window, if it made four
-      // or more; else the string's slowest. (The slowest alone, 30 s against a swing of
-      // 8.5 s, hid a mean on its way from 231 to 291 rad/s behind a swing of 90 % of it.)
-      const double drift = std::fabs(after - before), size = std::fabs(s.bit_mean);
-      double gap = std::numeric_limits<double>::infinity();  // to the nearest steady state
-      for (double o : s.omega_equilibrium) gap = std::min(gap, std::fabs(after - o));
-      const double period = longest_cycle(tr, s.bit_mean, w.t0, w.t1, slowest);
-      const double faked = 2.0 * last * period / (kPi * T);
-      if ((drift > 0.01 * size || (drift > 1e-3 * size && gap > 0.01 * std::fabs(after))) &&
-          drift > faked) {
+      if (moving) {  // settling, but not there yet: steady is where it is going
         approaching = true;
-        // The steady state ahead of it: the nearest in the direction its mean moves.
-        const double way = after > before ? 1.0 : -1.0;
-        double target = std::numeric_limits<double>::quiet_NaN();
-        for (double o : s.omega_equilibrium) {
-          if (way * (o - after) > 0 && !(way * (o - target) >= 0)) target = o;
-        }
         s.caveat = "approaching";
         std::ostringstream o;
         o.precision(3);
         o << "the bit's mean velocity is still changing (" << before
           << " rad/s in the window's first half, " << after << " in its second)";
-        if (std::isfinite(target)) o << ", on its way to the steady state at " << target << " rad/s";
+        if (settling) {
+          o << " under a swing of " << 100.0 * last / std::fabs(after) << " % of it that "
+            << "neither grows nor dies out yet";
+        }
+        if (std::isfinite(target)) {
+          o << ", on its way to the steady state at " << target << " rad/s";
+          if (settling) o << ", which is linearly stable";
+        }
         o << ": judged steady by where it is going; simulate longer to see it settle";
         s.note = o.str();
       }

@@ -259,9 +259,10 @@ TEST_CASE("one break-away in the window and no stick after it is flagged", "[sum
   CHECK(r.stick_events == 0);
   CHECK_THAT(r.note, Catch::Contains("broke free once"));
   CHECK(r.caveat == "one-break-away");
-  // A stick after it makes a cycle: no note.
+  // Sticks after it that repeat (40 s slips, 10 s sticks) make a cycle: no note.
   const std::vector<detail::ModeChange> again{
-      {0.0, Mode::Stick}, {160.0, Mode::SlipPositive}, {200.0, Mode::Stick}, {210.0, Mode::SlipPositive}};
+      {0.0, Mode::Stick},         {160.0, Mode::SlipPositive}, {200.0, Mode::Stick},
+      {210.0, Mode::SlipPositive}, {250.0, Mode::Stick},        {260.0, Mode::SlipPositive}};
   CHECK(detail::summarize(chain, s.trace, again, s.angles, false).note.empty());
 }
 
@@ -287,6 +288,64 @@ TEST_CASE("slipping, then one stick to the window's end, is stuck when the rock 
   const Summary t = detail::summarize(heavy, s.trace, twice, s.angles, false);
   CHECK(t.regime == Regime::StickSlip);
   CHECK(t.caveat.empty());
+}
+
+TEST_CASE("a stick-slip cycle that ended in the window is judged by its last phase",
+          "[summary]") {
+  const auto s = sine(10.0, 1.0, 0.0, 10.0, 150.0, 300.0);
+  const Chain heavy(preset("reduced-scale", 4), 160.0, 8.3);  // u = 8.3 <= T_s = 12.8
+  const Chain light(preset("reduced-scale", 4), 100.0, 8.3);  // u = 8.3 >  T_s = 8.0
+  // Sticks of 10 s every 25 s, then one from 225 s to the window's end: 75 s, over twice
+  // the longest before it. With |u| <= T_s the bit is stuck (for good, as far as it saw).
+  const std::vector<detail::ModeChange> stopped{
+      {0.0, Mode::SlipPositive},   {150.0, Mode::Stick}, {160.0, Mode::SlipPositive},
+      {175.0, Mode::Stick},        {185.0, Mode::SlipPositive}, {200.0, Mode::Stick},
+      {210.0, Mode::SlipPositive}, {225.0, Mode::Stick}};
+  const Summary r = detail::summarize(heavy, s.trace, stopped, s.angles, false);
+  CHECK(r.regime == Regime::Stuck);
+  CHECK(r.caveat == "late-stick");
+  CHECK_THAT(r.note, Catch::Contains("stuck since t = 225 s, for 75 s"));
+  CHECK_THAT(r.note, Catch::Contains("stick phase before it in the window (10 s)"));
+  CHECK(r.stuck_fraction == Approx(105.0 / 150.0));
+  // The rock cannot hold the bit at |u| > T_s: a long stick of a cycle, still stick-slip.
+  const Summary l = detail::summarize(light, s.trace, stopped, s.angles, false);
+  CHECK(l.regime == Regime::StickSlip);
+  CHECK(l.caveat.empty());
+  // The last stick only 1.9 times the longest (10 s, from 281 s): a cycle's, no caveat.
+  std::vector<detail::ModeChange> cycling(stopped.begin(), stopped.end() - 1);
+  cycling.push_back({235.0, Mode::Stick});
+  cycling.push_back({245.0, Mode::SlipPositive});
+  cycling.push_back({281.0, Mode::Stick});
+  const Summary c = detail::summarize(heavy, s.trace, cycling, s.angles, false);
+  CHECK(c.regime == Regime::StickSlip);
+  CHECK(c.note.empty());
+  // A stick phase that began before the window counts whole: held 0-160 s, free for 80 s,
+  // then held 60 s to the end is a slow cycle (60 < 2 x 160), not a stuck bit.
+  const std::vector<detail::ModeChange> slow{
+      {0.0, Mode::Stick}, {160.0, Mode::SlipPositive}, {240.0, Mode::Stick}};
+  CHECK(detail::summarize(heavy, s.trace, slow, s.angles, false).regime == Regime::StickSlip);
+
+  // Slips of 15 s between sticks, then none since 195 s: 105 s, over twice the longest. The
+  // stick-slip may have died out: still stick-slip (it stuck in the window), with a caveat.
+  const std::vector<detail::ModeChange> freed{
+      {0.0, Mode::SlipPositive}, {155.0, Mode::Stick}, {160.0, Mode::SlipPositive},
+      {175.0, Mode::Stick},      {180.0, Mode::SlipPositive}, {190.0, Mode::Stick},
+      {195.0, Mode::SlipPositive}};
+  const Summary f = detail::summarize(light, s.trace, freed, s.angles, false);
+  CHECK(f.regime == Regime::StickSlip);
+  CHECK(f.caveat == "one-break-away");
+  CHECK_THAT(f.note, Catch::Contains("without sticking since t = 195 s, for 105 s"));
+  CHECK_THAT(f.note, Catch::Contains("slip phase before it in the window (15 s)"));
+  // The last slip 1.9 times the longest (15 s, from 271.5 s on): a cycle's, no caveat.
+  std::vector<detail::ModeChange> slipping(freed.begin(), freed.end() - 1);
+  slipping.push_back({195.0, Mode::SlipPositive});
+  slipping.push_back({210.0, Mode::Stick});
+  slipping.push_back({243.0, Mode::SlipPositive});
+  slipping.push_back({250.0, Mode::Stick});
+  slipping.push_back({255.0, Mode::SlipPositive});
+  slipping.push_back({270.0, Mode::Stick});
+  slipping.push_back({271.5, Mode::SlipPositive});
+  CHECK(detail::summarize(light, s.trace, slipping, s.angles, false).note.empty());
 }
 
 TEST_CASE("a big slow swing dying out moves its half-windows' means, and is not approaching",
@@ -372,4 +431,42 @@ TEST_CASE("a mean on its way under a big fast swing is approaching, the swing al
   const Summary n = detail::summarize(chain, q.trace, modes, q.angles, false);
   CHECK(n.regime == Regime::Steady);
   CHECK(n.caveat.empty());
+}
+
+TEST_CASE("a swing about a mean on its way to a stable steady state is steady, approaching",
+          "[summary]") {
+  // The dof-4 string at W_ob 140 N, u 8.3 N·m: steady states at Ω = 1.60 rad/s (unstable)
+  // and 6.79 rad/s (stable). A swing of constant size (1 rad/s, 7.5 s) about a mean that
+  // climbs by a fifth across the window towards 6.79 is a bit spinning up, not a limit cycle
+  // (whose mean stays put): steady by where it is going. The same swing about a mean falling
+  // towards the unstable state stays an oscillation, as it does about a mean that stays put.
+  const Chain chain(preset("reduced-scale", 4), 140.0, 8.3);
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  const double stable = 6.7932, unstable = 1.5987, w = 2 * M_PI / 7.5;
+  const auto p = chain.params();
+  REQUIRE(unstable_count(critical_deltas(p), stribeck_slope(p, 140.0, stable)) == 0);
+  REQUIRE(unstable_count(critical_deltas(p), stribeck_slope(p, 140.0, unstable)) > 0);
+  // ω_b(t) = ω_0 + k (t − 150) + sin(w t), and its exact angle: a steady ramp adds the same to
+  // each quarter's swing, so the swing neither grows nor dies out.
+  const auto run = [&](double omega0, double k) {
+    const auto bit = [=](double t) { return omega0 + k * (t - 150.0) + std::sin(w * t); };
+    const auto angle = [=](double t) {
+      return omega0 * t + 0.5 * k * (t - 150.0) * (t - 150.0) - std::cos(w * t) / w;
+    };
+    return sampled(bit, angle, omega0, 150.0, 300.0);
+  };
+  const Synthetic up = run(4.3, 1.0 / 150.0);  // halves' means 4.55 -> 5.05 rad/s
+  const Summary r = detail::summarize(chain, up.trace, modes, up.angles, false);
+  CHECK(r.regime == Regime::Steady);
+  CHECK(r.caveat == "approaching");
+  CHECK_THAT(r.note, Catch::Contains("neither grows nor dies out"));
+  CHECK_THAT(r.note, Catch::Contains("steady state at 6.79 rad/s, which is linearly stable"));
+  const Synthetic down = run(4.6, -1.0 / 150.0);  // 4.35 -> 3.85 rad/s, towards 1.60
+  const Summary d = detail::summarize(chain, down.trace, modes, down.angles, false);
+  CHECK(d.regime == Regime::Oscillation);
+  CHECK(d.caveat.empty());
+  const Synthetic put = run(5.0, 0.0);  // about 5 rad/s throughout
+  const Summary q = detail::summarize(chain, put.trace, modes, put.angles, false);
+  CHECK(q.regime == Regime::Oscillation);
+  CHECK(q.period == Approx(7.5).epsilon(1e-3));
 }

@@ -1,0 +1,76 @@
+"""Runs whose transient outlasts the judged window are judged by where they are going.
+
+The independent judge is the same run ten times longer (3000 s), whose window lies long
+after the transient. The strings are laboratory strings with their dampings changed, found
+among random strings whose 300 s judgement a 3000 s run did not confirm (see
+``cpp/src/stick_phases.hpp`` and the spinning-up bit in ``cpp/src/summary.cpp``)."""
+
+import dataclasses
+import itertools
+
+import pydrill
+
+
+def _string(top_damping: float, bit_damping: float, dof: int = 3) -> pydrill.Params:
+    base = pydrill.preset("reduced-scale", dof=dof)
+    return dataclasses.replace(base, top_damping=top_damping, bit_damping=bit_damping)
+
+
+def _phases(result: pydrill.SimulationResult, start: float) -> list[tuple[float, float]]:
+    return [(a, b) for a, b in result.stick_intervals() if b > start]
+
+
+def test_sticks_that_end_in_one_for_good_are_stuck():
+    """u = 5.55 N·m < T_s: sticks of ~10 s, then one from 218 s that never ends. Judged at
+    300 s it was "stick-slip" (four stick phases in the window); it is stuck, as the 3000 s
+    run says with its window held throughout."""
+    p = _string(0.017456395378208863, 0.00016020099527506288)
+    op = {"wob": 107.07103949603524, "torque": 5.549950473096398}
+    run = pydrill.simulate(p, t_end=300.0, **op)
+    s = run.summary
+    assert abs(op["torque"]) <= s.static_torque
+    *before, last = _phases(run, s.window_start)
+    assert last[1] == 300.0 and before  # the window saw the cycle, then the last stick
+    longest = max(b - a for a, b in before)
+    assert 300.0 - last[0] > 2.0 * longest
+    assert s.regime == "stuck" and s.caveat == "late-stick"
+    assert f"since t = {last[0]:.3g} s" in s.note
+    long = pydrill.simulate(p, t_end=3000.0, **op).summary
+    assert long.regime == "stuck" and long.stuck_fraction == 1.0 and not long.caveat
+
+
+def test_sticks_that_stop_say_the_stick_slip_may_have_died_out():
+    """The bit sticks every ~20 s, then not at all after 241 s. Judged at 300 s it was
+    "stick-slip" without a word; it still is (it stuck in the window), with the caveat that
+    the bit has turned freely for over twice its longest slip: the 3000 s run is steady."""
+    p = _string(0.0011595087485610014, 0.0007480710677527699)
+    op = {"wob": 165.01110294679276, "torque": 9.672541206585555}
+    run = pydrill.simulate(p, t_end=300.0, **op)
+    s = run.summary
+    phases = _phases(run, s.window_start)
+    slips = [b[0] - a[1] for a, b in itertools.pairwise(phases)]
+    assert len(slips) >= 2 and 300.0 - phases[-1][1] > 2.0 * max(slips)
+    assert s.regime == "stick-slip" and s.caveat == "one-break-away"
+    assert "the stick-slip may have died out" in s.note
+    long = pydrill.simulate(p, t_end=3000.0, **op).summary
+    assert long.regime == "steady" and not long.caveat
+    assert long.severity < 0.01
+
+
+def test_a_bit_spinning_up_under_a_swing_is_steady_by_where_it_is_going():
+    """Dampings a thousandth of the laboratory's: the steady state is at 1898 rad/s and the
+    bit climbs towards it under a swing that neither grows nor dies out across the window
+    (545 -> 711 rad/s in its halves). Judged at 300 s it was "oscillation", a limit cycle;
+    it is a transient: at 3000 s the mean is within 3 % of the steady state and the swing
+    has shrunk to an eighth against it. The steady state is stable by its eigenvalues."""
+    p = _string(0.0003448748015384755, 0.0010367464962172546, dof=11)
+    op = {"wob": 31.73641899967938, "torque": 4.209161517567566}
+    (point,) = pydrill.stability.stability(p, op["wob"], torque=op["torque"])
+    assert point.spectral_abscissa < 0
+    s = pydrill.simulate(p, t_end=300.0, **op).summary
+    assert s.regime == "steady" and s.caveat == "approaching"
+    assert f"steady state at {point.omega:.3g} rad/s, which is linearly stable" in s.note
+    long = pydrill.simulate(p, t_end=3000.0, **op).summary
+    assert long.regime == "steady"
+    assert abs(long.bit_mean - point.omega) < 0.03 * point.omega
+    assert long.severity < s.severity / 5
