@@ -436,36 +436,52 @@ TEST_CASE("a mean on its way under a big fast swing is approaching, the swing al
 TEST_CASE("a swing about a mean on its way to a stable steady state is steady, approaching",
           "[summary]") {
   // The dof-4 string at W_ob 140 N, u 8.3 N·m: steady states at Ω = 1.60 rad/s (unstable)
-  // and 6.79 rad/s (stable). A swing of constant size (1 rad/s, 7.5 s) about a mean that
-  // climbs by a fifth across the window towards 6.79 is a bit spinning up, not a limit cycle
-  // (whose mean stays put): steady by where it is going. The same swing about a mean falling
-  // towards the unstable state stays an oscillation, as it does about a mean that stays put.
+  // and 6.79 rad/s (stable). A swing that does not grow against a mean climbing towards 6.79
+  // is a bit spinning up, not a limit cycle (whose mean stays put): steady by where it is
+  // going. The same swing about a mean falling towards the unstable state stays an
+  // oscillation, as it does about a mean that stays put; so does one that grows against it.
   const Chain chain(preset("reduced-scale", 4), 140.0, 8.3);
   const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
   const double stable = 6.7932, unstable = 1.5987, w = 2 * M_PI / 7.5;
   const auto p = chain.params();
   REQUIRE(unstable_count(critical_deltas(p), stribeck_slope(p, 140.0, stable)) == 0);
   REQUIRE(unstable_count(critical_deltas(p), stribeck_slope(p, 140.0, unstable)) > 0);
-  // ω_b(t) = ω_0 + k (t − 150) + sin(w t), and its exact angle: a steady ramp adds the same to
-  // each quarter's swing, so the swing neither grows nor dies out.
-  const auto run = [&](double omega0, double k) {
-    const auto bit = [=](double t) { return omega0 + k * (t - 150.0) + std::sin(w * t); };
+  // ω_b(t) = ω_0 + k s + (a + b s) sin(w t), s = t − 150, and its exact angle. A steady ramp
+  // adds the same to each quarter's swing: with b = 0 the swing neither grows nor dies out.
+  const auto run = [&](double omega0, double k, double a, double b) {
+    const auto bit = [=](double t) {
+      return omega0 + k * (t - 150.0) + (a + b * (t - 150.0)) * std::sin(w * t);
+    };
     const auto angle = [=](double t) {
-      return omega0 * t + 0.5 * k * (t - 150.0) * (t - 150.0) - std::cos(w * t) / w;
+      const double s = t - 150.0;
+      return omega0 * t + 0.5 * k * s * s - (a + b * s) * std::cos(w * t) / w +
+             b * std::sin(w * t) / (w * w);
     };
     return sampled(bit, angle, omega0, 150.0, 300.0);
   };
-  const Synthetic up = run(4.3, 1.0 / 150.0);  // halves' means 4.55 -> 5.05 rad/s
+  const Synthetic up = run(4.3, 1.0 / 150.0, 1.0, 0.0);  // halves' means 4.55 -> 5.05 rad/s
   const Summary r = detail::summarize(chain, up.trace, modes, up.angles, false);
   CHECK(r.regime == Regime::Steady);
   CHECK(r.caveat == "approaching");
-  CHECK_THAT(r.note, Catch::Contains("neither grows nor dies out"));
+  CHECK_THAT(r.note, Catch::Contains("does not grow against it"));
   CHECK_THAT(r.note, Catch::Contains("steady state at 6.79 rad/s, which is linearly stable"));
-  const Synthetic down = run(4.6, -1.0 / 150.0);  // 4.35 -> 3.85 rad/s, towards 1.60
+  // A swing of a fifth of a mean that climbs from 4.3 to 5.8 rad/s grows with it, by a third
+  // across the window ("growing" by itself), and not against it: steady, approaching.
+  const double k = 1.5 / 150.0;
+  const Synthetic along = run(4.3, k, 0.2 * 4.3, 0.2 * k);
+  const Summary g = detail::summarize(chain, along.trace, modes, along.angles, false);
+  CHECK(g.regime == Regime::Steady);
+  CHECK(g.caveat == "approaching");
+  // The swing growing eightfold under the same mean: against it too, an oscillation growing.
+  const Synthetic faster = run(4.3, k, 0.2, 1.4 / 150.0);
+  const Summary f = detail::summarize(chain, faster.trace, modes, faster.angles, false);
+  CHECK(f.regime == Regime::Oscillation);
+  CHECK(f.caveat == "growing");
+  const Synthetic down = run(4.6, -1.0 / 150.0, 1.0, 0.0);  // 4.35 -> 3.85 rad/s, to 1.60
   const Summary d = detail::summarize(chain, down.trace, modes, down.angles, false);
   CHECK(d.regime == Regime::Oscillation);
   CHECK(d.caveat.empty());
-  const Synthetic put = run(5.0, 0.0);  // about 5 rad/s throughout
+  const Synthetic put = run(5.0, 0.0, 1.0, 0.0);  // about 5 rad/s throughout
   const Summary q = detail::summarize(chain, put.trace, modes, put.angles, false);
   CHECK(q.regime == Regime::Oscillation);
   CHECK(q.period == Approx(7.5).epsilon(1e-3));
