@@ -26,6 +26,7 @@ from .cli_options import (
     os_error_message,
     print_json,
 )
+from .cli_set import say_changed
 from .cli_string import (
     _string_options,
     string_json,
@@ -269,6 +270,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         units = {**data.pop("units"), **string_units(args)}
         print_json(json_document(inputs, data, units, plot))
     else:
+        say_changed(args)
         print(_describe(result, plot, tally=args.tally is not None))
     if unsaved is not None:
         raise unsaved

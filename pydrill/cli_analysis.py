@@ -21,7 +21,13 @@ from .cli_options import (
     print_json,
     shown,
 )
-from .cli_string import _string_options, string_inputs, string_params, string_units
+from .cli_set import say_changed
+from .cli_string import (
+    _string_options,
+    string_inputs,
+    string_params,
+    string_units,
+)
 from .cli_window import register_tally
 
 #: s per inertia squared: what stability's eigenvalues (at n = 4000: 9.4 s), hopf's crossings
@@ -206,6 +212,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
         print_json(json_document(inputs, results, units, args.plot))
         return 0
     hopf = [c for c in crossings if c.type == "hopf"]
+    say_changed(args)
     print(
         f"{params.name}, dof {params.dof}: {counted(len(hopf), 'Hopf crossing')}, "
         f"{counted(len(crossings) - len(hopf), 'fold')}"
@@ -286,6 +293,7 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         results = {"equilibria": [pt.to_dict() for pt in points]}
         print_json(json_document(inputs, results, units, args.plot))
         return 0
+    say_changed(args)
     if not points:
         print(
             f"no steady rotation: {given} cannot balance the bit friction at {at} (the bit "
@@ -369,6 +377,7 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
     fixed = (
         f"u = {b.fixed / k:g} {torque}" if b.vary == "wob" else f"W_ob = {b.fixed / k:g} {force}"
     )
+    say_changed(args)
     print(f"{params.name}, dof {params.dof}: steady states as {b.vary} varies at {fixed}")
     if not b.points:  # the header of an empty table said nothing; the branch's stability does
         print(_no_points(b))

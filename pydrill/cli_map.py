@@ -20,6 +20,7 @@ from .cli_options import (
     print_json,
     shown,
 )
+from .cli_set import say_changed
 from .cli_string import (
     _string_options,
     point_command,
@@ -134,6 +135,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
         say_failed_checks("map", failures, len(checks), json=True)
         return 0
     big = kilo(wob_max)  # a real string's in kN and kN m (was "W_ob 0..200000 N")
+    say_changed(args)
     print(
         f"{params.name}, dof {params.dof}: W_ob 0..{shown(wob_max, 'N', big)}, "
         f"u 0..{shown(torque_max, 'N m', big)}"

@@ -20,7 +20,8 @@ from .cli_options import (
     _whole,
     typed_bare,
 )
-from .model import MAX_DOF
+from .cli_set import _set_refused, set_params
+from .model import _SCALARS, _UNITS, MAX_DOF
 
 
 def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
@@ -60,6 +61,16 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
         "--pipes",
         type=_whole("--pipes", f"1 ... {MAX_DOF - 3}"),
         help=f"number of drill pipes P, 1 ... {MAX_DOF - 3} (same as --dof P+3)",
+    )
+    group.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        dest="set_params",
+        metavar="NAME=VALUE",
+        help="change one of the string's parameters, as often as needed: "
+        + ", ".join(_SCALARS)
+        + " (SI, or with a unit: bit_damping=0.05, 'bit_radius=4.5 in', stribeck_velocity=10rpm)",
     )
     return group
 
@@ -133,11 +144,19 @@ def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = N
     once it is built: a refused string is one line, not a note and then the error."""
     from . import preset
 
+    sets = set_params(args)
     if args.tally is None:
         _no_tally_options(args)
-        params = preset(
-            args.preset or "reduced-scale", dof=args.dof, pipes=args.pipes, **(overrides or {})
-        )
+        try:
+            params = preset(
+                args.preset or "reduced-scale",
+                dof=args.dof,
+                pipes=args.pipes,
+                **(overrides or {}),
+                **sets,
+            )
+        except ValueError as exc:
+            raise _set_refused(exc, sets) from None
         if args.preset == "real-string":
             unit_notes(args)
         else:
@@ -162,7 +181,12 @@ def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = N
                 f"or leave --{key} out"
             )
     # Titles and reports say which depth: strings of one tally differ by it alone.
-    params = params.replace(name=f"{tally.name} at {tally.length:.1f} m", **(overrides or {}))
+    try:
+        params = params.replace(
+            name=f"{tally.name} at {tally.length:.1f} m", **(overrides or {}), **sets
+        )
+    except ValueError as exc:
+        raise _set_refused(exc, sets) from None
     unit_notes(args)
     return params
 
@@ -297,24 +321,29 @@ def point_command(args: argparse.Namespace, wob: float, torque: float, **more: A
 
 
 def string_json(args: argparse.Namespace) -> dict[str, Any]:
-    """What ``--json`` adds about a tally's string (nothing for a preset)."""
+    """What ``--json`` adds about the string: the parameters ``--set`` changed (SI), and a
+    tally's file, depth and lump (nothing else for a preset)."""
+    sets = {"set": set_params(args)} if getattr(args, "set_params", None) else {}
     if args.tally is None:
-        return {}
+        return sets
     from . import units
 
     depth = None if args.depth is None else units.parse(args.depth, "length")
-    return {"tally": {"file": args.tally, "depth": depth, "lump": args.lump or 1}}
+    return {"tally": {"file": args.tally, "depth": depth, "lump": args.lump or 1}, **sets}
 
 
 def string_inputs(args: argparse.Namespace, params: Any) -> dict[str, Any]:
     """The string as the analysis commands' ``--json`` echo it, as simulate's does: a preset's
     name under ``preset``; a tally's file, depth and lump under ``tally`` and the string it made
-    under ``string``, with ``preset`` null (it held "paper-eq53 at 3001.5 m", no preset)."""
+    under ``string``, with ``preset`` null (it held "paper-eq53 at 3001.5 m", no preset); the
+    parameters ``--set`` changed under ``set``."""
     if args.tally is None:
-        return {"preset": params.name}
+        return {"preset": params.name, **string_json(args)}
     return {"preset": None, **string_json(args), "string": params.name}
 
 
 def string_units(args: argparse.Namespace) -> dict[str, str]:
-    """The unit of what :func:`string_json` echoes (nothing for a preset)."""
-    return {} if args.tally is None else {"depth": "m"}
+    """The units of what :func:`string_json` echoes."""
+    # (a friction coefficient is a pure number, as the JSON's other ratios)
+    units = {n: "1" if n.startswith("mu_") else _UNITS[n] for n in set_params(args)}
+    return units if args.tally is None else {"depth": "m", **units}

@@ -1,0 +1,71 @@
+"""``--set NAME=VALUE``: the string's scalar parameters (damping at the top drive and the bit,
+the bit's radius, the friction law) changed from the command line, for every command that
+builds a string from ``--preset`` or ``--tally``; and how the command says what it changed."""
+
+from __future__ import annotations
+
+import argparse
+
+from .model import _LISTS, _SCALARS, _UNITS
+
+
+def set_params(args: argparse.Namespace) -> dict[str, float]:
+    """``--set NAME=VALUE`` options as ``{name: SI value}``: the string's scalar parameters
+    (a preset's or a tally's), each once, a VALUE with a unit where the parameter measures
+    something (``bit_radius=4.5in``, ``top_damping=50 N·m·s/rad``; a bare number is SI)."""
+    from .atlas_grid import coordinate
+
+    out: dict[str, float] = {}
+    for item in getattr(args, "set_params", None) or []:
+        name, equals, value = (part.strip() for part in item.partition("="))
+        if not (name and equals and value):
+            raise ValueError(
+                f"--set {item!r}: expected NAME=VALUE, e.g. bit_damping=0.05 or bit_radius=4.5in"
+            )
+        if name not in _SCALARS:
+            what = (
+                f"{name} is a list, one value per {'inertia' if name == 'inertias' else 'link'}"
+                + (f": give --{name}" if hasattr(args, name) else "")
+                if name in _LISTS
+                else f"{name} has an option of its own: give --{name}"
+                if hasattr(args, name)
+                else f"{name} is not one of the string's parameters"
+            )
+            raise ValueError(f"--set {item!r}: {what}; --set takes " + ", ".join(_SCALARS))
+        if name in out:  # --set a=1 --set a=2: the last would win, silently
+            raise ValueError(f"--set {item!r}: {name} is given twice; give each parameter once")
+        try:
+            out[name] = coordinate(name, value)
+        except ValueError as exc:  # "bit_radius = '3 kg': unit 'kg' is not a length unit; ..."
+            raise ValueError(f"--set {item!r}: {exc}") from None
+    return out
+
+
+def set_line(args: argparse.Namespace) -> str | None:
+    """The first line of a command's text output when ``--set`` changed the string: what it
+    changed, in SI (``changed         bit_damping = 0.05 N·m·s/rad, bit_radius = 0.1016 m``),
+    so that a report read later says which string it was. None without ``--set``."""
+    sets = set_params(args)
+    if not sets:
+        return None
+    shown = [
+        f"{name} = {value:.6g}" + ("" if name.startswith("mu_") else f" {_UNITS[name]}")
+        for name, value in sets.items()
+    ]
+    return "changed         " + ", ".join(shown)
+
+
+def say_changed(args: argparse.Namespace) -> None:
+    """Print :func:`set_line`, if ``--set`` changed anything."""
+    line = set_line(args)
+    if line:
+        print(line)
+
+
+def _set_refused(exc: ValueError, sets: dict[str, float]) -> ValueError:
+    """The string's refusal of a ``--set`` value, naming the option ("--set mu_static = 0.1 is
+    not allowed: need mu_static > mu_coulomb (0.5)"); any other refusal as it is."""
+    for name in sets:
+        if str(exc).startswith(f"{name} "):
+            return type(exc)(f"--set {exc}")
+    return exc
