@@ -148,10 +148,11 @@ def simulation_figure(result: SimulationResult) -> Figure:
         color=REGIME_COLORS.get(s.regime, "black"),
         fontweight="bold",
     )
+    changed = _changed_fields(result)
     ax_v.set_title(
         f"bit {s.bit_min:.3g}…{s.bit_max:.3g} rad/s (mean {s.bit_mean:.3g}), "
         f"stuck {100 * s.stuck_fraction:.0f} % of the judged window{period}; "
-        f"{s.stick_events} stick events",
+        f"{s.stick_events} stick events" + "".join(f"\n{line}" for line in changed),
         fontsize=9,
         color="0.3",
     )
@@ -163,7 +164,7 @@ def simulation_figure(result: SimulationResult) -> Figure:
             f"caveat: {s.caveat} — {short}" if s.caveat else f"caveat: {short}",
             xy=(0.5, 1.0),
             xycoords="axes fraction",
-            xytext=(0, 20),
+            xytext=(0, 20 + 11 * len(changed)),  # above the lines of the title
             textcoords="offset points",
             ha="center",
             va="bottom",
@@ -172,6 +173,31 @@ def simulation_figure(result: SimulationResult) -> Figure:
             color="#a04000",
         )
     return fig
+
+
+def _changed_fields(result: SimulationResult) -> list[str]:
+    """The fields of the run's string that differ from its preset's (what ``--set`` or
+    ``preset(..., bit_damping=...)`` changed), as lines for the figure to say which string it
+    was (none for a preset's own string, or one that is no preset's)."""
+    import textwrap
+
+    from .model import _LISTS, _SCALARS, _UNITS
+
+    inputs = result.inputs()
+    if inputs["preset"] is None:
+        return []
+    shown = []
+    for key in _LISTS + _SCALARS:
+        if key not in inputs:
+            continue
+        if key in _LISTS:
+            shown.append(f"{key} ({len(inputs[key])} values)")
+        else:
+            unit = "" if key.startswith("mu_") or _UNITS[key] == "1" else f" {_UNITS[key]}"
+            shown.append(f"{key} = {inputs[key]:.3g}{unit}")
+    if not shown:
+        return []
+    return textwrap.wrap(f"changed from {result.params.name}: " + ", ".join(shown), 130)
 
 
 def fit_suptitle(fig: Figure, text: str, **kwargs):

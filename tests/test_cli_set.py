@@ -136,3 +136,34 @@ def test_the_text_says_first_what_set_changed(command):
     first = proc.stdout.splitlines()[0]
     assert first == "changed         mu_static = 0.9, stribeck_velocity = 1.0472 rad/s"
     assert "changed" not in run(*command).stdout
+
+
+def test_the_figure_says_what_changed_from_the_preset_clear_of_the_caveat():
+    """A figure of a changed string says so under its title, wrapped within the figure, and
+    the caveat above stays clear of it; a preset's own string says nothing of the kind."""
+    from pydrill.plot import simulation_figure
+
+    def drawn(result):
+        fig = simulation_figure(result)
+        fig.canvas.draw()
+        return fig, fig.axes[0]
+
+    one = pydrill.simulate(dof=4, mu_static=0.85, wob=100.0, torque=8.3, t_end=20.0)
+    assert one.summary.caveat  # a short run: a caveat line above the title
+    fig, ax = drawn(one)
+    assert ax.get_title().splitlines()[1] == "changed from reduced-scale: mu_static = 0.85"
+    (caveat,) = [t for t in ax.texts if t.get_text().startswith("caveat:")]
+    title, note = ax.title.get_window_extent(), caveat.get_window_extent()
+    assert note.y0 >= title.y1 and note.y1 <= fig._suptitle.get_window_extent().y0
+    every = {
+        "top_damping": 0.2, "bit_damping": 0.02, "bit_radius": 0.11, "mu_coulomb": 0.45,
+        "mu_static": 0.85, "stribeck_decay": 0.8, "stribeck_velocity": 1.2,
+    }  # fmt: skip
+    many = pydrill.simulate(dof=4, wob=100.0, torque=8.3, t_end=20.0, **every)
+    fig, ax = drawn(many)
+    lines = ax.get_title().splitlines()[1:]
+    assert len(lines) == 2 and "stribeck_velocity = 1.2 rad/s" in lines[1]
+    box = ax.title.get_window_extent()
+    assert 0 <= box.x0 and box.x1 <= fig.bbox.x1
+    fig, ax = drawn(pydrill.simulate(dof=4, wob=100.0, torque=8.3, t_end=20.0))
+    assert "changed" not in ax.get_title()
