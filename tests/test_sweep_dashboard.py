@@ -223,6 +223,9 @@ def test_a_scheduler_without_a_dashboard_gets_no_dead_link(tmp_path):
     try:
         procs.append(dask_process("worker", address, "--nthreads", "1", "--no-nanny"))
         with Client(address, timeout=60) as client:
+            # The worker joined before the sweep looks (it said "0 Dask workers ... none yet"
+            # once, in CI, when the worker was slower to start than the sweep).
+            client.wait_for_workers(1, timeout=60)
             dead = client.dashboard_link
             assert dead and _head(dead) == 404  # what Dask offers for such a scheduler
         run = _sweep_cli(tmp_path, "--scheduler", address, "--json")
