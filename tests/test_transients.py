@@ -93,3 +93,34 @@ def test_a_bit_spinning_up_under_a_swing_is_steady_by_where_it_is_going(dampings
     assert long.regime == "steady"
     assert abs(long.bit_mean - point.omega) < 0.03 * point.omega
     assert long.severity < s.severity / 5
+
+
+def test_a_swing_dying_out_about_an_unstable_steady_state_is_still_growing():
+    """A random 4-DOF string from equilibrium: the stable modes' transient dies out across the
+    300 s run's window, and it was judged steady; but its steady state has a pair of
+    eigenvalues in the right half-plane (growth 5.8e-4 1/s, e-fold in 1700 s), and the 3000 s
+    run shows the swing growing away from it. Judged at 300 s now by the linear analysis: an
+    oscillation still growing, as at 3000 s."""
+    p = pydrill.Params(
+        inertias=(0.2842918141745474, 0.04221102868100544, 0.018195212527569397,
+                  0.02915676584842923),
+        stiffnesses=(0.20949869143928979, 0.2004939668004729, 0.11620747254886823),
+        dampings=(0.0001209076307713312, 3.579170671719983e-05, 2.0955789028174593e-05),
+        top_damping=0.4874947561352748,
+        bit_damping=0.01548205756643636,
+        bit_radius=0.1,
+        mu_coulomb=0.3017276203380748,
+        mu_static=0.40386714594992146,
+        stribeck_decay=1.2606978443991514,
+    )  # fmt: skip
+    op = {"wob": 159.80296058161363, "torque": 6.683701555661293, "initial": "equilibrium"}
+    (point,) = pydrill.stability.stability(p, op["wob"], torque=op["torque"])
+    assert point.spectral_abscissa > 0 and not point.stable
+    s = pydrill.simulate(p, t_end=300.0, **op).summary
+    assert (s.regime, s.caveat) == ("oscillation", "growing")
+    assert f"steady state ({point.omega:.3g} rad/s;" in s.note
+    assert f"e-fold every {1 / point.spectral_abscissa:.3g} s" in s.note
+    assert s.severity < 1e-3  # it was steady by its swing alone
+    long = pydrill.simulate(p, t_end=3000.0, **op).summary
+    assert (long.regime, long.caveat) == ("oscillation", "growing")
+    assert long.severity > 2 * s.severity

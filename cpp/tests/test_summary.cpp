@@ -486,3 +486,33 @@ TEST_CASE("a swing about a mean on its way to a stable steady state is steady, a
   CHECK(q.regime == Regime::Oscillation);
   CHECK(q.period == Approx(7.5).epsilon(1e-3));
 }
+
+TEST_CASE("a swing dying out about a linearly unstable steady state is an oscillation growing",
+          "[summary]") {
+  // The dof-4 string at W_ob 140 N, u 8.3 N·m: steady states at Ω = 1.60 rad/s (unstable)
+  // and 6.79 rad/s (stable). A swing shrinking across the window about either looks steady;
+  // about the unstable one, the decay is the stable modes', and the linear analysis says the
+  // state will be left: an oscillation still growing, its e-folding time in the note.
+  const Chain chain(preset("reduced-scale", 4), 140.0, 8.3);
+  const std::vector<detail::ModeChange> modes{{0.0, Mode::SlipPositive}};
+  const double stable = 6.7932, unstable = 1.5987;
+  const StabilityPoint at = stability_at_velocity(chain.params(), 140.0, unstable);
+  REQUIRE(at.spectral_abscissa > 0.0);
+  REQUIRE(stability_at_velocity(chain.params(), 140.0, stable).spectral_abscissa < 0.0);
+  const auto about = [&](double omega) {
+    const Synthetic s = sine(omega, 1e-3 * omega, 0.01, 3.1, 150.0, 300.0);
+    return detail::summarize(chain, s.trace, modes, s.angles, false);
+  };
+  const Summary kept = about(stable);
+  CHECK(kept.regime == Regime::Steady);
+  CHECK(kept.caveat.empty());
+  const Summary left = about(unstable);
+  CHECK(left.regime == Regime::Oscillation);
+  CHECK(left.caveat == "growing");
+  CHECK_THAT(left.note, Catch::Contains("(1.6 rad/s; its swing"));
+  CHECK_THAT(left.note, Catch::Contains("but that state is linearly unstable"));
+  std::ostringstream efold;
+  efold.precision(3);
+  efold << "e-fold every " << 1.0 / at.spectral_abscissa << " s";
+  CHECK_THAT(left.note, Catch::Contains(efold.str()));
+}
