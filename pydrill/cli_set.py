@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 
 from .model import _LISTS, _SCALARS, _UNITS
+from .suggest import did_you_mean
 
 
 def set_params(args: argparse.Namespace) -> dict[str, float]:
@@ -30,6 +31,7 @@ def set_params(args: argparse.Namespace) -> dict[str, float]:
                 else f"{name} has an option of its own: give --{name}"
                 if hasattr(args, name)
                 else f"{name} is not one of the string's parameters"
+                + did_you_mean(name, _SCALARS + _LISTS)
             )
             raise ValueError(f"--set {item!r}: {what}; --set takes " + ", ".join(_SCALARS))
         if name in out:  # --set a=1 --set a=2: the last would win, silently

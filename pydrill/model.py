@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from . import _core
 from .model_values import _integer, _number, _plain, _show  # noqa: F401 (re-exported)
+from .suggest import did_you_mean
 
 PRESETS = tuple(_core.preset_names())
 
@@ -147,7 +148,8 @@ class Params:
         unknown = set(changes) - set(_LISTS) - set(_SCALARS) - {"name"}
         if unknown:
             raise ValueError(
-                f"unknown parameter {sorted(unknown)[0]!r}: allowed are "
+                f"unknown parameter {sorted(unknown)[0]!r}"
+                f"{did_you_mean(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
                 + ", ".join(_LISTS + _SCALARS)
             )
         mu = [k for k in ("mu_coulomb", "mu_static") if k in changes]
@@ -185,7 +187,8 @@ class Params:
         unknown = set(data) - set(_LISTS) - set(_SCALARS) - {"name"}
         if unknown:
             raise ValueError(
-                f"unknown parameter {sorted(unknown)[0]!r}: allowed are "
+                f"unknown parameter {sorted(unknown)[0]!r}"
+                f"{did_you_mean(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
                 + ", ".join((*_LISTS, *_SCALARS, "name", "dof"))
             )
         lost = [k for k in _LISTS + _SCALARS[:-2] if k not in data]  # (the last two: defaults)
@@ -255,7 +258,9 @@ def preset(
     unknown = set(overrides) - set(_LISTS) - set(_SCALARS)
     if unknown:
         raise ValueError(
-            f"unknown parameter {sorted(unknown)[0]!r}: allowed are " + ", ".join(_LISTS + _SCALARS)
+            f"unknown parameter {sorted(unknown)[0]!r}"
+            f"{did_you_mean(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
+            + ", ".join(_LISTS + _SCALARS)
         )
     # Each list read once: a generator, read again below, was found empty ("has 0 entries").
     overrides = {k: _as_list(k, v, 0) for k, v in overrides.items()}

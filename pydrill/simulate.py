@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import difflib
 import math
 import sys
 from typing import Any
@@ -23,6 +22,7 @@ from .result import (  # noqa: F401 - re-exported: pydrill.simulate.SimulationRe
     Summary,
     Switch,
 )
+from .suggest import did_you_mean
 
 #: The longest run, s: 317 years, beyond the life of any bit or rig. Beyond it a run cannot be
 #: done: CVODES's first step overflows (t_end = 1e300 failed at t = 0 with h = 1e109), and
@@ -279,8 +279,7 @@ def _check_keys(overrides: dict[str, Any]) -> None:
             "set with preset=..., or label a string with Params.replace(name=...) and pass it"
         )
     for key in sorted(set(overrides) - set(_LISTS) - set(_SCALARS)):
-        close = difflib.get_close_matches(key, _OPTIONS + _LISTS + _SCALARS, n=1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        hint = did_you_mean(key, _OPTIONS + _LISTS + _SCALARS)
         raise ValueError(
             f"unknown parameter {key!r}{hint}: not an option of simulate nor a model parameter; "
             f"the options are {', '.join(_OPTIONS)}; the model parameters are "

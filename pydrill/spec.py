@@ -59,6 +59,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
 from .spec_sections import record as _record
 from .spec_sections import simulation as _simulation
 from .spec_tally import _check_tally, _check_tally_size, _read_tally
+from .suggest import did_you_mean
 
 _NONE = object()  # a key one spec has and the other does not
 _PARAMS_KEPT = 16  # strings a spec keeps built (params_at)
@@ -241,7 +242,9 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
     if unknown:
         raise _fail(
             printable(sorted(unknown)[0]),
-            "unknown section; allowed: [model], [axes], [simulation], [record]",
+            "unknown section"
+            + did_you_mean(sorted(unknown)[0], ("model", "axes", "simulation", "record"))
+            + "; allowed: [model], [axes], [simulation], [record]",
         )
     model = _table(doc, "model")
     axes_doc, sim_doc, rec_doc = (_table(doc, k) for k in ("axes", "simulation", "record"))
@@ -294,7 +297,11 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
             )
         if key not in allowed_axes:
             raise _fail(
-                f"axes.{printable(key)}", "cannot be swept; allowed: " + ", ".join(allowed_axes)
+                f"axes.{printable(key)}",
+                "cannot be swept"
+                + did_you_mean(key, allowed_axes)
+                + "; allowed: "
+                + ", ".join(allowed_axes),
             )
         axes[key] = _axis(key, value)
     _check_grid(axes)

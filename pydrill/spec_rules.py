@@ -17,11 +17,14 @@ from .model import (
     MAX_DOF,
     MAX_LOAD,
 )  # MAX_DOF: the largest string, explained there
+from .suggest import did_you_mean
 
 OPERATING_AXES = ("wob", "torque")
 SIZE_AXES = ("dof", "pipes")
 DEPTH_AXES = ("depth",)  # m, strings built from a tally
 SCALAR_AXES = tuple(_SCALARS)
+#: what [model] may hold
+_MODEL_KEYS = ("preset", "dof", "pipes", "tally", "lump", "wob", "torque", *_LISTS, *_SCALARS)
 SIMULATION_KEYS = {
     "t_end": 300.0,
     "initial": ["rest"],
@@ -272,8 +275,10 @@ def _check_parameters(model: dict[str, Any]) -> None:
         if key not in _LISTS + _SCALARS:
             raise _fail(
                 f"model.{printable(key)}",
-                "unknown parameter; allowed: preset, dof, pipes, tally, lump, wob, "
-                "torque, " + ", ".join(_LISTS + _SCALARS),
+                "unknown parameter"
+                + did_you_mean(key, _MODEL_KEYS)
+                + "; allowed: "
+                + ", ".join(_MODEL_KEYS),
             )
         if key in _SCALARS and not _is_number(value):
             raise _fail(f"model.{key}", f"{value!r} is not a finite number")

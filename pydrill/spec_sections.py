@@ -12,6 +12,7 @@ from .spec_rules import (
     SIMULATION_KEYS,
     _fail,
     _is_number,
+    did_you_mean,
     printable,
 )
 
@@ -21,7 +22,8 @@ def with_defaults(doc: dict[str, Any], section: str, defaults: dict[str, Any]) -
     unknown = [key for key in doc if key not in defaults]
     if unknown:
         raise _fail(
-            f"{section}.{printable(unknown[0])}", "unknown; allowed: " + ", ".join(defaults)
+            f"{section}.{printable(unknown[0])}",
+            "unknown" + did_you_mean(unknown[0], defaults) + "; allowed: " + ", ".join(defaults),
         )
     return {**defaults, **doc}
 

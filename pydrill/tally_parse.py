@@ -11,6 +11,7 @@ from typing import Any
 
 from . import units
 from .spec_rules import TextTooLong, printable, read_text
+from .suggest import did_you_mean
 from .tally import (
     _DEEPEST,
     KINDS,
@@ -51,7 +52,10 @@ def _table(doc: dict, key: str, allowed: tuple[str, ...]) -> dict:
 def _known(table: dict, where: str, allowed: tuple[str, ...]) -> None:
     unknown = sorted(set(table) - set(allowed))
     if unknown:
-        raise TallyError(f"{where}.{printable(unknown[0])}: unknown; allowed: {', '.join(allowed)}")
+        raise TallyError(
+            f"{where}.{printable(unknown[0])}: unknown{did_you_mean(unknown[0], allowed)}; "
+            f"allowed: {', '.join(allowed)}"
+        )
 
 
 def _get(
@@ -140,11 +144,12 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise TallyError(f"not valid TOML: {exc}") from None
-    unknown = set(doc) - {"top_drive", "bit", "damping", "steel", "section", "name"}
+    tables = ("top_drive", "bit", "damping", "steel", "section", "name")
+    unknown = set(doc) - set(tables)
     if unknown:
         raise TallyError(
-            f"{printable(sorted(unknown)[0])}: unknown; allowed: [top_drive], [bit], "
-            "[damping], [steel], [[section]]"
+            f"{printable(sorted(unknown)[0])}: unknown{did_you_mean(sorted(unknown)[0], tables)}; "
+            "allowed: [top_drive], [bit], [damping], [steel], [[section]]"
         )
     steel = _table(doc, "steel", STEEL_KEYS)
     g = _get(steel, "shear_modulus", "steel", "modulus", STEEL_G)

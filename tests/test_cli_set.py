@@ -87,6 +87,8 @@ def test_a_tally_string_takes_set_too():
         ("stability", "wobble=3", "--set 'wobble=3': wobble is not one of the string's "
          "parameters; --set takes top_damping, bit_damping, bit_radius, mu_coulomb, mu_static, "
          "stribeck_decay, stribeck_velocity, karnopp_band"),
+        ("simulate", "bit_dampng=0.1", "bit_dampng is not one of the string's parameters (did "
+         "you mean 'bit_damping'?); --set takes top_damping"),
         ("stability", "wob=3", "--set 'wob=3': wob has an option of its own: give --wob"),
         ("simulate", "inertias=1", "inertias is a list, one value per inertia: give --inertias"),
         ("stability", "stiffnesses=1", "stiffnesses is a list, one value per link; --set"),

@@ -81,8 +81,14 @@ def test_bad_parameter_is_refused_with_name_value_and_range(changes, name, allow
 def test_wrong_list_length_and_unknown_key():
     with pytest.raises(ValueError, match="stiffnesses has 2 entries: dof = 4 needs 3"):
         preset("reduced-scale", dof=4, stiffnesses=[0.1, 0.1])
-    with pytest.raises(ValueError, match="unknown parameter 'spring'"):
-        preset("reduced-scale", dof=4).replace(spring=3)
+    with pytest.raises(ValueError, match="unknown parameter 'spring': allowed are inertias"):
+        preset("reduced-scale", dof=4).replace(spring=3)  # nothing near it: no guess
+    with pytest.raises(ValueError, match=r"'stifnesses' \(did you mean 'stiffnesses'\?\)"):
+        preset("reduced-scale", dof=4).replace(stifnesses=[1, 1, 1])
+    with pytest.raises(ValueError, match=r"'top_dampng' \(did you mean 'top_damping'\?\)"):
+        preset("reduced-scale", dof=4, top_dampng=0.1)
+    with pytest.raises(ValueError, match=r"'t_ned' \(did you mean 't_end'\?\)"):
+        pydrill.simulate(preset="reduced-scale", dof=4, wob=100, torque=8.3, t_ned=10)
     with pytest.raises(ValueError, match="list of numbers"):
         preset("reduced-scale", dof=4, inertias="heavy")
 

@@ -368,3 +368,23 @@ top_damping = [0.1, 0.2]
     for i in range(many.size):  # 200 strings: the spec keeps a few, not all
         assert many.params_at(many.coords(i)).top_damping == many.axes["top_damping"][i]
     assert 0 < len(many.__dict__["_params"]) <= 16
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("[modle]\n" + GRID, "modle: unknown section (did you mean 'model'?); allowed: [model]"),
+        ("[model]\nprset = 'reduced-scale'\n" + GRID, "model.prset: unknown parameter (did you "
+         "mean 'preset'?); allowed: preset, dof"),
+        (GRID + "torqe = [1.0]\n", "axes.torqe: cannot be swept (did you mean 'torque'?); "
+         "allowed: wob, torque"),
+        (GRID + "[simulation]\nt_ned = 10.0\n", "simulation.t_ned: unknown (did you mean "
+         "'t_end'?); allowed: t_end"),
+        (GRID + "[record]\neigenvalue = 4\n", "record.eigenvalue: unknown (did you mean "
+         "'eigenvalues'?); allowed: stability, eigenvalues"),
+        # nothing near: no guess
+        (GRID + "[simulation]\nspeed = 10.0\n", "simulation.speed: unknown; allowed: t_end"),
+    ],
+)  # fmt: skip
+def test_a_misspelt_key_is_refused_with_the_key_it_was_probably_meant_to_be(text, message):
+    assert message in refused(text, message)

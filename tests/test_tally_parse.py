@@ -70,22 +70,24 @@ def test_a_single_section_table_is_refused():
     refused(text, "malformed tally: section is a single table: write each one as [[section]]")
 
 
-# 2. Unknown keys in every table: refused with the keys allowed there.
+# 2. Unknown keys in every table: refused with the keys allowed there, and the one a typo
+# was probably meant to be.
 
 
 @pytest.mark.parametrize(
-    ("path", "allowed"),
+    ("path", "meant", "allowed"),
     [
-        ("bit.mu_statik", "diameter, damping, mu_coulomb, mu_static, stribeck_decay"),
-        ("steel.shear_modulous", "shear_modulus, density"),
-        ("top_drive.intertia", "inertia, damping"),
-        ("damping.bta", "model, beta"),
-        ("section[1].weight", "kind, count, length, od, id, shear_modulus, density"),
+        ("bit.mu_statik", "mu_static", "diameter, damping, mu_coulomb, mu_static, stribeck_decay"),
+        ("steel.shear_modulous", "shear_modulus", "shear_modulus, density"),
+        ("top_drive.intertia", "inertia", "inertia, damping"),
+        ("damping.bta", "beta", "model, beta"),
+        ("section[1].weight", None, "kind, count, length, od, id, shear_modulus, density"),
     ],
 )
-def test_an_unknown_key_in_a_table_is_refused(path, allowed):
+def test_an_unknown_key_in_a_table_is_refused(path, meant, allowed):
     value = "19.5 lb/ft" if path.endswith("weight") else 0.8
-    refused(changed(path, value), f"{path}: unknown; allowed: {allowed}")
+    hint = f" (did you mean {meant!r}?)" if meant else ""
+    refused(changed(path, value), f"{path}: unknown{hint}; allowed: {allowed}")
 
 
 # 3. Physical quantities checked in the tally, named by their key, values as written.
@@ -200,7 +202,7 @@ def test_bad_lump_and_dof_arguments_are_refused_naming_them():
         ("bit", 3, None, "bit = 3 is not allowed"),
         ("section", [1, 2], None, "section[0] = 1 is not allowed"),
         ("steel", 5, None, "steel = 5 is not allowed"),
-        ("bit.mu_statik", 0.8, None, "bit.mu_statik: unknown; allowed:"),
+        ("bit.mu_statik", 0.8, None, "bit.mu_statik: unknown (did you mean 'mu_static'?)"),
         ("steel.shear_modulus", "-79.3 GPa", None, "steel.shear_modulus = '-79.3 GPa' is not"),
         ("damping.beta", "0.2 s", None, "damping.beta = '0.2 s' is not allowed"),
         ("bit.mu_static", 0.3, None, "bit.mu_static = 0.3 is not allowed"),
