@@ -60,6 +60,10 @@ units: wob N, torque N*m, time s, velocities rad/s.
 
 
 class _Parser(argparse.ArgumentParser):
+    #: the whole command line and the top parser, while ``main`` parses it: a subcommand's
+    #: parser that errs sees only its own part
+    line: tuple[argparse.ArgumentParser, Sequence[str]] | None = None
+
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         # A value that starts with a minus and a digit is a value, not an option: argparse's
@@ -72,9 +76,22 @@ class _Parser(argparse.ArgumentParser):
         # A bad value of a known option is said in one line (the check names the option and
         # its range); the usage block, ten lines for simulate, only helps when the command
         # line itself is malformed: an option missing, unknown, or a choice not offered.
+        from .cli_typos import choice_hint, misspelt_option, option_hint
+
+        parser: argparse.ArgumentParser = self
+        if _Parser.line is not None and (
+            message.startswith("the following arguments are required")
+            or message.startswith("unrecognized arguments")
+        ):
+            # A misspelt option is the likelier cause: "--torqe 8" left --torque missing.
+            found = misspelt_option(*_Parser.line)
+            if found is not None:
+                parser, name = found
+                message = option_hint(parser, name)
+        message = choice_hint(message)
         if not message.startswith("argument ") or "invalid choice" in message:
-            self.print_usage(sys.stderr)
-        sys.stderr.write(f"{self.prog}: error: {message}\n")
+            parser.print_usage(sys.stderr)
+        sys.stderr.write(f"{parser.prog}: error: {message}\n")
         raise SystemExit(EXIT_USAGE)
 
 
@@ -320,7 +337,11 @@ def _describe(result: Any, plot: str | None, tally: bool = False) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    _Parser.line = (parser, sys.argv[1:] if argv is None else list(argv))
+    try:
+        args = parser.parse_args(argv)
+    finally:
+        _Parser.line = None
     from . import SolverError
     from .sweep import AtlasError, SchedulerError
     from .tally import TallyError

@@ -1,0 +1,73 @@
+"""Misspelt command lines: the option or choice a typo was probably meant to be.
+
+argparse reports a misspelt option late and far from its cause: ``pydrill simulate --wob 100
+--torqe 8`` says "the following arguments are required: --torque", and a misspelt command
+lists every command. These find the typo and the name it is nearest to."""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import re
+from collections.abc import Sequence
+
+from .suggest import did_you_mean
+
+_CHOICE = re.compile(r"invalid choice: (?P<given>.+?) \(choose from (?P<choices>.+)\)$")
+
+
+def choice_hint(message: str) -> str:
+    """argparse's "invalid choice: 'X' (choose from 'a', 'b')" with the nearest choice named
+    after X ("(did you mean 'a'?)"); any other message as it is."""
+    m = _CHOICE.search(message)
+    if not m:
+        return message
+    try:
+        given = ast.literal_eval(m["given"])
+        choices = ast.literal_eval(f"[{m['choices']}]")
+    except (ValueError, SyntaxError):  # not argparse's reprs: leave it be
+        return message
+    hint = did_you_mean(given, [str(c) for c in choices])
+    return message[: m.start("given")] + m["given"] + hint + message[m.end("given") :]
+
+
+def _subcommands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
+
+
+def _known(parser: argparse.ArgumentParser, name: str) -> bool:
+    """Whether argparse takes the long option ``name`` (before any ``=value``): exactly, or
+    abbreviated to a prefix (ambiguous prefixes too: argparse says so itself)."""
+    options = parser._option_string_actions
+    if name in options:
+        return True
+    return parser.allow_abbrev and any(o.startswith(name) for o in options if o.startswith("--"))
+
+
+def misspelt_option(
+    parser: argparse.ArgumentParser, argv: Sequence[str]
+) -> tuple[argparse.ArgumentParser, str] | None:
+    """The first long option of ``argv`` that the (sub)command it follows does not know, with
+    that (sub)command's parser; None if every one is known. Only ``--name`` tokens are
+    looked at (a value that starts with "--" is not pydrill's), up to a bare ``--``."""
+    for token in argv:
+        if token == "--":
+            break
+        if token.startswith("--"):
+            name = token.split("=", 1)[0]
+            if not _known(parser, name):
+                return parser, name
+            continue
+        sub = _subcommands(parser).get(token)
+        if sub is not None:
+            parser = sub
+    return None
+
+
+def option_hint(parser: argparse.ArgumentParser, name: str) -> str:
+    """ "unrecognized argument --torqe (did you mean --torque?)"."""
+    options = [o for o in parser._option_string_actions if o.startswith("--")]
+    return f"unrecognized argument {name}{did_you_mean(name, options)}"
