@@ -31,6 +31,7 @@ from .atlas_xarray import COUNT_FIELDS, with_regime_names  # noqa: F401 (pydrill
 from .atlas_xarray import to_xarray as _to_xarray
 from .journal import AtlasError, journal_hint
 from .spec import SpecError, parse_spec
+from .suggest import did_you_mean
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -170,7 +171,8 @@ class Atlas:
         extra = set(coords) - set(self.axes)
         if extra:
             raise KeyError(
-                f"{sorted(extra)[0]} is not an axis of this atlas; axes: " + ", ".join(self.axes)
+                f"{sorted(extra)[0]} is not an axis of this atlas"
+                f"{did_you_mean(sorted(extra)[0], self.axes)}; axes: " + ", ".join(self.axes)
             )
         coords = {n: v[0].item() for n, v in self.axes.items() if len(v) == 1} | coords
         missing = set(self.axes) - set(coords)
@@ -294,7 +296,8 @@ class Atlas:
         unknown = set(coords) - set(self.axes) - {"initial"}
         if unknown:
             raise KeyError(
-                f"{sorted(unknown)[0]} is not an axis of this atlas; axes: "
+                f"{sorted(unknown)[0]} is not an axis of this atlas"
+                f"{did_you_mean(sorted(unknown)[0], [*self.axes, 'initial'])}; axes: "
                 + ", ".join([*self.axes, "initial"])
             )
         # xarray's own fill methods ("pad", "backfill") answered 1e9 N with the last grid

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import atlas_format as fmt
+from .suggest import did_you_mean
 
 if TYPE_CHECKING:
     from .atlas import Atlas
@@ -44,13 +45,19 @@ def safe_windows(
     along = default_along(atlas) if along is None else along  # ("" was taken for None)
     names = list(atlas.axes)
     if along not in names:
-        raise KeyError(f"{along} is not an axis of this atlas; axes: {', '.join(names)}")
+        raise KeyError(
+            f"{along} is not an axis of this atlas{did_you_mean(along, names)}; "
+            f"axes: {', '.join(names)}"
+        )
     at = dict(at or {})
     if along in at:
         raise ValueError(f"{along} is the axis the windows run along; it cannot also be held")
     unknown = sorted(set(at) - set(names))
     if unknown:
-        raise KeyError(f"{unknown[0]} is not an axis of this atlas; axes: {', '.join(names)}")
+        raise KeyError(
+            f"{unknown[0]} is not an axis of this atlas{did_you_mean(unknown[0], names)}; "
+            f"axes: {', '.join(names)}"
+        )
     safe = atlas.safe_region()  # refuses an atlas without stability
     done = atlas._file()["status"][...] == fmt.STATUS["done"]
     # Each other axis: the grid point nearest its held value, or every one of them.

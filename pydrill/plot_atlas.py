@@ -9,6 +9,7 @@ from . import atlas_format as fmt
 from .atlas_grid import coordinate
 from .plot import plt, scale_ticks, unit_scale
 from .plot_atlas_title import context, keep_title_inside, title
+from .suggest import did_you_mean
 
 #: what ``atlas_figure(metric=...)`` can colour a map by: a simulation's summary values (from
 #: one start) and a steady state's (the fastest), each with its units and meaning
@@ -68,7 +69,8 @@ def drawn_axes(
     for what, name in [("x", x), ("y", y)] + [("a held axis", n) for n in at]:
         if name is not None and name not in order:
             raise ValueError(
-                f"{what} = {name!r} is not an axis of this atlas; axes: {', '.join(order)}"
+                f"{what} = {name!r} is not an axis of this atlas{did_you_mean(name, order)}; "
+                f"axes: {', '.join(order)}"
             )
     if x is not None and x == y:
         raise ValueError(f"x and y are both {x!r}: a map needs two different axes")

@@ -359,6 +359,20 @@ def test_plot_errors_list_axes_as_query_does_and_one_point_is_a_point(tmp_path):
         with pytest.raises(ValueError) as e:
             atlas.plot(x="depth")
         assert str(e.value) == "x = 'depth' is not an axis of this atlas; axes: wob, torque"
+        # a misspelt axis: named with the one it was probably meant to be, in every call
+        with pytest.raises(ValueError) as e:
+            atlas.plot(x="torqe")
+        hint = "is not an axis of this atlas (did you mean 'torque'?); axes: wob, torque"
+        assert str(e.value) == f"x = 'torqe' {hint}"
+        for call in (
+            lambda: atlas.value(wob=100.0, torqe=8.3),
+            lambda: atlas.sel(torqe=8.3),
+            lambda: atlas.safe_windows("torqe"),
+            lambda: atlas.safe_windows(torqe=8.3),
+        ):
+            with pytest.raises(KeyError) as e:
+                call()
+            assert e.value.args[0] == f"torqe {hint}"
         with pytest.raises(ValueError) as e:
             atlas.plot(at={"wob": 100.0, "torque": 8.3})
         assert str(e.value) == "no axis left to draw: wob, torque are all given as x, y or held"
