@@ -317,6 +317,8 @@ def point_command(args: argparse.Namespace, wob: float, torque: float, **more: A
     for key, value in options.items():
         if value is not None:
             words += [f"--{key.replace('_', '-')}", shlex.quote(str(value))]
+    for item in getattr(args, "set_params", None) or []:  # the string --set changed
+        words += ["--set", shlex.quote(item)]
     return " ".join(words)
 
 

@@ -4,8 +4,10 @@ safe to drill, at a depth or against depth)."""
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
 from .cli_options import _duration, _integer, _whole, figure_path, print_json
+from .cli_set import say_changed
 from .cli_window_inputs import _kilonewtons, _rpm, _rpms, _values, _window_notes
 
 WINDOW_EPILOG = """\
@@ -14,6 +16,7 @@ examples:
   pydrill window examples/tallies/paper-eq53.toml --depth 3000m --check 6 --json
   pydrill window examples/tallies/paper-eq53.toml --depth 500m:5000m:10 --plot window-depth.png
   pydrill window examples/tallies/5.5in-dp-8in-collars.toml --depth 5000ft,10000ft,15000ft
+  pydrill window examples/tallies/paper-eq53.toml --depth 3000m --set bit_damping=100
 
 reading it: SAFE = steady drilling is stable (no stick-slip grows from it) and the torque
 needed at that speed exceeds the bit's static friction (a stopped bit breaks free). With one
@@ -22,6 +25,18 @@ window against depth, and a footnote says how each depth's checks came out.
 units: depth m or ft (500m:5000m:10 = 10 depths, ends included); wob in kN (a bare number)
 or with its unit (60klbf); speeds in rpm."""
 
+
+#: the string's parameters a tally sets, which ``window --set`` may change (the Karnopp band
+#: is none of them: the window and its checks use the exact friction law)
+TALLY_SETS = (
+    "top_damping",
+    "bit_damping",
+    "bit_radius",
+    "mu_coulomb",
+    "mu_static",
+    "stribeck_decay",
+    "stribeck_velocity",
+)
 
 #: what the positional TALLY.toml is (its help was empty)
 TALLY_HELP = (
@@ -83,6 +98,17 @@ def register_tally(sub) -> None:
         type=_whole("--lump", ">= 1"),
         default=1,
         help="drill-pipe joints per element, >= 1 (default 1)",
+    )
+    win.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        dest="set_params",
+        metavar="NAME=VALUE",
+        help="change one of the tally's values, as often as needed: "
+        + ", ".join(TALLY_SETS)
+        + " (SI, or with a unit: bit_damping=100, 'bit_radius=4.5 in'): what if the mud "
+        "damped the bit more, or the rock were more abrasive",
     )
     win.add_argument(
         "--wob-max",
@@ -210,7 +236,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
         for option, given in (("--check-dof", args.check_dof), ("--t-end", args.t_end_given)):
             if given is not None:
                 raise ValueError(f"{option} needs --check K: it sets how the check simulates")
-    tally = load_tally_file(args.tally)
+    tally = _with_sets(load_tally_file(args.tally), args)
     # Each refusal names its option ("depth 10 m is shallower than the BHA", "dof = 1 is not
     # allowed" of --check-dof, "'3000rpm': unit 'rpm' is not a length unit" said none).
     at_rpm = np.array(_rpms(args.at_rpm))
@@ -251,10 +277,11 @@ def _cmd_window(args: argparse.Namespace) -> int:
         from .plot_window import window_depth_figure, window_figure
         from .window import Limits
 
+        shown = _shown_name(tally.name, args)  # the figure says what --set changed
         if len(depths) == 1:
             p = tally.at_depth(depths[0]).to_params(lump=args.lump)
             fig = window_figure(
-                tally.name,
+                shown,
                 depths[0],
                 Limits.of(p),
                 args.wob_max,
@@ -263,16 +290,52 @@ def _cmd_window(args: argparse.Namespace) -> int:
                 args.check_from,
             )
         else:  # the checks' points are off these curves: the figure says how they came out
-            fig = window_depth_figure(dw, args.wob_max, args.rpm_max, checks_note(checks, args))
+            fig = window_depth_figure(
+                dataclasses.replace(dw, name=shown),
+                args.wob_max,
+                args.rpm_max,
+                checks_note(checks, args),
+            )
         save(fig, args.plot)
     failures = [c[6] for pts in checks.values() for c in pts if c[6] is not None]
     total = sum(len(pts) for pts in checks.values())
     if args.json:
         print_json(window_json(tally, dw, grid, checks, args))
     else:
+        say_changed(args)
         print_window(tally, dw, checks, args)
     say_failed_checks("window", failures, total, json=args.json)
     return 0
+
+
+def _with_sets(tally, args: argparse.Namespace):
+    """The tally with ``--set``'s values (each refused as ``--set ...`` if the string refuses
+    it: the string of the tally as written is built to check them)."""
+    from .cli_set import _set_refused, set_params
+
+    sets = set_params(args)
+    for name in sets:
+        if name not in TALLY_SETS:  # karnopp_band: a Params field, none of a tally's
+            raise ValueError(
+                f"--set {name}: the window and its checks use the exact friction law, which "
+                f"has no band; window's --set takes " + ", ".join(TALLY_SETS)
+            )
+    if not sets:
+        return tally
+    changed = dataclasses.replace(tally, **sets)
+    try:
+        changed.to_params()
+    except ValueError as exc:
+        raise _set_refused(exc, sets) from None
+    return changed
+
+
+def _shown_name(name: str, args: argparse.Namespace) -> str:
+    """The tally's name as a figure shows it: with what ``--set`` changed in it."""
+    from .cli_set import set_line
+
+    line = set_line(args)
+    return f"{name} ({line.removeprefix('changed').strip()})" if line else name
 
 
 def _grid_windows(tally, depths, args):
@@ -337,4 +400,6 @@ def _checks(tally, depth, args, bar):
 def _as_tally(args: argparse.Namespace) -> argparse.Namespace:
     """window's options as the string options of ``pydrill simulate`` name its string."""
     lump = None if args.lump == 1 else args.lump  # (1, the default)
-    return argparse.Namespace(tally=args.tally, depth=None, lump=lump, dof=None)
+    return argparse.Namespace(
+        tally=args.tally, depth=None, lump=lump, dof=None, set_params=args.set_params
+    )

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+
 
 def _numbers(values) -> list[float | None]:
     """``values`` for JSON: an edge beyond every number (the stick-slip edge at a speed so fast
@@ -16,6 +18,8 @@ def window_json(tally, dw, grid, checks, args) -> dict:
     import numpy as np
 
     from .cli_options import json_document
+    from .cli_set import set_params
+    from .cli_string import string_units
 
     wob, rpm, windows = grid
     # the tally as the other commands echo it (its file and lump; it held the tally's name),
@@ -23,6 +27,7 @@ def window_json(tally, dw, grid, checks, args) -> dict:
     inputs = {
         "tally": {"file": args.tally, "lump": args.lump},
         "name": tally.name,
+        **({"set": set_params(args)} if args.set_params else {}),
         "depths": dw.depth.tolist(),
         "at_rpm": dw.rpm.tolist(),
         "at_wob": dw.wob.tolist(),
@@ -82,6 +87,7 @@ def window_json(tally, dw, grid, checks, args) -> dict:
         "depth": "m",
         "bit_rpm": "rpm",
         "delta_limit": "N·m·s/rad",
+        **string_units(argparse.Namespace(tally=None, set_params=args.set_params)),
     }
     return json_document(inputs, results, units, args.plot)
 
