@@ -8,7 +8,16 @@ import dataclasses
 
 from .cli_options import _duration, _integer, _whole, figure_path, print_json
 from .cli_set import say_changed
-from .cli_window_inputs import _kilonewtons, _rpm, _rpms, _values, _window_notes
+from .cli_window_inputs import (
+    TALLY_SETS,
+    _kilonewtons,
+    _rpm,
+    _rpms,
+    _shown_name,
+    _values,
+    _window_notes,
+    _with_sets,
+)
 
 WINDOW_EPILOG = """\
 examples:
@@ -25,18 +34,6 @@ window against depth, and a footnote says how each depth's checks came out.
 units: depth m or ft (500m:5000m:10 = 10 depths, ends included); wob in kN (a bare number)
 or with its unit (60klbf); speeds in rpm."""
 
-
-#: the string's parameters a tally sets, which ``window --set`` may change (the Karnopp band
-#: is none of them: the window and its checks use the exact friction law)
-TALLY_SETS = (
-    "top_damping",
-    "bit_damping",
-    "bit_radius",
-    "mu_coulomb",
-    "mu_static",
-    "stribeck_decay",
-    "stribeck_velocity",
-)
 
 #: what the positional TALLY.toml is (its help was empty)
 TALLY_HELP = (
@@ -306,36 +303,6 @@ def _cmd_window(args: argparse.Namespace) -> int:
         print_window(tally, dw, checks, args)
     say_failed_checks("window", failures, total, json=args.json)
     return 0
-
-
-def _with_sets(tally, args: argparse.Namespace):
-    """The tally with ``--set``'s values (each refused as ``--set ...`` if the string refuses
-    it: the string of the tally as written is built to check them)."""
-    from .cli_set import _set_refused, set_params
-
-    sets = set_params(args)
-    for name in sets:
-        if name not in TALLY_SETS:  # karnopp_band: a Params field, none of a tally's
-            raise ValueError(
-                f"--set {name}: the window and its checks use the exact friction law, which "
-                f"has no band; window's --set takes " + ", ".join(TALLY_SETS)
-            )
-    if not sets:
-        return tally
-    changed = dataclasses.replace(tally, **sets)
-    try:
-        changed.to_params()
-    except ValueError as exc:
-        raise _set_refused(exc, sets) from None
-    return changed
-
-
-def _shown_name(name: str, args: argparse.Namespace) -> str:
-    """The tally's name as a figure shows it: with what ``--set`` changed in it."""
-    from .cli_set import set_line
-
-    line = set_line(args)
-    return f"{name} ({line.removeprefix('changed').strip()})" if line else name
 
 
 def _grid_windows(tally, depths, args):

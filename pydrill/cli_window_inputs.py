@@ -5,6 +5,7 @@ rig does."""
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 
 from .cli_options import HEAVIEST_WOB, LONGEST_WELL, TOP_DRIVE_RPM, _load
@@ -13,6 +14,19 @@ RPM = 2 * math.pi / 60  # rad/s per rpm
 
 # No drill bit takes 2000 kN (200 t): a bare number that large was meant in newtons.
 LARGEST_BARE_KN = HEAVIEST_WOB / 1e3
+
+
+#: the string's parameters a tally sets, which ``window --set`` may change (the Karnopp band
+#: is none of them: the window and its checks use the exact friction law)
+TALLY_SETS = (
+    "top_damping",
+    "bit_damping",
+    "bit_radius",
+    "mu_coulomb",
+    "mu_static",
+    "stribeck_decay",
+    "stribeck_velocity",
+)
 
 
 def _rpm(option: str):
@@ -143,3 +157,33 @@ def _rpms(text: str) -> list[float]:
     if not out:
         raise ValueError(f"--at-rpm: give a comma-separated list of speeds > 0, got {text!r}")
     return out
+
+
+def _with_sets(tally, args: argparse.Namespace):
+    """The tally with ``--set``'s values (each refused as ``--set ...`` if the string refuses
+    it: the string of the tally as written is built to check them)."""
+    from .cli_set import _set_refused, set_params
+
+    sets = set_params(args)
+    for name in sets:
+        if name not in TALLY_SETS:  # karnopp_band: a Params field, none of a tally's
+            raise ValueError(
+                f"--set {name}: the window and its checks use the exact friction law, which "
+                f"has no band; window's --set takes " + ", ".join(TALLY_SETS)
+            )
+    if not sets:
+        return tally
+    changed = dataclasses.replace(tally, **sets)
+    try:
+        changed.to_params()
+    except ValueError as exc:
+        raise _set_refused(exc, sets) from None
+    return changed
+
+
+def _shown_name(name: str, args: argparse.Namespace) -> str:
+    """The tally's name as a figure shows it: with what ``--set`` changed in it."""
+    from .cli_set import set_line
+
+    line = set_line(args)
+    return f"{name} ({line.removeprefix('changed').strip()})" if line else name
