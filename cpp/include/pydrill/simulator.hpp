@@ -149,7 +149,9 @@ struct Summary {
   std::vector<double> omega_equilibrium;  // rad/s, every steady Ω for (W_ob, u): > 0, or < 0 when u < 0
   std::string note;            // caveat about the judgement, empty when there is none
   // The note's kind, for tables (a sweep's atlas keeps this, not the text): "first-wind-up",
-  // "one-stick-phase", "one-break-away", "late-stick", "growing", "short-window", "run-away"
+  // "one-stick-phase", "one-break-away", "late-stick", "growing" (an oscillation still growing
+  // away from its steady state, or a swing dying out about one that is linearly unstable:
+  // judged an oscillation), "short-window", "run-away"
   // (c_r + c_b = 0 and |u| > T_c: no steady state holds the bit, which speeds up without
   // bound; judged an oscillation), "approaching" (judged steady, its mean bit velocity still
   // moving by over 1 % across the window, or towards a steady state over 1 % away); empty
