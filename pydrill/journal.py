@@ -1,8 +1,9 @@
 """An atlas's journal, and the atlas's creation or reopening for a sweep.
 
 The journal (``ATLAS.h5.journal``) is what makes a sweep safe to kill: its first line names
-the sweep (the spec's digest), then one JSON line per finished point, appended and flushed to
-disk a batch at a time by the client, before the point reaches the HDF5 file. ``prepare``
+the sweep (the spec's digest) and the layout of its lines, then one JSON line per finished
+point (:mod:`journal_lines`), appended and flushed to disk a batch at a time by the client,
+before the point reaches the HDF5 file. ``prepare``
 refuses an atlas of another sweep, and on ``--resume`` replays the journal into the atlas,
 rebuilding the atlas from it if a kill caught the HDF5 file mid-write.
 """
@@ -22,6 +23,7 @@ from . import atlas_format as fmt
 from .atlas_check import layout_problem
 from .atlas_check import show as _show
 from .atlas_heap import heap_problem
+from .journal_lines import RUN_KEYS, STABILITY_KEYS, Layout, header, line
 from .journal_records import is_int, quick_problem, record_problem
 from .spec import SweepSpec
 
@@ -43,7 +45,7 @@ def read_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> list[di
 
 
 def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterator[dict[str, Any]]:
-    """The records of ``path``'s journal, one at a time: a journal holds about 1 kB a point,
+    """The records of ``path``'s journal, one at a time: a journal holds about 0.5 kB a point,
     and its records as Python objects 5 kB (a list of a 74000-point journal's took 400 MB; a
     million points' would have taken 5 GB on top of the table). A last line cut by a kill (or
     Ctrl-C) mid-write is dropped and, with ``repair``, cut off the file once all are read, so
@@ -53,6 +55,7 @@ def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterato
         return
     good = 0  # bytes up to the end of the last whole line
     size = spec.size
+    layout = Layout({})
     with jp.open("rb") as fh:  # line by line: a journal may hold millions of points
         for n, raw in enumerate(fh):
             try:
@@ -73,7 +76,15 @@ def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterato
                     raise AtlasError(
                         f"{jp} belongs to another sweep (spec digest {digest} != {spec.digest})"
                     )
+                try:
+                    layout = Layout(data)
+                except ValueError as exc:
+                    raise AtlasError(
+                        f"{jp}, line 1, is damaged ({exc}); remove the journal to start the "
+                        "sweep over"
+                    ) from None
                 continue
+            data = layout.record(data)
             problem = quick_problem(data, size)
             if problem:
                 raise AtlasError(
@@ -84,7 +95,7 @@ def iter_journal(path: Path, spec: SweepSpec, *, repair: bool = True) -> Iterato
     if not repair:
         pass
     elif good == 0:  # not even the header survived
-        jp.write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
+        jp.write_text(header(spec.digest))
     elif good < jp.stat().st_size:
         os.truncate(jp, good)
 
@@ -106,12 +117,14 @@ def journaled(path: Path) -> np.ndarray:
             if not raw.endswith(b"\n"):
                 break
             i = None
-            if raw.startswith(b'{"i": '):
+            start = 1 if raw.startswith(b"[") else 6 if raw.startswith(b'{"i": ') else 0
+            if start:  # a line of either layout, as run_sweep writes them
                 with contextlib.suppress(ValueError):  # '"3"', 'NaN', no comma: not ours
-                    i = int(raw[6 : raw.index(b",", 6)])
+                    i = int(raw[start : raw.index(b",", start)])
             if i is None:  # not as written by run_sweep: parse it whole
-                with contextlib.suppress(ValueError, KeyError, TypeError):
-                    i = json.loads(raw)["i"]
+                with contextlib.suppress(ValueError, KeyError, TypeError, IndexError):
+                    data = json.loads(raw)
+                    i = data[0] if isinstance(data, list) else data["i"]
             # an index the replay would refuse is no point (nor an OverflowError for numpy)
             if is_int(i, 0, 2**63 - 1):
                 found.append(i)
@@ -297,14 +310,39 @@ def prepare(
             fmt.create(out, spec, params_json, version)
         if replayed or not out.exists():  # a complete atlas, resumed, is left as it is
             write_atlas(out, table)
+        if jp.exists():
+            _in_this_layout(out, spec)
         done = int(np.sum(table.status != fmt.STATUS["missing"]))
         return table, done
     fmt.create(out, spec, params_json, version)
     with jp.open("w") as fh:
-        fh.write(json.dumps({"spec_digest": spec.digest}) + "\n")
+        fh.write(header(spec.digest))
         fh.flush()
         os.fsync(fh.fileno())
     return fmt.AtlasTable(spec), 0
+
+
+def _in_this_layout(out: Path, spec: SweepSpec) -> None:
+    """A journal that a sweep will append to, in the layout of the lines it appends: one
+    written by an earlier pydrill (lines as whole objects, or another order of values) is
+    written again, its records as they were, to a file beside it that then replaces it
+    (once; a kill meanwhile leaves the old journal whole)."""
+    jp = journal_path(out)
+    with jp.open("rb") as fh:
+        try:
+            layout = Layout(json.loads(fh.readline()))
+        except (ValueError, AttributeError):  # read_existing and the replay refused it first
+            return
+    if layout.runs == RUN_KEYS and layout.stability == STABILITY_KEYS:
+        return
+    tmp = jp.with_name(jp.name + ".new")
+    with tmp.open("w") as fh:
+        fh.write(header(spec.digest))
+        for rec in iter_journal(out, spec, repair=False):
+            fh.write(line(rec))
+        fh.flush()
+        os.fsync(fh.fileno())
+    os.replace(tmp, jp)
 
 
 def _damaged_record(jp: Path, spec: SweepSpec, exc: Exception) -> AtlasError:
@@ -313,10 +351,13 @@ def _damaged_record(jp: Path, spec: SweepSpec, exc: Exception) -> AtlasError:
     if not jp.exists():  # (the atlas's own table failed: read_existing checks its layout)
         return AtlasError(f"cannot replay into {jp.with_suffix('')}: {type(exc).__name__}: {exc}")
     with jp.open("rb") as fh:
-        next(fh, None)  # the header, read already
+        try:
+            layout = Layout(json.loads(fh.readline()))
+        except (ValueError, AttributeError):
+            layout = Layout({})
         for n, raw in enumerate(fh, start=2):
             try:
-                problem = record_problem(json.loads(raw), spec)
+                problem = record_problem(layout.record(json.loads(raw)), spec)
             except ValueError:
                 break  # a last line cut by a kill: the replay skipped it
             if problem:

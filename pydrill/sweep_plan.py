@@ -9,7 +9,6 @@ journal (a journal's cut last line is left for the sweep to cut)."""
 
 from __future__ import annotations
 
-import json
 import math
 import numbers
 import time
@@ -20,6 +19,7 @@ import numpy as np
 
 from . import atlas_format as fmt
 from .journal import iter_journal, journal_path, read_existing
+from .journal_lines import line as journal_line
 from .spec import SweepSpec, _require_spec
 
 #: two-sided 95 % normal quantile, for the range of the estimate
@@ -141,7 +141,7 @@ def plan_sweep(
         rec = evaluate_point(spec, int(i))
         times.append(time.perf_counter() - t0)
         records.append(rec)
-        line_bytes += len(json.dumps(rec, allow_nan=False)) + 1
+        line_bytes += len(journal_line(rec))
         if rec["status"] == "failed":
             failed += 1
             message = message or rec["message"]

@@ -4,7 +4,6 @@ and their rows as columns for the atlas table)."""
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from typing import Any, NamedTuple
@@ -12,6 +11,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from . import atlas_format as fmt
+from .journal_lines import line as journal_line
 from .spec import SweepSpec, parse_spec
 
 
@@ -128,7 +128,7 @@ def encode_batch(
     of columns (``AtlasTable.columns``) and their journal lines."""
     block = fmt.AtlasTable(spec, points=len(records))
     block.fill(records)
-    lines = "".join(json.dumps(rec, allow_nan=False) + "\n" for rec in records)
+    lines = "".join(journal_line(rec) for rec in records)
     return np.array([rec["i"] for rec in records], dtype=np.int64), block.columns(), lines
 
 

@@ -18,7 +18,7 @@ import pydrill
 import pydrill.sweep as sweep_module
 from pydrill import atlas_format as fmt
 from pydrill.atlas import Atlas
-from pydrill.journal import journal_path
+from pydrill.journal import journal_path, read_journal
 from pydrill.spec import parse_spec
 from pydrill.stability import stability
 from pydrill.sweep import AtlasError, SweepInterrupted, evaluate_batch, run_sweep
@@ -187,7 +187,7 @@ def test_resume_replays_a_journal_ahead_of_its_atlas(tmp_path, monkeypatch):
     monkeypatch.undo()
     jp = journal_path(out)
     lines = jp.read_text().splitlines()
-    first = [json.loads(line)["i"] for line in lines[1:]]
+    first = [json.loads(line)[0] for line in lines[1:]]  # [i, status, ...]: journal_lines
     assert len(first) == 2
     with h5py.File(out, "r") as f:  # flushed on the way out: the atlas has these two
         assert np.flatnonzero(f["status"][...].ravel()).tolist() == sorted(first)
@@ -197,7 +197,9 @@ def test_resume_replays_a_journal_ahead_of_its_atlas(tmp_path, monkeypatch):
     assert batch.indices.tolist() == extra
     with jp.open("a") as fh:
         fh.write(batch.lines)
-    journaled = [json.loads(line) for line in jp.read_text().splitlines()[1:]]
+    lines = [json.loads(line) for line in jp.read_text().splitlines()[1:]]
+    assert [r[0] for r in lines] == first + extra
+    journaled = read_journal(out, spec)  # the same records, as dicts
     assert [r["i"] for r in journaled] == first + extra
     with h5py.File(out, "r") as f:
         assert np.count_nonzero(f["status"][...]) == 2  # the atlas is behind its journal

@@ -62,7 +62,7 @@ def test_ctrl_c_stops_a_dask_sweep_quietly_and_keeps_every_finished_point(
     assert "Traceback" not in err  # neither the client's nor the workers'
     assert "interrupted" in err and f"--out {out} --workers 2 --resume" in err
     journal = Path(str(out) + ".journal")
-    journaled = {json.loads(line)["i"] for line in journal.read_text().splitlines()[1:]}
+    journaled = {json.loads(line)[0] for line in journal.read_text().splitlines()[1:]}
     total = 32 * 16
     assert 0 < len(journaled) < total
     with h5py.File(out, "r") as f:  # flushed on the way out: the atlas shows them already
