@@ -1,6 +1,6 @@
 """The "did you mean …?" of a message that refuses a name: a key in a spec or a tally, a
-parameter, a ``--set`` name. A typo is the commonest reason a name is unknown, and the list
-of allowed names that the message gives as well is long."""
+parameter, an option, a ``--set`` name. A typo is the commonest reason a name is unknown, and
+the list of allowed names that the message gives as well is long."""
 
 from __future__ import annotations
 
@@ -8,8 +8,27 @@ import difflib
 from collections.abc import Iterable
 
 
+def _one_edit(a: str, b: str) -> bool:
+    """Whether ``a`` becomes ``b`` by one edit: a letter left out, added, changed, or two
+    neighbours swapped ("bfd" for "bdf", which difflib's ratio, 0.67, does not find close)."""
+    if a == b or abs(len(a) - len(b)) > 1:
+        return False
+    if len(a) == len(b):
+        diff = [k for k in range(len(a)) if a[k] != b[k]]
+        return len(diff) == 1 or (
+            len(diff) == 2 and diff[1] == diff[0] + 1 and a[diff[0]] == b[diff[1]]
+            and a[diff[1]] == b[diff[0]]
+        )  # fmt: skip
+    short, long = (a, b) if len(a) < len(b) else (b, a)
+    k = next((k for k in range(len(short)) if short[k] != long[k]), len(short))
+    return short[k:] == long[k + 1 :]
+
+
 def did_you_mean(name: object, choices: Iterable[str]) -> str:
     """``" (did you mean 'torque'?)"`` for ``name`` within a typo or two of one of
     ``choices`` (the closest), else ``""``."""
-    close = difflib.get_close_matches(str(name), list(choices), n=1, cutoff=0.7)
+    text, options = str(name), list(choices)
+    close = difflib.get_close_matches(text, options, n=1, cutoff=0.7)
+    if not close and len(text) >= 3:  # (two letters are one edit from too much)
+        close = [c for c in options if _one_edit(text.lower(), c.lower())][:1]
     return f" (did you mean {close[0]!r}?)" if close else ""
