@@ -335,7 +335,7 @@ def _in_this_layout(out: Path, spec: SweepSpec) -> None:
             return
     if layout.runs == RUN_KEYS and layout.stability == STABILITY_KEYS:
         return
-    tmp = jp.with_name(jp.name + ".new")
+    tmp = rewrite_path(jp)
     with tmp.open("w") as fh:
         fh.write(header(spec.digest))
         for rec in iter_journal(out, spec, repair=False):
@@ -343,6 +343,11 @@ def _in_this_layout(out: Path, spec: SweepSpec) -> None:
         fh.flush()
         os.fsync(fh.fileno())
     os.replace(tmp, jp)
+
+
+def rewrite_path(jp: Path) -> Path:
+    """Where :func:`_in_this_layout` writes a journal again before it replaces ``jp``."""
+    return jp.with_name(jp.name + ".new")
 
 
 def _damaged_record(jp: Path, spec: SweepSpec, exc: Exception) -> AtlasError:

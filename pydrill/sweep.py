@@ -26,7 +26,7 @@ from . import atlas_format as fmt
 from . import batching
 from .batching import Batcher, batches, dealing_order  # noqa: F401 (re-exported)
 from .interrupt import stop_between_batches
-from .journal import AtlasError, _reason, journal_path, prepare, write_atlas
+from .journal import AtlasError, _reason, journal_path, prepare, rewrite_path, write_atlas
 from .spec import SweepSpec, _require_spec
 from .sweep_points import (  # noqa: F401 (re-exported: pydrill.sweep.evaluate_point and kin)
     Batch,
@@ -341,6 +341,8 @@ def _sweep_locked(
             f"{left} points of {out} were not computed; run again with --resume (resume=True)"
         )
     jp.unlink(missing_ok=True)  # everything is in the atlas now
+    # (and a journal rewritten in this layout, left half written by a kill: journal.prepare)
+    rewrite_path(jp).unlink(missing_ok=True)
     write_time += time.perf_counter() - tw
     n_failed, first = _failures(table)
     return SweepReport(

@@ -9,7 +9,7 @@ import json
 import pytest
 from sweeping import SMALL, same_atlas
 
-from pydrill.journal import AtlasError, journal_path, journaled, read_journal
+from pydrill.journal import AtlasError, journal_path, journaled, read_journal, rewrite_path
 from pydrill.journal_lines import LAYOUT, Layout, header, line
 from pydrill.spec import parse_spec
 from pydrill.sweep import run_sweep
@@ -64,6 +64,7 @@ def test_a_journal_of_the_earlier_layout_resumes_and_is_rewritten_in_this_one(tm
     old = [json.dumps({"spec_digest": SPEC.digest})] + [json.dumps(r) for r in recs]
     journal_path(out).write_text("\n".join(old) + "\n")
     assert sorted(journaled(out).tolist()) == [0, 3, 4]
+    rewrite_path(journal_path(out)).write_text("[0, ")  # an earlier rewrite, cut by a kill
 
     seen = []
 
@@ -79,6 +80,7 @@ def test_a_journal_of_the_earlier_layout_resumes_and_is_rewritten_in_this_one(tm
     assert layout == LAYOUT and [d[0] for d in first] == [0, 3, 4]
     assert all(isinstance(d, list) for d in first)
     same_atlas(out, whole)  # (wall times aside: the runs' own)
+    assert not journal_path(out).exists() and not rewrite_path(journal_path(out)).exists()
 
 
 @pytest.mark.parametrize(

@@ -222,8 +222,10 @@ PYDRILL_API Method choose_method(const Params& params, std::string* reason = nul
 // t = 0 to options.t_end. Throws std::invalid_argument on bad input (nothing is
 // computed), SolverError if the integrator fails, Interrupted if options.interrupt
 // says so, and whatever options.interrupt itself throws; std::bad_alloc if memory runs out.
-// Thread-safe: it keeps no state between calls, so any number of threads may simulate at once,
-// sharing `params` and `options` if they like (they are only read). While it runs, its thread
+// Thread-safe: it keeps no state between calls that a result depends on (each thread caches
+// the Hopf crossings of the last few strings it judged, which depend on the string alone), so
+// any number of threads may simulate at once, sharing `params` and `options` if they like
+// (they are only read). While it runs, its thread
 // flushes subnormal numbers to zero (they cost ~100x at a string's wave front); the caller's
 // setting is back on when it returns or throws, and while options.interrupt is asked (on the
 // calling thread).
