@@ -5,9 +5,18 @@ builds a string from ``--preset`` or ``--tally``; and how the command says what 
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from .model import _LISTS, _SCALARS, _UNITS
 from .suggest import did_you_mean
+
+
+def add_set_option(parser: Any, help: str) -> None:
+    """The ``--set NAME=VALUE`` option (repeatable, into ``args.set_params``) of ``parser``
+    (a parser or an argument group)."""
+    parser.add_argument(
+        "--set", action="append", default=[], dest="set_params", metavar="NAME=VALUE", help=help
+    )
 
 
 def set_params(args: argparse.Namespace) -> dict[str, float]:

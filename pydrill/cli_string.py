@@ -20,7 +20,7 @@ from .cli_options import (
     _whole,
     typed_bare,
 )
-from .cli_set import _set_refused, set_params
+from .cli_set import _set_refused, add_set_option, set_params
 from .model import _SCALARS, _UNITS, MAX_DOF
 
 
@@ -62,13 +62,9 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
         type=_whole("--pipes", f"1 ... {MAX_DOF - 3}"),
         help=f"number of drill pipes P, 1 ... {MAX_DOF - 3} (same as --dof P+3)",
     )
-    group.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        dest="set_params",
-        metavar="NAME=VALUE",
-        help="change one of the string's parameters, as often as needed: "
+    add_set_option(
+        group,
+        "change one of the string's parameters, as often as needed: "
         + ", ".join(_SCALARS)
         + " (SI, or with a unit: bit_damping=0.05, 'bit_radius=4.5 in', stribeck_velocity=10rpm)",
     )

@@ -7,7 +7,7 @@ import argparse
 import dataclasses
 
 from .cli_options import _duration, _integer, _whole, figure_path, print_json
-from .cli_set import say_changed
+from .cli_set import add_set_option, say_changed
 from .cli_window_inputs import (
     TALLY_SETS,
     _kilonewtons,
@@ -96,13 +96,9 @@ def register_tally(sub) -> None:
         default=1,
         help="drill-pipe joints per element, >= 1 (default 1)",
     )
-    win.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        dest="set_params",
-        metavar="NAME=VALUE",
-        help="change one of the tally's values, as often as needed: "
+    add_set_option(
+        win,
+        "change one of the tally's values, as often as needed: "
         + ", ".join(TALLY_SETS)
         + " (SI, or with a unit: bit_damping=100, 'bit_radius=4.5 in'): what if the mud "
         "damped the bit more, or the rock were more abrasive",

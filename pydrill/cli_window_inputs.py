@@ -9,6 +9,7 @@ import dataclasses
 import math
 
 from .cli_options import HEAVIEST_WOB, LONGEST_WELL, TOP_DRIVE_RPM, _load
+from .model import _SCALARS
 
 RPM = 2 * math.pi / 60  # rad/s per rpm
 
@@ -18,15 +19,7 @@ LARGEST_BARE_KN = HEAVIEST_WOB / 1e3
 
 #: the string's parameters a tally sets, which ``window --set`` may change (the Karnopp band
 #: is none of them: the window and its checks use the exact friction law)
-TALLY_SETS = (
-    "top_damping",
-    "bit_damping",
-    "bit_radius",
-    "mu_coulomb",
-    "mu_static",
-    "stribeck_decay",
-    "stribeck_velocity",
-)
+TALLY_SETS = tuple(name for name in _SCALARS if name != "karnopp_band")
 
 
 def _rpm(option: str):
