@@ -23,6 +23,7 @@ from sweeping import (
     wait_for_journal,
 )
 
+import pydrill.atlas_lock
 from pydrill.atlas import Atlas
 from pydrill.spec import parse_spec
 from pydrill.sweep import AtlasError, run_sweep
@@ -138,11 +139,17 @@ def test_a_damaged_journal_line_is_named(tmp_path):
         run_sweep(spec, out, resume=True, serial=True)
 
 
-def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path):
+def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path, monkeypatch):
     """Before the lock, ``--resume`` from a second terminal ran beside the first sweep: two
-    writers appending to one journal and overwriting each other's atlas flushes."""
+    writers appending to one journal and overwriting each other's atlas flushes. The first
+    sweep must still be running when the second gives up on the lock: with LONGER's points it
+    had 1-2 s left after its first batch, and the second kept trying for BUSY_PATIENCE (1 s,
+    for a reader's momentary hold) — once long enough for the first to finish, and the second
+    resumed a finished atlas. Here it tries once, against a sweep of twice the points."""
+    monkeypatch.setattr(pydrill.atlas_lock, "BUSY_PATIENCE", 0.0)
+    spec_text = LONGER.replace("num = 32", "num = 64")
     spec_file = tmp_path / "longer.toml"
-    spec_file.write_text(LONGER)
+    spec_file.write_text(spec_text)
     out = tmp_path / "busy.h5"
     journal = Path(str(out) + ".journal")
     first = subprocess.Popen(
@@ -159,17 +166,17 @@ def test_a_second_sweep_into_an_atlas_being_written_is_refused(tmp_path):
             match=rf"being written by another sweep \(process {first.pid} on host "
             rf"{re.escape(socket.gethostname())} \(this machine\), since ",
         ):
-            run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
+            run_sweep(parse_spec(spec_text), out, resume=True, serial=True)
         assert journal.read_bytes()[: len(before)] == before  # untouched by the refused one
         # kill -9 of the sweep alone: its lock file stays, but the kernel drops the lock
         # with the process, though its workers may still be finishing their batches.
         os.kill(first.pid, signal.SIGKILL)
         first.wait()
-        report = run_sweep(parse_spec(LONGER), out, resume=True, serial=True)
+        report = run_sweep(parse_spec(spec_text), out, resume=True, serial=True)
     finally:
         with contextlib.suppress(ProcessLookupError):
             os.killpg(first.pid, signal.SIGKILL)
-    assert report.resumed + report.computed == 32 * 16
+    assert report.resumed + report.computed == 64 * 16
     assert not Path(str(out) + ".lock").exists()
 
 
