@@ -18,6 +18,11 @@ from .cli_window_inputs import (
     _window_notes,
     _with_sets,
 )
+from .model import _SCALARS, _UNITS
+
+#: the friction law's values, which ``string`` reports beside the chain (karnopp_band, a
+#: numerical device of one friction model, is none of the string's)
+_FRICTION = ("mu_static", "mu_coulomb", "stribeck_decay", "stribeck_velocity")
 
 WINDOW_EPILOG = """\
 examples:
@@ -50,7 +55,8 @@ def register_tally(sub) -> None:
         "joints of drill pipe), stiffness G*I_p/L and inertia rho*I_p*L each; --dof N groups the "
         "elements into N-1 springs in series (--dof 2: the paper's two-inertia model).",
         epilog="examples:\n  pydrill string examples/tallies/paper-eq53.toml --dof 2 --json\n"
-        "  pydrill string examples/tallies/paper-eq53.toml --depth 3000m\n\n"
+        "  pydrill string examples/tallies/paper-eq53.toml --depth 3000m\n"
+        "  pydrill string examples/tallies/paper-eq53.toml --set bit_radius=6in\n\n"
         "units in the tally: m, ft, in; Pa, GPa, psi; kg/m3. Output is SI.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -70,6 +76,13 @@ def register_tally(sub) -> None:
         "--depth",
         help="lengthen the drill pipe to reach this depth, > 0 (e.g. 3000m, 9800ft; a bare "
         "number is m)",
+    )
+    add_set_option(
+        string,
+        "change one of the string's scalar values, as often as needed: "
+        + ", ".join(_SCALARS)
+        + " (SI, or with a unit: bit_damping=100, 'bit_radius=4.5 in'): the string other "
+        "commands build from this tally with the same --set",
     )
     string.add_argument("--json", action="store_true", help="print one JSON object")
     string.set_defaults(handler=_cmd_string)
@@ -162,9 +175,15 @@ def register_tally(sub) -> None:
 
 def _cmd_string(args: argparse.Namespace) -> int:
     from .cli_options import json_document
-    from .cli_string import string_json, tally_params
+    from .cli_set import _set_refused, set_params
+    from .cli_string import string_json, string_units, tally_params
 
+    sets = set_params(args)  # a bad --set is refused before the tally is read
     tally, p = tally_params(args.tally, args.depth, args.lump, args.dof)
+    try:  # the string the other commands build from this tally with the same --set
+        p = p.replace(**sets)
+    except ValueError as exc:
+        raise _set_refused(exc, sets) from None
     results = {
         "name": tally.name,
         "dof": p.dof,
@@ -176,6 +195,7 @@ def _cmd_string(args: argparse.Namespace) -> int:
         "top_damping": p.top_damping,
         "bit_damping": p.bit_damping,
         "bit_radius": p.bit_radius,
+        "friction": {name: getattr(p, name) for name in _FRICTION},
     }
     units = {
         "depth": "m",
@@ -186,12 +206,15 @@ def _cmd_string(args: argparse.Namespace) -> int:
         "top_damping": "N·m·s/rad",
         "bit_damping": "N·m·s/rad",
         "bit_radius": "m",
+        "friction": {name: "1" if name.startswith("mu_") else _UNITS[name] for name in _FRICTION},
+        **string_units(args),
     }
     if args.json:
         # the tally as the other commands echo it; "dof", the inertias, follows with the
         # results (the tally's own number, or the one asked for)
         print_json(json_document(string_json(args), results, units))
         return 0
+    say_changed(args)
     print(f"{tally.name}: {tally.length:.1f} m ({tally.bha_length:.1f} m BHA), dof {p.dof}")
     top = f"J = {p.inertias[0]:.6g} kg m^2"
     if p.inertias[0] != tally.top_inertia:  # a reduced string: its top carries some pipe
@@ -209,6 +232,11 @@ def _cmd_string(args: argparse.Namespace) -> int:
             f"series stiffness {1 / sum(1 / k for k in p.stiffnesses):.6g} N m/rad"
         )
     print(f"  bit         R_b = {p.bit_radius:.6g} m, c_b = {p.bit_damping:g} N m s/rad")
+    # The friction law is the string's too (a tally's [bit] sets it): --set changes it here.
+    print(
+        f"  friction    mu_s = {p.mu_static:g}, mu_c = {p.mu_coulomb:g}, "
+        f"gamma_b = {p.stribeck_decay:g}, v_f = {p.stribeck_velocity:g} rad/s"
+    )
     return 0
 
 
