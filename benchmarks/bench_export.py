@@ -2,15 +2,17 @@
 """What ``pydrill atlas export`` costs on a large atlas: wall time and peak memory, against
 the export made whole in memory (as it was before it went by blocks) in the same run.
 
-    python benchmarks/bench_export.py                 # 10^6 points: about four minutes
-    python benchmarks/bench_export.py --points 250000 # a quarter: about a minute
+    python benchmarks/bench_export.py                 # 10^6 points: about three minutes
+    python benchmarks/bench_export.py --points 250000 # a quarter: under a minute
 
 The atlas is bench_sweep's 10^6-point one (1000 x 1000, from rest and equilibrium, smooth
 values, 400 MB of data, 176 MB on disk), or a smaller square. Each export runs in a process
 of its own, its peak resident memory read from the kernel (``wait4``): that includes the
 interpreter and its libraries (about 100 MB) and the atlas's pages mapped for its heap check,
 the same for both ways. The whole way: the atlas read into memory, the netCDF file made in
-memory (``to_netcdf(None)``) or the CSV table as one DataFrame and one string, then written.
+memory (``to_netcdf(None)``) or the CSV table as one DataFrame and one string by pandas'
+``to_csv`` (whose text the export's own writer, ``_core.csv_rows``, matches byte for byte in a
+fraction of the time), then written.
 Both must make the same file (checked). This process stays small (about 30 MB): a child's peak
 as ``wait4`` reports it is at least its parent's at the fork.
 """
@@ -32,7 +34,8 @@ import numpy as np
 WHOLE = """
 import sys, warnings
 from pydrill.atlas import Atlas, COUNT_FIELDS
-from pydrill.cli_atlas_export import _name_codes, _netcdf_encoding
+from pydrill.cli_atlas_export import _netcdf_encoding
+from pydrill.export_csv import name_codes
 source, out = sys.argv[1:]
 with Atlas(source) as atlas:
     atlas.check()
@@ -48,7 +51,7 @@ with Atlas(source) as atlas:
         for name in COUNT_FIELDS:
             if name in table:
                 table[name] = table[name].astype("Int64")
-        _name_codes(table)
+        name_codes(table)
         data = table.to_csv().encode()
     ds.close()
 with open(out, "wb") as fh:

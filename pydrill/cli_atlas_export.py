@@ -49,7 +49,7 @@ def cmd_export(args: argparse.Namespace) -> int:
             # (chunk by chunk, h5netcdf's 3 ms a read took a minute).
             warnings.filterwarnings("ignore", "The specified chunks separate", UserWarning)
             ds = atlas.to_xarray(chunks={first: rows, **dict.fromkeys(others, -1)})
-        # On a terminal, a bar: 10^6 points take a minute to CSV
+        # On a terminal, a bar: 10^6 points take some 15 s to CSV
         bar = check_progress(per_row * len(atlas.axes[first]), "export", unit="pt")
         try:  # the atlas is closed (its xarray view too) whatever fails
             if out.suffix.lower() == ".nc":
@@ -136,31 +136,11 @@ def _by_chunks(ds):
 
 
 def _write_csv(ds, fd: int, first: str, rows: int, bar: Any) -> None:
-    """``ds`` as a CSV table (the eigenvalues and steady states left out, each code's name
-    beside it) into the file open on ``fd``, ``rows`` rows of the axis ``first`` at a time,
-    ``bar`` moved by each block's points."""
-    from .atlas import COUNT_FIELDS
+    """``ds`` as a CSV table into the file open on ``fd`` (pydrill.export_csv)."""
+    from .export_csv import write_csv
 
-    keep = [
-        v
-        for v in ds.data_vars
-        if "eigenvalue" not in ds[v].dims
-        and "equilibrium" not in ds[v].dims
-        and (ds[v].dtype.kind != "O" or v == "message")
-    ]
-    ds = ds[keep]
-    dims = list(ds.dims)  # the table's row order, as to_dataframe takes it
-    per_row = bar.total // ds.sizes[first]  # points
-    assert dims[0] == first, dims  # blocks of the first axis are blocks of the table's rows
-    with open(fd, "w", closefd=False, newline="", encoding="utf-8") as fh:
-        for start in range(0, ds.sizes[first], rows):
-            table = ds.isel({first: slice(start, start + rows)}).load().to_dataframe(dims)
-            for name in COUNT_FIELDS:  # counts as integers, an empty cell where not measured
-                if name in table:
-                    table[name] = table[name].astype("Int64")
-            _name_codes(table)
-            table.to_csv(fh, header=start == 0)
-            bar.update((min(start + rows, ds.sizes[first]) - start) * per_row)
+    with open(fd, "wb", closefd=False) as fh:
+        write_csv(ds, fh, first, rows, bar)
 
 
 def _write_whole(out: Path, fill: Callable[[int], None]) -> None:
@@ -208,24 +188,3 @@ def _netcdf_encoding(ds) -> dict[str, dict[str, Any]]:
         enum = {"enum": dict(fmt.REGIMES), "enum_name": "regime_t"}
         encoding["regime"] = {"dtype": np.dtype("i1", metadata=enum)}
     return encoding
-
-
-def _name_codes(table) -> None:
-    """Put beside each coded column of an exported table (a DataFrame) its names: regime_name,
-    caveat_name ("none" without one), status_name and coexistence_name ("unknown" with one
-    start or a point not done), each right after its codes."""
-    from . import atlas_format as fmt
-
-    names = {
-        "regime": fmt.REGIME_NAMES,
-        "caveat": {c: n or "none" for c, n in fmt.CAVEAT_NAMES.items()},
-        "status": {c: n for n, c in fmt.STATUS.items()},
-        "coexistence": {c: n for n, c in fmt.COEXISTENCE.items()},  # its flag_meanings
-    }
-    for column, meaning in names.items():
-        if column not in table:
-            continue
-        # A dict, not a function: pandas looks the codes up at once (a function, called for
-        # each of 2 million rows, took 8 of an export's 60 s); a code without a name: "?"
-        named = table[column].map(meaning).fillna("?")
-        table.insert(table.columns.get_loc(column) + 1, f"{column}_name", named)

@@ -27,4 +27,5 @@ PYBIND11_MODULE(_core, m) {
   pydrill::bindings::bind_params(m);
   pydrill::bindings::bind_simulate(m);
   pydrill::bindings::bind_stability(m);
+  pydrill::bindings::bind_table(m);
 }
