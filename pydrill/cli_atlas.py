@@ -66,7 +66,8 @@ def register_atlas(sub) -> None:
         "  pydrill atlas plot paper.h5 --out map.png --initial rest\n"
         "  pydrill atlas plot sizes.h5 --out map8.png --x wob --y torque --set dof=8\n"
         "  pydrill atlas safe paper.h5 --set torque=8.5\n"
-        "  pydrill atlas export paper.h5 --out paper.nc",
+        "  pydrill atlas export paper.h5 --out paper.nc\n"
+        "  pydrill atlas export paper.h5 --out paper.csv --json",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     asub = at.add_subparsers(dest="atlas_command", metavar="ACTION", parser_class=type(at))
@@ -234,6 +235,12 @@ def register_atlas(sub) -> None:
         metavar="FILE.nc|FILE.csv",
         type=export_path,
         help="the file to write",
+    )
+    export.add_argument(
+        "--json",
+        action="store_true",
+        help="print one JSON object: the file written, its format, points, rows (CSV) or "
+        "variables (netCDF) and size",
     )
     export.set_defaults(handler=cmd_export)
     at.set_defaults(handler=lambda args: _atlas_usage(at))

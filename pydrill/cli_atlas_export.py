@@ -49,17 +49,28 @@ def cmd_export(args: argparse.Namespace) -> int:
             # (chunk by chunk, h5netcdf's 3 ms a read took a minute).
             warnings.filterwarnings("ignore", "The specified chunks separate", UserWarning)
             ds = atlas.to_xarray(chunks={first: rows, **dict.fromkeys(others, -1)})
-        # On a terminal, a bar: 10^6 points take some 15 s to CSV
-        bar = check_progress(per_row * len(atlas.axes[first]), "export", unit="pt")
+        # On a terminal, a bar: 10^6 points take some 10 s to CSV
+        points = per_row * len(atlas.axes[first])
+        bar = check_progress(points, "export", unit="pt")
+        netcdf = out.suffix.lower() == ".nc"
         try:  # the atlas is closed (its xarray view too) whatever fails
-            if out.suffix.lower() == ".nc":
+            if netcdf:
                 _write_whole(out, lambda fd: _write_netcdf(ds, fd, bar))
+                written = {"variables": sorted(ds.data_vars)}
             else:  # .csv, as export_path allows
-                _write_whole(out, lambda fd: _write_csv(ds, fd, first, rows, bar))
+                lines = _write_whole(out, lambda fd: _write_csv(ds, fd, first, rows, bar))
+                written = {"rows": lines}
         finally:
             bar.close()
             ds.close()
-    print(f"wrote {out}")
+    if not args.json:
+        print(f"wrote {out}")
+        return 0
+    from .cli_options import json_document, print_json
+
+    results = {"format": "netcdf" if netcdf else "csv", "points": points, **written}
+    results["bytes"] = out.stat().st_size
+    print_json(json_document({"atlas": args.atlas, "out": args.out}, results, {"bytes": "B"}))
     return 0
 
 
@@ -135,15 +146,15 @@ def _by_chunks(ds):
     return out
 
 
-def _write_csv(ds, fd: int, first: str, rows: int, bar: Any) -> None:
-    """``ds`` as a CSV table into the file open on ``fd`` (pydrill.export_csv)."""
+def _write_csv(ds, fd: int, first: str, rows: int, bar: Any) -> int:
+    """``ds`` as a CSV table into the file open on ``fd`` (pydrill.export_csv): its rows."""
     from .export_csv import write_csv
 
     with open(fd, "wb", closefd=False) as fh:
-        write_csv(ds, fh, first, rows, bar)
+        return write_csv(ds, fh, first, rows, bar)
 
 
-def _write_whole(out: Path, fill: Callable[[int], None]) -> None:
+def _write_whole(out: Path, fill: Callable[[int], Any]) -> Any:
     """Write ``out`` whole or not at all: ``fill`` writes into a new file beside it (on the
     descriptor it is given, open for reading and writing), put in its place once complete.
     On a failure that file is removed and ``out`` (if there was one) left as it was; the
@@ -161,11 +172,12 @@ def _write_whole(out: Path, fill: Callable[[int], None]) -> None:
             try:
                 if mode is not None:
                     os.chmod(fd, mode)
-                fill(fd)
+                filled = fill(fd)
                 os.fsync(fd)
             finally:
                 os.close(fd)
             os.replace(part, target)
+            return filled
         except BaseException:
             part.unlink(missing_ok=True)
             raise

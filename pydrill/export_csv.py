@@ -15,9 +15,9 @@ import numpy as np
 LINES = 16384
 
 
-def write_csv(ds, fh, first: str, rows: int, bar: Any) -> None:
+def write_csv(ds, fh, first: str, rows: int, bar: Any) -> int:
     """``ds`` as a CSV table into the binary file ``fh``, ``rows`` rows of the axis ``first``
-    at a time, ``bar`` moved by each block's points."""
+    at a time, ``bar`` moved by each block's points; the table's rows (the header aside)."""
     from ._core import csv_rows
     from .atlas import COUNT_FIELDS
 
@@ -32,6 +32,7 @@ def write_csv(ds, fh, first: str, rows: int, bar: Any) -> None:
     dims = list(ds.dims)  # the table's row order, as to_dataframe takes it
     per_row = bar.total // ds.sizes[first]  # points
     assert dims[0] == first, dims  # blocks of the first axis are blocks of the table's rows
+    lines = 0
     for start in range(0, ds.sizes[first], rows):
         table = ds.isel({first: slice(start, start + rows)}).load().to_dataframe(dims)
         for name in COUNT_FIELDS:  # counts as integers, an empty cell where not measured
@@ -49,6 +50,8 @@ def write_csv(ds, fh, first: str, rows: int, bar: Any) -> None:
                 )
             )
         bar.update((min(start + rows, ds.sizes[first]) - start) * per_row)
+        lines += len(table)
+    return lines
 
 
 def _line(fields: list[str]) -> str:

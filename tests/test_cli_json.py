@@ -88,6 +88,10 @@ CASES = {
         | {"workers": 1},
     ),
     "atlas-info": (["atlas", "info", "s.h5"], {"path": "s.h5"}),
+    "atlas-export": (
+        ["atlas", "export", "s.h5", "--out", "s.csv"],
+        {"atlas": "s.h5", "out": "s.csv"},
+    ),
     "atlas-query": (
         ["atlas", "query", "s.h5", "--wob", "100", "--torque", "8.3"],
         {"atlas": "s.h5", "asked": {"wob": 100.0, "torque": 8.3}},

@@ -121,3 +121,46 @@ def test_an_atlas_like_table_is_what_pandas_writes(monkeypatch):
     assert bar.n == bar.total
     back = pd.read_csv(io.BytesIO(out.getvalue()), keep_default_na=False)
     assert len(back) == size and list(back.columns[:3]) == list(dims)
+
+
+@pytest.fixture(scope="module")
+def small_atlas(tmp_path_factory):
+    from sweeping import SMALL
+
+    from pydrill.spec import parse_spec
+    from pydrill.sweep import run_sweep
+
+    out = tmp_path_factory.mktemp("atlas") / "small.h5"
+    run_sweep(parse_spec(SMALL.replace("t_end = 200.0", "t_end = 20.0")), out, serial=True)
+    return out
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".nc"])
+def test_export_json_says_what_the_file_holds(small_atlas, suffix, tmp_path, capsys):
+    """Against the file itself: its rows (CSV, read back by pandas) or variables (netCDF,
+    read back by h5py), its size on disk, the atlas's points."""
+    import json
+
+    import h5py
+
+    from pydrill.atlas import Atlas
+    from pydrill.cli import main
+
+    out = tmp_path / f"small{suffix}"
+    assert main(["atlas", "export", str(small_atlas), "--out", str(out), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["atlas"] == str(small_atlas) and data["out"] == str(out)
+    assert data["bytes"] == out.stat().st_size and data["units"] == {"bytes": "B"}
+    with Atlas(small_atlas) as atlas:
+        assert data["points"] == math.prod(atlas.shape)
+        starts = len(atlas.initials)
+    if suffix == ".csv":
+        assert data["format"] == "csv"
+        assert data["rows"] == len(pd.read_csv(out)) == data["points"] * starts
+    else:
+        assert data["format"] == "netcdf"
+        with h5py.File(out, "r") as f:
+            written = {k for k, v in f.items() if isinstance(v, h5py.Dataset)}
+        assert set(data["variables"]) <= written and "regime" in data["variables"]
+        axes = {"wob", "torque", "initial", "eigenvalue", "equilibrium"}  # dimensions
+        assert written - set(data["variables"]) <= axes
