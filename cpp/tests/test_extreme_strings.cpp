@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "pydrill/equilibrium.hpp"
@@ -291,6 +292,24 @@ int hopf_near(const std::vector<Crossing>& crossings, double omega) {
   }));
 }
 
+// A string of these inertias, springs and dampers, friction as the reduced-scale preset's;
+// critical_deltas must find its Hopf points at `w1` and `w2` (a pair once lost), count
+// `unstable` eigenvalues at `delta` (between them) and agree with the dense eigenvalues.
+void finds_the_pair(std::vector<double> inertias, std::vector<double> stiffnesses, std::vector<double> dampings,
+                    double top_damping, double bit_damping, double w1, double w2, double delta, int unstable) {
+  Params p = preset("reduced-scale", static_cast<int>(inertias.size()));
+  p.inertias = std::move(inertias);
+  p.stiffnesses = std::move(stiffnesses);
+  p.dampings = std::move(dampings);
+  p.top_damping = top_damping;
+  p.bit_damping = bit_damping;
+  const auto crossings = critical_deltas(p);
+  CHECK(hopf_near(crossings, w1) == 1);
+  CHECK(hopf_near(crossings, w2) == 1);
+  CHECK(unstable_count(crossings, delta) == unstable);
+  dense_agrees_with_crossings(p, crossings);
+}
+
 }  // namespace
 
 TEST_CASE("a pair of Hopf points closer than the frequency grid is found", "[stability][extreme]") {
@@ -299,17 +318,10 @@ TEST_CASE("a pair of Hopf points closer than the frequency grid is found", "[sta
   // phase of Z_b dips through 0 at 4.4368 and 4.4491 rad/s and back inside one interval of the
   // search's grid, both ends on one side, and the pair was lost: 1 unstable eigenvalue counted
   // where there are 3 for 39.05 < δ < 51.56.
-  Params p = preset("reduced-scale", 5);
-  p.inertias = {0.2685607068690699, 0.5433872284147917, 0.116369023709137, 2.590494241623353, 6.757267046423591};
-  p.stiffnesses = {3.7641177244566, 20.454021690757738, 9.032104663348365, 1.3989036030466184};
-  p.dampings = {0.009631269957358518, 1051.0750255889982, 0.005083489317476456, 810.9141443857354};
-  p.top_damping = 23.548018842019736;
-  p.bit_damping = 5.135972244293806;
-  const auto crossings = critical_deltas(p);
-  CHECK(hopf_near(crossings, 4.4368) == 1);
-  CHECK(hopf_near(crossings, 4.4491) == 1);
-  CHECK(unstable_count(crossings, 45.0) == 3);
-  dense_agrees_with_crossings(p, crossings);
+  finds_the_pair({0.2685607068690699, 0.5433872284147917, 0.116369023709137, 2.590494241623353, 6.757267046423591},
+                 {3.7641177244566, 20.454021690757738, 9.032104663348365, 1.3989036030466184},
+                 {0.009631269957358518, 1051.0750255889982, 0.005083489317476456, 810.9141443857354},
+                 23.548018842019736, 5.135972244293806, 4.4368, 4.4491, 45.0, 3);
 }
 
 TEST_CASE("a narrow resonance's swing through 0 in a small phase is found", "[stability][extreme]") {
@@ -318,27 +330,20 @@ TEST_CASE("a narrow resonance's swing through 0 in a small phase is found", "[st
   // back at 4.184 within one grid interval, not a local minimum among the grid's phases.
   // Measured before: that pair was lost, 4 unstable eigenvalues counted where there are 6 for
   // 359.1 < δ < 372.5.
-  Params p = preset("reduced-scale", 25);
-  p.inertias = {0.20167507995573897, 9.4405393208522, 1.9860507536438758, 2.328587328124708, 7.953001467912811,
-                0.15486049312010966, 0.37447072031177964, 0.24695084222056876, 0.7051775634048744, 4.670938240902948,
-                3.413175887626113, 0.411134806205964, 2.341284111555948, 1.2767854384007786, 5.4372218790019495,
-                0.18261621642774473, 0.8691469204787676, 0.1406866613751774, 9.224592886015593, 0.958406650107127,
-                5.125392169815665, 3.812995112987473, 1.1885638127600617, 0.5130080398560501, 2.7858966744866756};
-  p.stiffnesses = {6.9605321640792654, 82.78063093042111, 7.001474757645239, 45.65666626521577, 5.4673230434481495,
-                   1.0253126374240242, 23.901407812060594, 22.916469934377357, 42.30570472620405, 73.71284405961681,
-                   3.0103723197122942, 10.064469675885062, 43.51956396437718, 17.94016323583256, 48.0715020574243,
-                   9.125043858026846, 2.1978624859375127, 3.631572700000019, 2.599369767999425, 1.191283148869408,
-                   42.45271634925981, 35.543497439663746, 7.514042703556018, 12.01937870139699};
-  p.dampings = {1734.6517945031778, 1866.6254761965272, 0.07781857127503185, 0.04801734005279419, 1.2335437146374408,
-                16.8187082819092, 0.4044076401616295, 0.3464174699765573, 0.5732586327178225, 5380.105374937323,
-                5.619415693957417, 2.5576898297814132, 6.497786403249785, 2.517378781192988, 2.8155395217336707,
-                515.4766691360131, 2.4042762958397956, 164.36226306062713, 25.965631808754576, 0.10887645569119996,
-                0.03036067859880153, 291.30144364176414, 14.484889877646403, 0.029828780575492063};
-  p.top_damping = 132.1844455321466;
-  p.bit_damping = 353.2834780149066;
-  const auto crossings = critical_deltas(p);
-  CHECK(hopf_near(crossings, 4.158) == 1);
-  CHECK(hopf_near(crossings, 4.1837) == 1);
-  CHECK(unstable_count(crossings, 364.8) == 6);
-  dense_agrees_with_crossings(p, crossings);
+  finds_the_pair({0.20167507995573897, 9.4405393208522, 1.9860507536438758, 2.328587328124708, 7.953001467912811,
+                  0.15486049312010966, 0.37447072031177964, 0.24695084222056876, 0.7051775634048744, 4.670938240902948,
+                  3.413175887626113, 0.411134806205964, 2.341284111555948, 1.2767854384007786, 5.4372218790019495,
+                  0.18261621642774473, 0.8691469204787676, 0.1406866613751774, 9.224592886015593, 0.958406650107127,
+                  5.125392169815665, 3.812995112987473, 1.1885638127600617, 0.5130080398560501, 2.7858966744866756},
+                 {6.9605321640792654, 82.78063093042111, 7.001474757645239, 45.65666626521577, 5.4673230434481495,
+                  1.0253126374240242, 23.901407812060594, 22.916469934377357, 42.30570472620405, 73.71284405961681,
+                  3.0103723197122942, 10.064469675885062, 43.51956396437718, 17.94016323583256, 48.0715020574243,
+                  9.125043858026846, 2.1978624859375127, 3.631572700000019, 2.599369767999425, 1.191283148869408,
+                  42.45271634925981, 35.543497439663746, 7.514042703556018, 12.01937870139699},
+                 {1734.6517945031778, 1866.6254761965272, 0.07781857127503185, 0.04801734005279419, 1.2335437146374408,
+                  16.8187082819092, 0.4044076401616295, 0.3464174699765573, 0.5732586327178225, 5380.105374937323,
+                  5.619415693957417, 2.5576898297814132, 6.497786403249785, 2.517378781192988, 2.8155395217336707,
+                  515.4766691360131, 2.4042762958397956, 164.36226306062713, 25.965631808754576, 0.10887645569119996,
+                  0.03036067859880153, 291.30144364176414, 14.484889877646403, 0.029828780575492063},
+                 132.1844455321466, 353.2834780149066, 4.158, 4.1837, 364.8, 6);
 }
