@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>  // std::abs of the complex matrices it factors too
 #include <cstddef>
 #include <stdexcept>
 #include <vector>
