@@ -209,6 +209,12 @@ def register_atlas(sub) -> None:
         help="colour the map by this value instead of the regime: "
         + ", ".join([*RUN_FIELDS, *EQ_FIELDS]),
     )
+    plot.add_argument(
+        "--json",
+        action="store_true",
+        help="print one JSON object: the axes drawn, the grid values held, and the points of "
+        "the slice drawn by regime (from --initial)",
+    )
     plot.set_defaults(handler=_cmd_plot)
     export = asub.add_parser(
         "export",
@@ -390,5 +396,40 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             profile=args.profile,
         )
         save(fig, args.out)
+        if args.json:
+            print_json(_plot_json(atlas, args, at))
+            return 0
     print(f"figure: {args.out}")
     return 0
+
+
+def _plot_json(atlas: Any, args: argparse.Namespace, at: dict[str, float]) -> dict[str, Any]:
+    """``atlas plot --json``: the axes drawn, each other axis's grid value held (as the figure
+    holds it: nearest ``--set``, else its first), and the slice's points by regime, from
+    ``--initial``, as ``atlas info`` counts them."""
+    import numpy as np
+
+    from . import atlas_format as fmt
+    from .plot_atlas import drawn_axes, nearest_index
+
+    x, y, profile = drawn_axes(atlas, args.x, args.y, at, args.profile)[:3]
+    initial = args.initial or atlas.initials[0]
+    held = {
+        name: float(values[nearest_index(atlas, name, at[name]) if name in at else 0])
+        for name, values in atlas.axes.items()
+        if name not in (x, y)
+    }
+    codes = atlas.sel(method="nearest", initial=initial, **held)["regime"].values
+    # as atlas info counts them: the regimes found, a point not done as missing or failed
+    regimes = {n: int(np.sum(codes == c)) for n, c in fmt.REGIMES.items() if np.any(codes == c)}
+    inputs = {"atlas": args.atlas, "initial": initial, "metric": args.metric}
+    results = {
+        "x": x,
+        "y": y,
+        "profile": profile,
+        "held": held,
+        "points": int(codes.size),
+        "regimes": regimes,
+    }
+    units = {"held": {name: axis_unit(name) for name in held}}
+    return json_document(inputs, results, units, plot=args.out)

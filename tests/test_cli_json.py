@@ -92,6 +92,10 @@ CASES = {
         ["atlas", "export", "s.h5", "--out", "s.csv"],
         {"atlas": "s.h5", "out": "s.csv"},
     ),
+    "atlas-plot": (
+        ["atlas", "plot", "s.h5", "--out", "f.png"],
+        {"atlas": "s.h5", "initial": "rest", "metric": None},
+    ),
     "atlas-query": (
         ["atlas", "query", "s.h5", "--wob", "100", "--torque", "8.3"],
         {"atlas": "s.h5", "asked": {"wob": 100.0, "torque": 8.3}},
@@ -116,7 +120,7 @@ def test_every_commands_json_is_inputs_results_units_plot(name, atlas_dir, tmp_p
     if args[0] == "sweep":
         (tmp_path / "s.toml").write_text((atlas_dir / "s.toml").read_text())
     data = run_json(*args, cwd=cwd)
-    plot = "f.png" if "--plot" in args else None
+    plot = "f.png" if "--plot" in args or args[:2] == ["atlas", "plot"] else None
     check_layout(data, inputs, plot)
     if plot:
         assert (cwd / plot).stat().st_size > 0
