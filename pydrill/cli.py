@@ -59,12 +59,33 @@ units: wob N, torque N*m, time s, velocities rad/s.
 """
 
 
+class _Wrapped(argparse.RawDescriptionHelpFormatter):
+    """Descriptions and epilogs as written (examples stay one command a line, to copy), but
+    a line of prose longer than the terminal is wrapped (a description of 400 characters ran
+    off the screen on one line)."""
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        import textwrap
+
+        lines = []
+        for line in text.splitlines():
+            if line[:1].isspace() or len(line) <= width:  # indented: an example, kept whole
+                lines.append(indent + line)
+            else:
+                lines.extend(
+                    textwrap.wrap(line, width, initial_indent=indent, subsequent_indent=indent)
+                )
+        return "\n".join(lines)
+
+
 class _Parser(argparse.ArgumentParser):
     #: the whole command line and the top parser, while ``main`` parses it: a subcommand's
     #: parser that errs sees only its own part
     line: tuple[argparse.ArgumentParser, Sequence[str]] | None = None
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
+        if kwargs.get("formatter_class") is argparse.RawDescriptionHelpFormatter:
+            kwargs["formatter_class"] = _Wrapped
         super().__init__(*args, **kwargs)
         # A value that starts with a minus and a digit is a value, not an option: argparse's
         # own pattern takes "-1" and "-0.5" but not "-1e9", "-3000m" or "-1,1,1", and said

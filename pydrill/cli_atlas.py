@@ -84,7 +84,8 @@ def register_atlas(sub) -> None:
             "stopped."
         ),
         formatter_class=raw,
-        epilog="JSON fields: path, pydrill_version, model {string, from (preset or tally),\n"
+        epilog="examples:\n  pydrill atlas info paper.h5\n  pydrill atlas info paper.h5 --json\n\n"
+        "JSON fields: path, pydrill_version, model {string, from (preset or tally),\n"
         "  inertias (null: an axis sets them), held {NAME: SI value}, t_end}, spec_digest\n"
         "  (as written), spec_digest_here (this pydrill's, of the same spec), points,\n"
         "  axes {NAME: {size, min, max}}, initial, status {missing, done, failed},\n"
@@ -233,6 +234,10 @@ def register_atlas(sub) -> None:
         "was if writing fails (a full disk). The atlas is read and written by blocks of "
         "rows (65,536 points), so memory stays that of a block however large it is; on a "
         "terminal a bar shows the progress.",
+        epilog="examples:\n  pydrill atlas export paper.h5 --out paper.nc\n"
+        "  pydrill atlas export paper.h5 --out paper.csv --json\n"
+        "  python -c \"import xarray; print(xarray.open_dataset('paper.nc'))\"",
+        formatter_class=raw,
     )
     export.add_argument("atlas", metavar="ATLAS.h5")
     export.add_argument(

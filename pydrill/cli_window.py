@@ -51,9 +51,10 @@ def register_tally(sub) -> None:
     string = sub.add_parser(
         "string",
         help="the lumped torsional model of a string from its pipe tally (TOML)",
-        description="Build the lumped chain from a tally: one element per joint (or per --lump "
-        "joints of drill pipe), stiffness G*I_p/L and inertia rho*I_p*L each; --dof N groups the "
-        "elements into N-1 springs in series (--dof 2: the paper's two-inertia model).",
+        description="Build the lumped chain from a tally: one element per joint (or per --lump\n"
+        "joints of drill pipe), stiffness G*I_p/L and inertia rho*I_p*L each; --dof N groups\n"
+        "the elements into N-1 springs in series (--dof 2: the paper's two-inertia model).\n"
+        "Prints the chain, the bit and the friction law (with --set's changes).",
         epilog="examples:\n  pydrill string examples/tallies/paper-eq53.toml --dof 2 --json\n"
         "  pydrill string examples/tallies/paper-eq53.toml --depth 3000m\n"
         "  pydrill string examples/tallies/paper-eq53.toml --set bit_radius=6in\n\n"
@@ -90,8 +91,8 @@ def register_tally(sub) -> None:
     win = sub.add_parser(
         "window",
         help="safe (W_ob, surface rpm) window of a string from its tally, at one or more depths",
-        description="For the string of a tally at a depth: where steady drilling is stable and "
-        "the bit cannot stay stuck, in weight on bit and surface rpm (exact edges from the "
+        description="For the string of a tally at a depth: where steady drilling is stable and\n"
+        "the bit cannot stay stuck, in weight on bit and surface rpm (exact edges from the\n"
         "stability and sliding analysis); optionally checked by simulations at sample points.",
         epilog=WINDOW_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,

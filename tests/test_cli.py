@@ -129,6 +129,30 @@ def test_help_teaches():
     assert "simulate" in run("--help").stdout
 
 
+@pytest.mark.parametrize(
+    "command",
+    ["simulate", "map", "stability", "hopf", "bifurcation", "string", "window", "sweep",
+     "reproduce", "atlas", "atlas info", "atlas query", "atlas plot", "atlas safe", "atlas export"],
+)  # fmt: skip
+def test_help_prose_fits_the_terminal_and_examples_stay_whole(command, monkeypatch, capsys):
+    """On an 80-column terminal no line of prose runs past it (map's description was one line
+    of 404 characters); an example command (indented) is kept on its one line, to copy."""
+    from pydrill.cli import main
+
+    def shown(columns: int) -> list[str]:
+        monkeypatch.setenv("COLUMNS", str(columns))
+        with pytest.raises(SystemExit):
+            main([*command.split(), "--help"])
+        return capsys.readouterr().out.splitlines()
+
+    lines = shown(80)
+    assert [line for line in lines if len(line) > 80 and not line[:1].isspace()] == []
+    examples = [line for line in lines if line.strip().startswith("pydrill ")]
+    assert examples, "an example command in every --help"
+    # the same lines on a terminal wide enough for any: not cut to fit 80 columns
+    assert [line for line in shown(400) if line.strip().startswith("pydrill ")] == examples
+
+
 def test_driller_units_on_the_command_line():
     si = json.loads(
         run(
