@@ -44,11 +44,8 @@ def write_csv(ds, fh, first: str, rows: int, bar: Any) -> int:
             fh.write(_line([str(c) for c in table.columns]).encode("utf-8"))
         columns = [_column(table[c]) for c in table.columns]
         for lo in range(0, len(table), LINES):  # its text a few MB at a time
-            fh.write(
-                csv_rows(
-                    [_rows(col, lo, lo + LINES) for col in columns], len(table[lo : lo + LINES])
-                )
-            )
+            part = [_rows(col, lo, lo + LINES) for col in columns]
+            fh.write(csv_rows(part, min(LINES, len(table) - lo)))
         bar.update((min(start + rows, ds.sizes[first]) - start) * per_row)
         lines += len(table)
     return lines
