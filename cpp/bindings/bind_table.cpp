@@ -10,6 +10,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -35,8 +37,25 @@ void append_repr(std::string& out, double x) {
   }
   char buf[40];
   // Scientific, shortest round trip: "-d.ddde-XX" — the digits and the exponent to lay out.
+#if defined(__cpp_lib_to_chars) && !defined(PYDRILL_NO_FLOAT_TO_CHARS)
   auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::scientific);
   if (ec != std::errc()) throw std::runtime_error("csv_rows: cannot format a float");
+#else
+  // A standard library without floating-point to_chars (libc++ before 17, macOS before 13.3):
+  // the fewest digits that read back as x (17 always do, and more never fail where fewer
+  // read back), found by bisection; several times slower.
+  auto print = [&](int digits) { return std::snprintf(buf, sizeof buf, "%.*e", digits - 1, x); };
+  int lo = 1, hi = 17;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    print(mid);
+    if (std::strtod(buf, nullptr) == x)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  const char* end = buf + print(lo);
+#endif
   const char* p = buf;
   if (*p == '-') {
     out += '-';
