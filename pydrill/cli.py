@@ -61,21 +61,33 @@ units: wob N, torque N*m, time s, velocities rad/s.
 
 class _Wrapped(argparse.RawDescriptionHelpFormatter):
     """Descriptions and epilogs as written (examples stay one command a line, to copy), but
-    a line of prose longer than the terminal is wrapped (a description of 400 characters ran
-    off the screen on one line)."""
+    a paragraph of prose with a line longer than the terminal is refilled to its width: a
+    description of 400 characters ran off the screen on one line, and wrapping each line
+    alone left stubs ("writing" alone on a line) where the source broke it."""
 
     def _fill_text(self, text: str, width: int, indent: str) -> str:
         import textwrap
 
-        lines = []
+        out: list[str] = []
+        para: list[str] = []  # prose lines (not indented, not blank) in a row
+
+        def flush() -> None:
+            if any(len(line) > width for line in para):
+                joined = " ".join(line.strip() for line in para)
+                out.extend(textwrap.wrap(joined, width, initial_indent=indent,
+                                         subsequent_indent=indent))  # fmt: skip
+            else:  # fits as written: the author's line breaks are kept
+                out.extend(indent + line for line in para)
+            para.clear()
+
         for line in text.splitlines():
-            if line[:1].isspace() or len(line) <= width:  # indented: an example, kept whole
-                lines.append(indent + line)
-            else:
-                lines.extend(
-                    textwrap.wrap(line, width, initial_indent=indent, subsequent_indent=indent)
-                )
-        return "\n".join(lines)
+            if line.strip() and not line[:1].isspace():
+                para.append(line)
+                continue
+            flush()
+            out.append(indent + line)  # indented (an example: kept whole) or blank
+        flush()
+        return "\n".join(out)
 
 
 class _Parser(argparse.ArgumentParser):

@@ -1,5 +1,6 @@
 """The pydrill command as a user and a script meet it: real subprocesses."""
 
+import itertools
 import json
 import subprocess
 import sys
@@ -147,6 +148,17 @@ def test_help_prose_fits_the_terminal_and_examples_stay_whole(command, monkeypat
 
     lines = shown(80)
     assert [line for line in lines if len(line) > 80 and not line[:1].isspace()] == []
+    # A paragraph refilled, not cut line by line: no stub such as "writing" alone on a line
+    # where the source broke it, i.e. the next line's first word never fits on the line before
+    # (argparse fills to COLUMNS - 2).
+    prose = [(a, b) for a, b in itertools.pairwise(lines) if a.strip() and b.strip()]
+    stubs = [
+        (a, b)
+        for a, b in prose
+        if not (a[:1].isspace() or b[:1].isspace() or a.startswith("usage:"))
+        and len(a) + 1 + len(b.split()[0]) <= 78
+    ]
+    assert stubs == []
     examples = [line for line in lines if line.strip().startswith("pydrill ")]
     assert examples, "an example command in every --help"
     # the same lines on a terminal wide enough for any: not cut to fit 80 columns
