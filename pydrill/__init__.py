@@ -7,6 +7,7 @@ core (``pydrill._core``), which this package re-exports with documentation and p
 from . import _core, stability, units
 from ._core import SolverError
 from .atlas import Atlas
+from .atlas_merge import MergeReport, merge_atlases
 from .atlas_safe import SafeRow
 from .model import MAX_LOAD, PRESETS, Params, _load, _number, preset
 from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
@@ -73,6 +74,7 @@ __all__ = [
     "Atlas",
     "AtlasError",
     "ClusterInfo",
+    "MergeReport",
     "Params",
     "SafeRow",
     "SchedulerError",
@@ -92,6 +94,7 @@ __all__ = [
     "equilibrium_velocities",
     "load_spec",
     "load_tally",
+    "merge_atlases",
     "parse_spec",
     "plan_sweep",
     "preset",

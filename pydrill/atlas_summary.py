@@ -73,7 +73,24 @@ def summary(atlas: Atlas) -> dict[str, Any]:
         # but the atlas does not yet is completed by --resume.
         "journal": str(journal) if journal.exists() else None,
         "journal_points": journal_only(atlas.path, status),
+        # Made by 'pydrill atlas merge': its parts (file, pydrill_version, spec_digest,
+        # values along the merged axis); None for an atlas a sweep wrote.
+        "merged_from": merged_from(f),
     }
+
+
+def merged_from(f: Any) -> list[dict[str, Any]] | None:
+    """The parts an atlas was merged from (``atlas_merge``), or None."""
+    import json
+
+    text = f.attrs.get("merged_from")
+    if text is None:
+        return None
+    try:
+        parts = json.loads(text)
+    except (TypeError, ValueError):  # written by hand, or damaged: say nothing of parts
+        return None
+    return parts if isinstance(parts, list) else None
 
 
 def model(spec: SweepSpec) -> dict[str, Any]:

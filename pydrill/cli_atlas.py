@@ -1,4 +1,4 @@
-"""The atlas commands of ``pydrill``: info, query, plot and export an atlas."""
+"""The atlas commands of ``pydrill``: info, query, plot, export and merge atlases."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from typing import Any
 
 from .atlas_grid import axis_unit, grid_unit, shown_unit, with_unit
 from .cli_atlas_export import cmd_export, export_path
+from .cli_atlas_merge import register_merge
 from .cli_atlas_query import axis_values, cmd_query, set_texts
 from .cli_atlas_safe import register_safe
 from .cli_options import figure_path, json_document, print_json
@@ -58,7 +59,7 @@ def model_line(m: dict[str, Any]) -> str:
 def register_atlas(sub) -> None:
     at = sub.add_parser(
         "atlas",
-        help="inspect, query, find safe windows in, plot or export an atlas",
+        help="inspect, query, find safe windows in, plot, export or merge atlases",
         description="Work with an atlas written by 'pydrill sweep'.",
         epilog="examples:\n  pydrill atlas info paper.h5\n"
         "  pydrill atlas query paper.h5 --wob 100 --torque 8 --json\n"
@@ -67,7 +68,8 @@ def register_atlas(sub) -> None:
         "  pydrill atlas plot sizes.h5 --out map8.png --x wob --y torque --set dof=8\n"
         "  pydrill atlas safe paper.h5 --set torque=8.5\n"
         "  pydrill atlas export paper.h5 --out paper.nc\n"
-        "  pydrill atlas export paper.h5 --out paper.csv --json",
+        "  pydrill atlas export paper.h5 --out paper.csv --json\n"
+        "  pydrill atlas merge low-wob.h5 high-wob.h5 --out paper.h5",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     asub = at.add_subparsers(dest="atlas_command", metavar="ACTION", parser_class=type(at))
@@ -91,7 +93,10 @@ def register_atlas(sub) -> None:
         "  axes {NAME: {size, min, max}}, initial, status {missing, done, failed},\n"
         "  regimes {INITIAL: {REGIME: count}},\n"
         "  safe_points (null: stability not recorded), coexistence_points,\n"
+        "  caveats {INITIAL: {CAVEAT: count}},\n"
         "  journal (its path, or null), journal_points (in the journal, not yet in the atlas),\n"
+        "  merged_from (made by 'atlas merge': its parts [{file, pydrill_version, spec_digest,\n"
+        "  values}]; else null),\n"
         "  units {axes {NAME: unit}, model {held {NAME: unit}, t_end}}",
     )
     info.add_argument("atlas", metavar="ATLAS.h5")
@@ -254,6 +259,7 @@ def register_atlas(sub) -> None:
         "variables (netCDF) and size",
     )
     export.set_defaults(handler=cmd_export)
+    register_merge(asub, raw)
     at.set_defaults(handler=lambda args: _atlas_usage(at))
 
 
@@ -318,6 +324,10 @@ def _cmd_info(args: argparse.Namespace) -> int:
                 "no steady state holds the bit, which speeds up without bound)"
             )
             print(textwrap.fill(note, 79, initial_indent="  ", subsequent_indent="        "))
+    if s["merged_from"]:
+        parts = ", ".join(str(p.get("file", "?")) for p in s["merged_from"] if isinstance(p, dict))
+        note = f"merged from {parts} (pydrill atlas merge)"
+        print(textwrap.fill(note, 79, initial_indent="  ", subsequent_indent="    "))
     if s["journal"]:
         from pathlib import Path
 

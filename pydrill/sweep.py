@@ -139,18 +139,7 @@ def run_sweep(
     check_memory(spec)
     out = Path(out)
     t0 = time.perf_counter()
-    base = spec.params_at(spec.coords(0))
-    params_json = json.dumps(
-        {
-            "preset": spec.preset,
-            "dof": spec.dof,
-            "overrides": {
-                k: (list(v) if isinstance(v, list | tuple) else v)
-                for k, v in spec.overrides.items()
-            },
-            "base": base.to_dict(),
-        }
-    )
+    params_json = model_json(spec)
     # The atlas's directory is made as for every other output of pydrill, and removed again
     # if the sweep is refused before anything is written into it.
     made = [d for d in (out.parent, *out.parent.parents) if not d.exists()]
@@ -180,6 +169,23 @@ def run_sweep(
                 with contextlib.suppress(OSError):
                     d.rmdir()
         raise
+
+
+def model_json(spec: SweepSpec) -> str:
+    """The atlas's ``params`` attribute: the model as the spec gives it, and the string of its
+    first point in full."""
+    base = spec.params_at(spec.coords(0))
+    return json.dumps(
+        {
+            "preset": spec.preset,
+            "dof": spec.dof,
+            "overrides": {
+                k: (list(v) if isinstance(v, list | tuple) else v)
+                for k, v in spec.overrides.items()
+            },
+            "base": base.to_dict(),
+        }
+    )
 
 
 def _signals(stop_on: Any) -> tuple[int, ...]:

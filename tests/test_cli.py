@@ -133,7 +133,8 @@ def test_help_teaches():
 @pytest.mark.parametrize(
     "command",
     ["simulate", "map", "stability", "hopf", "bifurcation", "string", "window", "sweep",
-     "reproduce", "atlas", "atlas info", "atlas query", "atlas plot", "atlas safe", "atlas export"],
+     "reproduce", "atlas", "atlas info", "atlas query", "atlas plot", "atlas safe", "atlas export",
+     "atlas merge"],
 )  # fmt: skip
 def test_help_prose_fits_the_terminal_and_examples_stay_whole(command, monkeypatch, capsys):
     """On an 80-column terminal no line of prose runs past it (map's description was one line

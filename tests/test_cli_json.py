@@ -96,6 +96,10 @@ CASES = {
         ["atlas", "plot", "s.h5", "--out", "f.png"],
         {"atlas": "s.h5", "initial": "rest", "metric": None},
     ),
+    "atlas-merge": (
+        ["atlas", "merge", "s.h5", "lo.h5", "--out", "m.h5"],
+        {"parts": ["s.h5", "lo.h5"], "out": "m.h5", "spec": None},
+    ),
     "atlas-query": (
         ["atlas", "query", "s.h5", "--wob", "100", "--torque", "8.3"],
         {"atlas": "s.h5", "asked": {"wob": 100.0, "torque": 8.3}},
@@ -105,10 +109,14 @@ CASES = {
 
 @pytest.fixture(scope="module")
 def atlas_dir(tmp_path_factory):
-    """A folder holding s.toml, a small sweep's spec, and s.h5, its atlas."""
+    """A folder holding s.toml, a small sweep's spec, and s.h5, its atlas; and lo.h5, the
+    same sweep at a lower W_ob (to merge with it)."""
     folder = tmp_path_factory.mktemp("json")
     (folder / "s.toml").write_text(SMALL.replace("t_end = 200.0", "t_end = 20.0"))
     run_json("sweep", "s.toml", "--out", "s.h5", "--serial", cwd=folder)
+    low = (folder / "s.toml").read_text().replace("wob = [40.0, 100.0, 160.0]", "wob = [10.0]")
+    (folder / "lo.toml").write_text(low)
+    run_json("sweep", "lo.toml", "--out", "lo.h5", "--serial", cwd=folder)
     return folder
 
 

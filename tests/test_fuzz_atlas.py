@@ -418,3 +418,24 @@ def test_cli_on_a_damaged_atlas_prints_an_error_not_a_traceback(name, tmp_path, 
     query = ["atlas", "query", str(out), "--wob", "100", "--torque", "8.3"]
     assert cli.main(query) == 2
     assert cli.main(["atlas", "export", str(out), "--out", str(tmp_path / "x.nc")]) == 2
+
+
+@pytest.fixture(scope="module")
+def other_part(tmp_path_factory):
+    """An atlas to merge with the reference: the same sweep at a lower W_ob."""
+    out = tmp_path_factory.mktemp("part") / "low.h5"
+    run_sweep(pydrill.parse_spec(SPEC.replace("[40.0, 100.0, 160.0]", "[10.0]")), out, serial=True)
+    return out
+
+
+@pytest.mark.parametrize("name", list(DAMAGED_ATLASES))
+def test_a_damaged_part_is_not_merged(name, tmp_path, reference, other_part):
+    """atlas merge reads each part whole: a damaged one is refused naming it, and no atlas is
+    written (an edited spec too: its points would pass for the edited spec's)."""
+    damage, _ = DAMAGED_ATLASES[name]
+    out = damaged_copy(tmp_path, reference, damage)
+    with pytest.raises(AtlasError, match=r"a\.h5"):
+        pydrill.merge_atlases([out, other_part], tmp_path / "m.h5")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.h5"]
+    # the sound reference merges (the damage, not the pair, was refused)
+    assert pydrill.merge_atlases([reference, other_part], tmp_path / "m.h5").points == 8
