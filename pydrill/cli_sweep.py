@@ -30,6 +30,8 @@ examples:
   pydrill sweep big.toml --out big.h5 --scheduler tcp://10.0.0.5:8786
   pydrill sweep big.toml --out big.h5 --dashboard     # watch it: the link is printed
   pydrill sweep big.toml --out big.h5 --resume        # after Ctrl-C, kill -9, a lost worker
+  pydrill sweep big.toml --part 3/16 --out part3.h5   # one job of 16; then:
+  pydrill atlas merge part*.h5 --out big.h5
 
 Results stream into the atlas as they finish (through ATLAS.h5.journal), so an interrupted
 sweep loses nothing: --resume computes only the missing points. An atlas of a different spec
@@ -94,6 +96,13 @@ def register_sweep(sub, positive) -> None:
         "interface, to open it from another machine",
     )
     sw.add_argument("--resume", action="store_true", help="complete an interrupted sweep")
+    sw.add_argument(
+        "--part",
+        metavar="K/N",
+        help="sweep only part K of N (1 <= K <= N): the spec's first axis cut into N runs of "
+        "consecutive values, the K-th kept; for sweeps run as separate jobs (a batch "
+        "system's job array), whose atlases 'pydrill atlas merge' makes the whole spec's",
+    )
     sw.add_argument(
         "--dry-run",
         action="store_true",
@@ -183,6 +192,17 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from .sweep import SweepInterrupted, run_sweep
 
     spec = load_spec(args.spec)
+    if args.part is not None:
+        from .spec_parts import parse_part, spec_part
+
+        try:
+            k, n = parse_part(args.part)
+        except ValueError as exc:
+            raise ValueError(f"--part {exc}") from None
+        try:
+            spec = spec_part(spec, k, n, Path(args.spec).name)
+        except ValueError as exc:
+            raise ValueError(f"--part {args.part}: {exc}") from None
     spec_notes(spec)
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise ValueError(f"--workers = {args.workers} is not allowed: 1 ... 256")

@@ -12,6 +12,7 @@ from typing import Any
 
 from .atlas_grid import grid_unit
 from .cli_options import bar_size, json_document, print_json
+from .spec_parts import parse_part
 
 
 class LogProgress:
@@ -149,8 +150,10 @@ UNITS = {"wall_time": "s", "write_time": "s"}
 
 
 def inputs(args: argparse.Namespace, run) -> dict:
-    """What ``sweep --json`` echoes of its command line: the spec and the atlas written."""
-    return {"spec": args.spec, "atlas": str(run.atlas)}
+    """What ``sweep --json`` echoes of its command line: the spec, the atlas written, and the
+    part of the spec swept ("K/N", or null: all of it)."""
+    part = None if args.part is None else "{}/{}".format(*parse_part(args.part))
+    return {"spec": args.spec, "atlas": str(run.atlas), "part": part}
 
 
 def results_of(run, cluster, interrupted: bool) -> dict:
@@ -212,6 +215,15 @@ def next_steps(args: argparse.Namespace, report: Any, spec: Any) -> None:
         return
     atlas = shlex.quote(str(report.atlas))
     steps = []  # (command, what it gives): a line each, the command first, to copy whole
+    if getattr(args, "part", None) is not None:
+        n = parse_part(args.part)[1]
+        if n > 1:
+            steps.append(
+                (
+                    f"pydrill atlas merge {atlas} OTHER-PARTS.h5 --out WHOLE.h5",
+                    f"once the other {n - 1} part{'s' * (n > 2)} are swept",
+                )
+            )
     if spec.record["stability"]:
         along = "wob" if "wob" in spec.axes else next(iter(spec.axes))
         others = [n for n in spec.axes if n != along]

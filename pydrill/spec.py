@@ -136,6 +136,14 @@ class SweepSpec:
                 changed.append(f"{key}: {what}")
         return changed
 
+    def part(self, k: int, n: int) -> SweepSpec:
+        """Part ``k`` of ``n`` (1 <= k <= n) of this sweep, as ``pydrill sweep --part K/N``
+        sweeps it: the first axis cut into ``n`` runs of consecutive values, the ``k``-th kept.
+        ``pydrill.merge_atlases`` makes the parts' atlases this sweep's."""
+        from .spec_parts import spec_part
+
+        return spec_part(self, k, n)
+
     @property
     def shape(self) -> tuple[int, ...]:
         """Points along each axis, in the order of ``axes``."""

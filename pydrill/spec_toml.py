@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import textwrap
 import tomllib
 from typing import Any
 
@@ -44,10 +45,10 @@ def value(v: Any) -> str:
 
 def with_axis(text: str, axis: str, values: list[Any], header: str = "") -> str:
     """The spec ``text`` with ``[axes] axis`` set to ``values`` (the other keys as they read;
-    the comments are not kept), after the comment lines ``header``."""
+    the comments are not kept), after ``header`` as a comment."""
     doc = tomllib.loads(text)
     doc["axes"][axis] = values
-    lines = [f"# {line}" if line else "#" for line in header.splitlines()]
+    lines = [f"# {line}" for line in textwrap.wrap(header, 88)]
     for section, table in doc.items():
         if lines:
             lines.append("")

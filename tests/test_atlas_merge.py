@@ -236,3 +236,59 @@ def test_the_command_line(sweeps, tmp_path):
         cwd=tmp_path,
     )
     assert "merged from low.h5, high.h5 (pydrill atlas merge)" in info.stdout
+
+
+def test_the_parts_of_a_spec_cut_its_first_axis_in_runs():
+    from pydrill.spec_parts import parse_part
+
+    spec = parse_spec(WHOLE)
+    parts = [spec.part(k, 3) for k in (1, 2, 3)]
+    assert [p.axes["wob"].tolist() for p in parts] == [[40.0, 70.0], [100.0, 130.0], [160.0]]
+    for p in parts:  # all else is the spec's
+        assert [d.split(":")[0] for d in spec.differences(p)] == ["axes.wob"]
+        assert p.axes["torque"].tolist() == [6.0, 8.3, 10.0]
+    assert spec.part(1, 1).digest == spec.digest
+    assert parse_part(" 3 / 16 ") == (3, 16)
+    for bad in ("0/3", "4/3", "3", "1/0", "a/b", "-1/3", "1.5/3"):
+        with pytest.raises(ValueError, match="is not allowed: K/N"):
+            parse_part(bad)
+    with pytest.raises(ValueError, match="6 parts of the first axis, wob, which has 5 values"):
+        spec.part(1, 6)
+    with pytest.raises(ValueError, match=r"part 4 of 3 is not allowed"):
+        spec.part(4, 3)
+    with pytest.raises(TypeError, match="k = True is not allowed"):
+        spec.part(True, 3)
+
+
+def test_a_sweep_in_parts_merged_is_the_whole_sweep(sweeps, tmp_path):
+    """The job-array way: 'pydrill sweep SPEC --part K/3' three times, then 'atlas merge': the
+    atlas of 'pydrill sweep SPEC', and that sweep's --resume takes it as its own."""
+    (tmp_path / "whole.toml").write_text(WHOLE)
+
+    def pydrill_(*args):
+        proc = subprocess.run(
+            [sys.executable, "-m", "pydrill", *args], capture_output=True, text=True, cwd=tmp_path
+        )
+        assert proc.returncode == 0, proc.stderr
+        return proc
+
+    for k in (3, 1, 2):
+        swept = pydrill_("sweep", "whole.toml", "--part", f"{k}/3", "--out", f"p{k}.h5", "--serial")
+        assert swept.stdout.startswith(f"p{k}.h5: {(2, 2, 1)[k - 1] * 3} points")
+        assert f"pydrill atlas merge p{k}.h5 OTHER-PARTS.h5 --out WHOLE.h5" in swept.stderr
+    with h5py.File(tmp_path / "p3.h5") as f:
+        assert f.attrs["spec"].startswith("# Part 3 of 3 of whole.toml, along wob (1 of its 5")
+    pydrill_("atlas", "merge", "p2.h5", "p3.h5", "p1.h5", "--out", "all.h5")
+    same_atlas(tmp_path / "all.h5", sweeps / "whole.h5")
+    again = pydrill_("sweep", "whole.toml", "--out", "all.h5", "--resume", "--serial")
+    assert again.stdout.startswith("all.h5: 15 points, 0 computed now (0 failed), 15 already done")
+    # A part's atlas is that part's sweep: another part is refused there, the same resumed.
+    other = subprocess.run(
+        [sys.executable, "-m", "pydrill", *"sweep whole.toml --part 2/3 --out p1.h5".split()],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert other.returncode == 2 and "p1.h5 holds a different sweep (axes.wob" in other.stderr
+    same = pydrill_("sweep", "whole.toml", "--part", "1/3", "--out", "p1.h5", "--resume")
+    assert "0 computed now" in same.stdout

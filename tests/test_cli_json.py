@@ -80,11 +80,15 @@ CASES = {
     ),
     "sweep": (
         ["sweep", "s.toml", "--out", "s.h5", "--serial", "--plot", "f.png"],
-        {"spec": "s.toml", "atlas": "s.h5"},
+        {"spec": "s.toml", "atlas": "s.h5", "part": None},
+    ),
+    "sweep-part": (
+        ["sweep", "s.toml", "--part", "2/3", "--out", "s2.h5", "--serial"],
+        {"spec": "s.toml", "atlas": "s2.h5", "part": "2/3"},
     ),
     "sweep-dry-run": (
         ["sweep", "s.toml", "--dry-run", "--serial"],
-        {"dry_run": True, "spec": "s.toml", "atlas": {"path": None, "state": "none"}}
+        {"dry_run": True, "spec": "s.toml", "part": None, "atlas": {"path": None, "state": "none"}}
         | {"workers": 1},
     ),
     "atlas-info": (["atlas", "info", "s.h5"], {"path": "s.h5"}),

@@ -1,0 +1,60 @@
+"""Part K of N of a sweep: its first axis cut into N runs of values, for sweeps run as
+separate jobs (a batch system's job array, several machines without one Dask cluster), whose
+atlases ``pydrill atlas merge`` makes one: the whole spec's atlas, as one sweep would write it.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .spec import SweepSpec
+
+_PART = re.compile(r"^\s*(\d+)\s*/\s*(\d+)\s*$")
+
+
+def parse_part(text: str) -> tuple[int, int]:
+    """``"K/N"`` as (K, N), 1 <= K <= N; ValueError naming what is allowed."""
+    m = _PART.match(text)
+    if not m:
+        raise ValueError(
+            f"{text!r} is not allowed: K/N, part K of N (e.g. 3/16), K and N whole numbers"
+        )
+    k, n = int(m.group(1)), int(m.group(2))
+    if n < 1 or not 1 <= k <= n:
+        raise ValueError(f"{text!r} is not allowed: K/N with N >= 1 and K in 1 ... N")
+    return k, n
+
+
+def spec_part(spec: SweepSpec, k: int, n: int, name: str = "the spec") -> SweepSpec:
+    """Part ``k`` of ``n`` (1 <= k <= n) of ``spec``: its first axis cut into ``n`` runs of
+    consecutive values as near equal in length as they can be (the first ones a value longer),
+    the ``k``-th kept; everything else as in ``spec``. ``name`` (the spec's file) goes into the
+    part's text, in a comment. ValueError for a ``k``, ``n`` not allowed, or ``n`` beyond the
+    axis's values."""
+    from .spec import parse_spec
+    from .spec_toml import with_axis
+
+    for label, v in (("k", k), ("n", n)):
+        if isinstance(v, bool) or not isinstance(v, int | np.integer):
+            raise TypeError(f"{label} = {v!r} is not allowed: a whole number")
+    if n < 1 or not 1 <= k <= n:
+        raise ValueError(f"part {k} of {n} is not allowed: n >= 1 and k in 1 ... n")
+    axis, values = next(iter(spec.axes.items()))
+    if n > len(values):
+        raise ValueError(
+            f"{n} parts of the first axis, {axis}, which has {len(values)} value"
+            f"{'s' * (len(values) != 1)}: at most {len(values)} parts (it is the axis cut; "
+            "put the longest first in [axes] to cut it into more)"
+        )
+    kept = np.array_split(values, n)[k - 1]
+    header = (
+        f"Part {k} of {n} of {name}, along {axis} ({len(kept)} of its {len(values)} values, "
+        "in SI units), by 'pydrill sweep --part'. 'pydrill atlas merge' makes the parts' "
+        "atlases one."
+    )
+    text = with_axis(spec.text, axis, [v.item() for v in kept], header)
+    return parse_spec(text, spec.tally_text)
