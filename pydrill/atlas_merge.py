@@ -145,16 +145,18 @@ def merge_atlases(
         if out.exists() or journal_path(out).exists():  # made meanwhile: still not ours
             raise ValueError(f"{out} exists now: give another path, or remove it first")
         part_file = out.with_name(f".{out.name}.{secrets.token_hex(4)}.part")
+        spec_written = False
         try:
             fmt.create(part_file, merged, model_json(merged), __version__)
             fmt.write(part_file, table)
             _note_parts(part_file, paths, specs, versions, axis)
             if spec_path is not None:
-                _write_new(spec_path, text)
+                _write_new(spec_path, text)  # (a file made there meanwhile: FileExistsError)
+                spec_written = True
             os.replace(part_file, out)
         except BaseException:
             part_file.unlink(missing_ok=True)
-            if spec_path is not None and not out.exists():
+            if spec_written and spec_path is not None:  # ours, of an atlas not there
                 with contextlib.suppress(OSError):
                     spec_path.unlink()
             raise

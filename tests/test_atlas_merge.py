@@ -292,3 +292,26 @@ def test_a_sweep_in_parts_merged_is_the_whole_sweep(sweeps, tmp_path):
     assert other.returncode == 2 and "p1.h5 holds a different sweep (axes.wob" in other.stderr
     same = pydrill_("sweep", "whole.toml", "--part", "1/3", "--out", "p1.h5", "--resume")
     assert "0 computed now" in same.stdout
+
+
+@pytest.mark.parametrize("step", ["write", "replace"])
+def test_a_merge_that_fails_while_writing_leaves_nothing(sweeps, tmp_path, monkeypatch, step):
+    """A full disk while the atlas is written, or a failure putting it in place (after its spec
+    was written), leaves neither a half atlas nor the spec, and no lock."""
+    import errno
+
+    from pydrill import atlas_format, atlas_merge
+
+    def full(*args):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    if step == "write":
+        monkeypatch.setattr(atlas_format, "write", full)
+    else:
+        monkeypatch.setattr(atlas_merge.os, "replace", full)
+    with pytest.raises(OSError, match="No space left"):
+        merge_atlases(
+            [sweeps / "low.h5", sweeps / "high.h5"], tmp_path / "m.h5", spec_out=tmp_path / "m.toml"
+        )
+    monkeypatch.undo()
+    assert list(tmp_path.iterdir()) == []
