@@ -7,6 +7,7 @@ import math
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -14,6 +15,7 @@ from sweeping import toml
 
 from pydrill import cli, spec_rules
 from pydrill.spec import SpecError, load_spec, parse_spec
+from pydrill.spec_toml import with_axis
 from pydrill.tally import TallyError, load_tally, parse_tally
 
 TALLY = Path(__file__).parents[1] / "examples" / "tallies" / "paper-eq53.toml"
@@ -218,3 +220,13 @@ def test_any_value_at_any_key_is_a_spec_error_or_a_spec(changes, with_tally):
         spec.params_at(coords)
         spec.operating_point(coords)
     assert spec.digest
+    # Written back (spec_toml, as 'sweep --part' and 'atlas merge' write specs), it is the same
+    # sweep; its parts (sweep --part) cut the first axis into runs that make it whole again.
+    axis, values = next(iter(spec.axes.items()))
+    again = parse_spec(with_axis(spec.text, axis, values.tolist()), spec.tally_text)
+    assert again.digest == spec.digest, spec.differences(again)
+    n = min(3, len(values))
+    parts = [spec.part(k, n) for k in range(1, n + 1)]
+    assert np.concatenate([p.axes[axis] for p in parts]).tolist() == values.tolist()
+    for p in parts:
+        assert {d.split(":")[0] for d in spec.differences(p)} <= {f"axes.{axis}"}
