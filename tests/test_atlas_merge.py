@@ -315,3 +315,32 @@ def test_a_merge_that_fails_while_writing_leaves_nothing(sweeps, tmp_path, monke
         )
     monkeypatch.undo()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_tally_strings_depth_parts_merge_into_the_whole(tmp_path):
+    """A string from a tally (its text travels in the atlases), a torque held in [model]
+    with its unit, the depth cut by --part: the merge is the whole sweep's atlas."""
+    from pathlib import Path
+
+    tally = Path(__file__).parents[1] / "examples" / "tallies" / "paper-eq53.toml"
+    text = f"""
+[model]
+tally = {json.dumps(str(tally))}
+dof = 3
+torque = "9 kN·m"
+[axes]
+depth = ["500 m", "1000 m", "2000 m"]
+wob = {{ start = "20 kN", stop = "120 kN", num = 2 }}
+[simulation]
+t_end = 20.0
+"""
+    whole = parse_spec(text)
+    run_sweep(whole, tmp_path / "whole.h5", serial=True)
+    for k in (1, 2):
+        run_sweep(whole.part(k, 2), tmp_path / f"p{k}.h5", serial=True)
+    report = merge_atlases([tmp_path / "p2.h5", tmp_path / "p1.h5"], tmp_path / "m.h5")
+    assert report.axis == "depth" and report.span == (500.0, 2000.0)
+    same_atlas(tmp_path / "m.h5", tmp_path / "whole.h5")
+    with h5py.File(tmp_path / "m.h5") as f, h5py.File(tmp_path / "whole.h5") as g:
+        assert f.attrs["spec_digest"] == g.attrs["spec_digest"]
+        assert f.attrs["tally"] == g.attrs["tally"] == tally.read_text()
