@@ -99,9 +99,10 @@ def register_sweep(sub, positive) -> None:
     sw.add_argument(
         "--part",
         metavar="K/N",
-        help="sweep only part K of N (1 <= K <= N): the spec's first axis cut into N runs of "
-        "consecutive values, the K-th kept; for sweeps run as separate jobs (a batch "
-        "system's job array), whose atlases 'pydrill atlas merge' makes the whole spec's",
+        help="sweep only part K of N (1 <= K <= N): every N-th value of the spec's first "
+        "axis, from the K-th (the parts then cost about the same, and each is a coarser map "
+        "of the whole); for sweeps run as separate jobs (a batch system's job array), whose "
+        "atlases 'pydrill atlas merge' makes the whole spec's",
     )
     sw.add_argument(
         "--dry-run",

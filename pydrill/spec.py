@@ -138,7 +138,7 @@ class SweepSpec:
 
     def part(self, k: int, n: int) -> SweepSpec:
         """Part ``k`` of ``n`` (1 <= k <= n) of this sweep, as ``pydrill sweep --part K/N``
-        sweeps it: the first axis cut into ``n`` runs of consecutive values, the ``k``-th kept.
+        sweeps it: every ``n``-th value of the first axis, from the ``k``-th.
         ``pydrill.merge_atlases`` makes the parts' atlases this sweep's."""
         from .spec_parts import spec_part
 

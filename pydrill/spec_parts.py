@@ -1,6 +1,9 @@
-"""Part K of N of a sweep: its first axis cut into N runs of values, for sweeps run as
-separate jobs (a batch system's job array, several machines without one Dask cluster), whose
-atlases ``pydrill atlas merge`` makes one: the whole spec's atlas, as one sweep would write it.
+"""Part K of N of a sweep: every N-th value of its first axis from the K-th, for sweeps run
+as separate jobs (a batch system's job array, several machines without one Dask cluster),
+whose atlases ``pydrill atlas merge`` makes one: the whole spec's atlas, as one sweep would
+write it. Every N-th value, not a run of consecutive ones: the parts then cost about the same
+(a run could hold all the slow stick-slip points), and each part's atlas is already a coarser
+map of the whole grid.
 """
 
 from __future__ import annotations
@@ -30,9 +33,9 @@ def parse_part(text: str) -> tuple[int, int]:
 
 
 def spec_part(spec: SweepSpec, k: int, n: int, name: str = "the spec") -> SweepSpec:
-    """Part ``k`` of ``n`` (1 <= k <= n) of ``spec``: its first axis cut into ``n`` runs of
-    consecutive values as near equal in length as they can be (the first ones a value longer),
-    the ``k``-th kept; everything else as in ``spec``. ``name`` (the spec's file) goes into the
+    """Part ``k`` of ``n`` (1 <= k <= n) of ``spec``: every ``n``-th value of its first axis,
+    from the ``k``-th (the parts differ in length by one value at most); everything else as
+    in ``spec``. ``name`` (the spec's file) goes into the
     part's text, in a comment. ValueError for a ``k``, ``n`` not allowed, or ``n`` beyond the
     axis's values."""
     from .spec import parse_spec
@@ -47,14 +50,14 @@ def spec_part(spec: SweepSpec, k: int, n: int, name: str = "the spec") -> SweepS
     if n > len(values):
         raise ValueError(
             f"{n} parts of the first axis, {axis}, which has {len(values)} value"
-            f"{'s' * (len(values) != 1)}: at most {len(values)} parts (it is the axis cut; "
-            "put the longest first in [axes] to cut it into more)"
+            f"{'s' * (len(values) != 1)}: at most {len(values)} parts (it is the axis shared out; "
+            "put the longest first in [axes] to share it among more)"
         )
-    kept = np.array_split(values, n)[k - 1]
+    kept = values[k - 1 :: n]
     header = (
-        f"Part {k} of {n} of {name}, along {axis} ({len(kept)} of its {len(values)} values, "
-        "in SI units), by 'pydrill sweep --part'. 'pydrill atlas merge' makes the parts' "
-        "atlases one."
+        f"Part {k} of {n} of {name}: values {k}, {k + n}, {k + 2 * n}, ... of {axis} "
+        f"({len(kept)} of its {len(values)}, in SI units), by 'pydrill sweep --part'. "
+        "'pydrill atlas merge' makes the parts' atlases one."
     )
     text = with_axis(spec.text, axis, [v.item() for v in kept], header)
     return parse_spec(text, spec.tally_text)

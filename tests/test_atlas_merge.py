@@ -238,12 +238,12 @@ def test_the_command_line(sweeps, tmp_path):
     assert "merged from low.h5, high.h5 (pydrill atlas merge)" in info.stdout
 
 
-def test_the_parts_of_a_spec_cut_its_first_axis_in_runs():
+def test_the_parts_of_a_spec_share_out_its_first_axis():
     from pydrill.spec_parts import parse_part
 
     spec = parse_spec(WHOLE)
     parts = [spec.part(k, 3) for k in (1, 2, 3)]
-    assert [p.axes["wob"].tolist() for p in parts] == [[40.0, 70.0], [100.0, 130.0], [160.0]]
+    assert [p.axes["wob"].tolist() for p in parts] == [[40.0, 130.0], [70.0, 160.0], [100.0]]
     for p in parts:  # all else is the spec's
         assert [d.split(":")[0] for d in spec.differences(p)] == ["axes.wob"]
         assert p.axes["torque"].tolist() == [6.0, 8.3, 10.0]
@@ -277,7 +277,9 @@ def test_a_sweep_in_parts_merged_is_the_whole_sweep(sweeps, tmp_path):
         assert swept.stdout.startswith(f"p{k}.h5: {(2, 2, 1)[k - 1] * 3} points")
         assert f"pydrill atlas merge p{k}.h5 OTHER-PARTS.h5 --out WHOLE.h5" in swept.stderr
     with h5py.File(tmp_path / "p3.h5") as f:
-        assert f.attrs["spec"].startswith("# Part 3 of 3 of whole.toml, along wob (1 of its 5")
+        assert f.attrs["spec"].startswith(
+            "# Part 3 of 3 of whole.toml: values 3, 6, 9, ... of wob (1 of its 5"
+        )
     pydrill_("atlas", "merge", "p2.h5", "p3.h5", "p1.h5", "--out", "all.h5")
     same_atlas(tmp_path / "all.h5", sweeps / "whole.h5")
     again = pydrill_("sweep", "whole.toml", "--out", "all.h5", "--resume", "--serial")
