@@ -7,7 +7,7 @@ import os
 import sys
 
 from .atlas_summary import model, model_units
-from .cli_atlas import axis_line, model_line
+from .cli_atlas_info import axis_line, model_line
 from .cli_options import json_document, print_json
 from .cli_sweep_report import duration
 from .spec_parts import parse_part

@@ -563,7 +563,7 @@ def test_the_file_says_what_it_is_to_a_netcdf_reader(small_atlas):
 
 def test_axis_lines_align_whatever_the_names():
     """'axis stribeck_velocity      4 values' pushed its counts out of line with wob's."""
-    from pydrill.cli_atlas import axis_line
+    from pydrill.cli_atlas_info import axis_line
 
     names = ["wob", "stribeck_velocity"]
     lines = [axis_line(n, 12, 1.0, 2.0, max(map(len, names))) for n in names]
@@ -572,7 +572,8 @@ def test_axis_lines_align_whatever_the_names():
 
 
 def test_a_real_string_axis_reads_in_kilonewtons():
-    from pydrill.cli_atlas import axis_line, with_unit
+    from pydrill.atlas_grid import with_unit
+    from pydrill.cli_atlas_info import axis_line
 
     assert with_unit("wob", 120e3) == "120 kN" and with_unit("wob", 80.0) == "80 N"
     assert with_unit("torque", 15e3) == "15 kN·m" and with_unit("pipes", 40) == "40"
