@@ -12,6 +12,7 @@ import numpy as np
 
 from . import atlas_format as fmt
 from .journal import JOURNAL_SUFFIX, journaled
+from .spec_parts import part_of
 
 if TYPE_CHECKING:
     from .atlas import Atlas
@@ -76,6 +77,8 @@ def summary(atlas: Atlas) -> dict[str, Any]:
         # Made by 'pydrill atlas merge': its parts (file, pydrill_version, spec_digest,
         # values along the merged axis); None for an atlas a sweep wrote.
         "merged_from": merged_from(f),
+        # Swept by 'pydrill sweep --part K/N' (its spec says so): {k, n, of}; else None.
+        "part": part_of(atlas.spec.text),
     }
 
 

@@ -56,7 +56,7 @@ def register_atlas(sub) -> None:
         "  caveats {INITIAL: {CAVEAT: count}},\n"
         "  journal (its path, or null), journal_points (in the journal, not yet in the atlas),\n"
         "  merged_from (made by 'atlas merge': its parts [{file, pydrill_version, spec_digest,\n"
-        "  values}]; else null),\n"
+        "  values}]; else null), part (swept with --part: {k, n, of}; else null),\n"
         "  units {axes {NAME: unit}, model {held {NAME: unit}, t_end}}",
     )
     info.add_argument("atlas", metavar="ATLAS.h5")

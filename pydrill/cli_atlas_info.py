@@ -103,6 +103,13 @@ def cmd_info(args: argparse.Namespace) -> int:
                 "no steady state holds the bit, which speeds up without bound)"
             )
             print(textwrap.fill(note, 79, initial_indent="  ", subsequent_indent="        "))
+    if s["part"]:
+        p = s["part"]
+        note = (
+            f"part    {p['k']} of {p['n']} of {p['of']} (pydrill sweep --part): 'pydrill "
+            "atlas merge' joins the parts"
+        )
+        print(textwrap.fill(note, 79, initial_indent="  ", subsequent_indent="          "))
     if s["merged_from"]:
         parts = ", ".join(str(p.get("file", "?")) for p in s["merged_from"] if isinstance(p, dict))
         note = f"merged from {parts} (pydrill atlas merge)"

@@ -9,7 +9,7 @@ map of the whole grid.
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -30,6 +30,19 @@ def parse_part(text: str) -> tuple[int, int]:
     if n < 1 or not 1 <= k <= n:
         raise ValueError(f"{text!r} is not allowed: K/N with N >= 1 and K in 1 ... N")
     return k, n
+
+
+#: how a part's spec says which part it is (its first line, a comment spec_part writes)
+_SAYS_PART = re.compile(r"^# Part (\d+) of (\d+) of (.+?): values ")
+
+
+def part_of(text: str) -> dict[str, Any] | None:
+    """Which part of which spec a spec's text is, as ``spec_part`` wrote it: ``{"k", "n",
+    "of"}`` (``of``: the whole spec's file name), or None for any other spec."""
+    m = _SAYS_PART.match(text)
+    if m is None:
+        return None
+    return {"k": int(m.group(1)), "n": int(m.group(2)), "of": m.group(3)}
 
 
 def spec_part(spec: SweepSpec, k: int, n: int, name: str = "the spec") -> SweepSpec:

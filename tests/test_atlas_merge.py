@@ -280,7 +280,16 @@ def test_a_sweep_in_parts_merged_is_the_whole_sweep(sweeps, tmp_path):
         assert f.attrs["spec"].startswith(
             "# Part 3 of 3 of whole.toml: values 3, 6, 9, ... of wob (1 of its 5"
         )
+    info = pydrill_("atlas", "info", "p3.h5").stdout
+    assert "  part    3 of 3 of whole.toml (pydrill sweep --part): 'pydrill" in info
+    assert json.loads(pydrill_("atlas", "info", "p1.h5", "--json").stdout)["part"] == {
+        "k": 1, "n": 3, "of": "whole.toml"
+    }  # fmt: skip
     pydrill_("atlas", "merge", "p2.h5", "p3.h5", "p1.h5", "--out", "all.h5")
+    merged = json.loads(pydrill_("atlas", "info", "all.h5", "--json").stdout)
+    assert merged["part"] is None and [p["file"] for p in merged["merged_from"]] == [
+        "p2.h5", "p3.h5", "p1.h5"
+    ]  # fmt: skip
     same_atlas(tmp_path / "all.h5", sweeps / "whole.h5")
     again = pydrill_("sweep", "whole.toml", "--out", "all.h5", "--resume", "--serial")
     assert again.stdout.startswith("all.h5: 15 points, 0 computed now (0 failed), 15 already done")
