@@ -208,13 +208,19 @@ def _merge_axis(paths: list[Path], specs: list[SweepSpec]) -> str:
             )
         if not axes:
             raise ValueError(f"{paths[0]} and {p} are the same sweep (same spec): nothing to merge")
-        if len(axes) > 1 or (axis is not None and axes != {axis}):
-            along = sorted(axes | ({axis} if axis else set()))
+        if len(axes) > 1:
             raise ValueError(
-                f"the parts differ along {' and '.join(along)} ("
+                f"{paths[0]} and {p} differ along {' and '.join(sorted(axes))} ("
                 + "; ".join(d for d in found if d.startswith("axes."))
-                + "): a merge joins parts along one axis; merge along one first (e.g. the "
-                f"parts at each {along[1]}), then along the other"
+                + "): a merge joins parts along one axis; merge along one of them first, then "
+                "those merged along the other"
+            )
+        if axis is not None and axes != {axis}:
+            (other,) = axes
+            raise ValueError(
+                f"{paths[0]} and {paths[1]} differ along {axis}, {paths[0]} and {p} along "
+                f"{other}: a merge joins parts along one axis; merge those at each {other} "
+                f"along {axis} first, then the merged ones along {other}"
             )
         axis = axes.pop()
     assert axis is not None

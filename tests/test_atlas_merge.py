@@ -136,7 +136,7 @@ t_end = 40.0
 OTHER = {
     "t_end": ("t_end = 60.0", "t_end = 30.0", "simulation.t_end: 60.0 here, 30.0 there"),
     "initial": ('"rest", "equilibrium"', '"rest"', "simulation.initial"),
-    "two-axes": ('[6.0, "8.3 N·m", 10.0]', "[6.0]", "along torque and wob"),
+    "two-axes": ('[6.0, "8.3 N·m", 10.0]', "[6.0]", "differ along torque and wob (axes.wob:"),
     "axes-order": (
         'wob = [10.0]\ntorque = [6.0, "8.3 N·m", 10.0]',
         'torque = [6.0, "8.3 N·m", 10.0]\nwob = [10.0]',
@@ -355,3 +355,24 @@ t_end = 20.0
     with h5py.File(tmp_path / "m.h5") as f, h5py.File(tmp_path / "whole.h5") as g:
         assert f.attrs["spec_digest"] == g.attrs["spec_digest"]
         assert f.attrs["tally"] == g.attrs["tally"] == tally.read_text()
+
+
+def test_a_grid_split_along_two_axes_merges_one_axis_at_a_time(tmp_path):
+    """Four blocks of a (wob, torque) grid: merging all four at once is refused, saying how;
+    merged along wob at each torque, then along torque, they are the whole sweep."""
+    blocks = {}
+    for w in ("[40.0, 70.0]", "[100.0, 130.0, 160.0]"):
+        for u in ("[6.0]", '["8.3 N·m", 10.0]'):
+            name = tmp_path / f"w{len(blocks) // 2}u{len(blocks) % 2}.h5"
+            text = part(w).replace('torque = [6.0, "8.3 N·m", 10.0]', f"torque = {u}")
+            run_sweep(parse_spec(text), name, serial=True)
+            blocks[name.stem] = name
+    run_sweep(parse_spec(WHOLE), tmp_path / "whole.h5", serial=True)
+    how = r"w0u0\.h5 and \S*w1u0\.h5 differ along wob, .* along torque: a merge joins"
+    with pytest.raises(ValueError, match=how):
+        merge_atlases([blocks["w0u0"], blocks["w1u0"], blocks["w0u1"]], tmp_path / "m.h5")
+    for u in ("u0", "u1"):
+        merge_atlases([blocks[f"w0{u}"], blocks[f"w1{u}"]], tmp_path / f"{u}.h5")
+    report = merge_atlases([tmp_path / "u1.h5", tmp_path / "u0.h5"], tmp_path / "m.h5")
+    assert report.axis == "torque"
+    same_atlas(tmp_path / "m.h5", tmp_path / "whole.h5")
