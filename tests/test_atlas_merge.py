@@ -386,3 +386,20 @@ def test_a_grid_split_along_two_axes_merges_one_axis_at_a_time(tmp_path):
     report = merge_atlases([tmp_path / "u1.h5", tmp_path / "u0.h5"], tmp_path / "m.h5")
     assert report.axis == "torque"
     same_atlas(tmp_path / "m.h5", tmp_path / "whole.h5")
+
+
+def test_failed_points_keep_their_messages(tmp_path):
+    """Points whose solver failed (max_steps too small for the stick-slip runs) are merged as
+    failed, each with its own message: the merge is the whole sweep's atlas, failures and all."""
+    text = WHOLE.replace("t_end = 60.0", "t_end = 60.0\nmax_steps = 300")
+    whole = parse_spec(text)
+    report = run_sweep(whole, tmp_path / "whole.h5", serial=True)
+    assert 0 < report.failed < whole.size  # some points failed, not all
+    for k in (1, 2):
+        run_sweep(whole.part(k, 2), tmp_path / f"p{k}.h5", serial=True)
+    merged = merge_atlases([tmp_path / "p1.h5", tmp_path / "p2.h5"], tmp_path / "m.h5")
+    assert merged.status["failed"] == report.failed
+    same_atlas(tmp_path / "m.h5", tmp_path / "whole.h5")
+    with h5py.File(tmp_path / "m.h5") as f:
+        failed = f["message"][...][f["status"][...] == 2]
+    assert len(failed) == report.failed and all(b"max_steps = 300" in m for m in failed)
