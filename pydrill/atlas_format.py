@@ -322,7 +322,12 @@ def write(path: Path, table: AtlasTable) -> None:
 
 def read_table(path: Path, spec: SweepSpec) -> AtlasTable:
     """Load an atlas's point data (raises OSError/KeyError on a damaged file)."""
-    table = AtlasTable(spec)
+    # Every array is read from the file, so none is made and filled first (an AtlasTable of
+    # the grid's shape: 0.5-1 s of filling at 10^6 points, thrown away): a table of no rows,
+    # given the grid's arrays below.
+    table = AtlasTable(spec, points=0)
+    table.points = None
+    n_init, k = len(spec.initials), spec.record["eigenvalues"]
     with h5py.File(path, "r") as f:
         table.status = f["status"][...]
         table.message = np.array(
@@ -330,16 +335,21 @@ def read_table(path: Path, spec: SweepSpec) -> AtlasTable:
             dtype=object,
         ).reshape(spec.shape)
         table.regime = f["regime"][...].astype("i1")
-        for name in RUN_FIELDS:
-            if name in f:  # (an added field is missing from atlases written before it)
+        for name, (dtype, fill, *_) in RUN_FIELDS.items():
+            if name in f:
                 table.runs[name] = f[name][...]
+            else:  # an added field is missing from atlases written before it: not measured
+                table.runs[name] = np.full((*spec.shape, n_init), fill, dtype=dtype)
         for name in EQ_FIELDS:
             table.eqs[name] = f[name][...]
-        # Into the table's own array: real + 1j * imag made four temporaries of up to its
-        # size (the eigenvalues are a third of the table: 0.4 GB more at 10^6 points).
+        # Into one array: real + 1j * imag made four temporaries of up to its size (the
+        # eigenvalues are a third of the table: 0.4 GB more at 10^6 points).
+        table.eig = np.empty((*spec.shape, N_EQ, k), dtype="c16")
         table.eig.real[...] = f["eigenvalues_real"][...]
         table.eig.imag[...] = f["eigenvalues_imag"][...]
         table.coexistence = f["coexistence"][...]
-        if "caveat" in f:  # atlases written before it: no caveats recorded
+        if "caveat" in f:
             table.caveat = f["caveat"][...]
+        else:  # atlases written before it: no caveats recorded
+            table.caveat = np.zeros((*spec.shape, n_init), dtype="i1")
     return table

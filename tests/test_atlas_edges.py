@@ -400,3 +400,28 @@ def test_an_atlas_lost_beside_its_journal_says_the_journal_rebuilds_it(tmp_path,
     with pytest.raises(AtlasError) as err:
         Atlas(out)
     assert "journal" not in str(err.value)
+
+
+def test_an_atlas_written_before_caveats_and_added_fields_reads_them_as_unmeasured(tmp_path):
+    """read_table gives an atlas without the caveat dataset or the run fields added since
+    (top_min, top_max, bit_top_ratio) those columns as not measured (caveat 0, the field's
+    fill), its other columns as written (--resume and merge read atlases so)."""
+    from pydrill import atlas_format as fmt
+
+    spec = parse_spec(TINY)
+    out = tmp_path / "old.h5"
+    run_sweep(spec, out, serial=True)
+    whole = fmt.read_table(out, spec)
+    with h5py.File(out, "r+") as f:
+        for name in ("caveat", *fmt.ADDED_RUN_FIELDS):
+            del f[name]
+    old = fmt.read_table(out, spec)
+    assert not old.caveat.any() and old.caveat.shape == whole.caveat.shape
+    for name in fmt.ADDED_RUN_FIELDS:
+        fill = fmt.RUN_FIELDS[name][1]
+        assert old.runs[name].shape == whole.runs[name].shape
+        np.testing.assert_array_equal(old.runs[name], np.full_like(whole.runs[name], fill))
+    for name, column in whole.columns().items():
+        if name != "caveat" and name.removeprefix("run:") not in fmt.ADDED_RUN_FIELDS:
+            np.testing.assert_array_equal(old.columns()[name], column, err_msg=name)
+    assert old.points is None and old.eig.dtype == np.complex128
