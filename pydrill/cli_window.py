@@ -1,5 +1,5 @@
-"""The tally commands of ``pydrill``: ``string`` (the lumped model) and ``window`` (where it is
-safe to drill, at a depth or against depth)."""
+"""The tally commands of ``pydrill``: ``window`` (where it is safe to drill, at a depth or
+against depth), and ``string`` (the lumped model: ``cli_string_show``) registered beside it."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ import dataclasses
 
 from .cli_options import _duration, _integer, _whole, figure_path, print_json
 from .cli_set import add_set_option, say_changed
+from .cli_string_show import register_string
 from .cli_window_inputs import (
     TALLY_SETS,
     _kilonewtons,
@@ -18,11 +19,6 @@ from .cli_window_inputs import (
     _window_notes,
     _with_sets,
 )
-from .model import _SCALARS, _UNITS
-
-#: the friction law's values, which ``string`` reports beside the chain (karnopp_band, a
-#: numerical device of one friction model, is none of the string's)
-_FRICTION = ("mu_static", "mu_coulomb", "stribeck_decay", "stribeck_velocity")
 
 WINDOW_EPILOG = """\
 examples:
@@ -48,45 +44,7 @@ TALLY_HELP = (
 
 
 def register_tally(sub) -> None:
-    string = sub.add_parser(
-        "string",
-        help="the lumped torsional model of a string from its pipe tally (TOML)",
-        description="Build the lumped chain from a tally: one element per joint (or per --lump\n"
-        "joints of drill pipe), stiffness G*I_p/L and inertia rho*I_p*L each; --dof N groups\n"
-        "the elements into N-1 springs in series (--dof 2: the paper's two-inertia model).\n"
-        "Prints the chain, the bit and the friction law (with --set's changes).",
-        epilog="examples:\n  pydrill string examples/tallies/paper-eq53.toml --dof 2 --json\n"
-        "  pydrill string examples/tallies/paper-eq53.toml --depth 3000m\n"
-        "  pydrill string examples/tallies/paper-eq53.toml --set bit_radius=6in\n\n"
-        "units in the tally: m, ft, in; Pa, GPa, psi; kg/m3. Output is SI.",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    string.add_argument("tally", metavar="TALLY.toml", help=TALLY_HELP)
-    string.add_argument(
-        "--dof",
-        type=_whole("--dof", "2 ... one per element"),
-        help="reduce to this many inertias (2 ... one per element)",
-    )
-    string.add_argument(
-        "--lump",
-        type=_whole("--lump", ">= 1"),
-        default=1,
-        help="drill-pipe joints per element, >= 1 (default 1)",
-    )
-    string.add_argument(
-        "--depth",
-        help="lengthen the drill pipe to reach this depth, > 0 (e.g. 3000m, 9800ft; a bare "
-        "number is m)",
-    )
-    add_set_option(
-        string,
-        "change one of the string's scalar values, as often as needed: "
-        + ", ".join(_SCALARS)
-        + " (SI, or with a unit: bit_damping=100, 'bit_radius=4.5 in'): the string other "
-        "commands build from this tally with the same --set",
-    )
-    string.add_argument("--json", action="store_true", help="print one JSON object")
-    string.set_defaults(handler=_cmd_string)
+    register_string(sub, TALLY_HELP)
 
     win = sub.add_parser(
         "window",
@@ -172,73 +130,6 @@ def register_tally(sub) -> None:
         "--plot", metavar="FILE.png", type=figure_path, help="draw the window (or against depth)"
     )
     win.set_defaults(handler=_cmd_window)
-
-
-def _cmd_string(args: argparse.Namespace) -> int:
-    from .cli_options import json_document
-    from .cli_set import _set_refused, set_params
-    from .cli_string import string_json, string_units, tally_params
-
-    sets = set_params(args)  # a bad --set is refused before the tally is read
-    tally, p = tally_params(args.tally, args.depth, args.lump, args.dof)
-    try:  # the string the other commands build from this tally with the same --set
-        p = p.replace(**sets)
-    except ValueError as exc:
-        raise _set_refused(exc, sets) from None
-    results = {
-        "name": tally.name,
-        "dof": p.dof,
-        "length": tally.length,
-        "bha_length": tally.bha_length,
-        "inertias": list(p.inertias),
-        "stiffnesses": list(p.stiffnesses),
-        "dampings": list(p.dampings),
-        "top_damping": p.top_damping,
-        "bit_damping": p.bit_damping,
-        "bit_radius": p.bit_radius,
-        "friction": {name: getattr(p, name) for name in _FRICTION},
-    }
-    units = {
-        "depth": "m",
-        "length": "m",
-        "inertias": "kg·m2",
-        "stiffnesses": "N·m/rad",
-        "dampings": "N·m·s/rad",
-        "top_damping": "N·m·s/rad",
-        "bit_damping": "N·m·s/rad",
-        "bit_radius": "m",
-        "friction": {name: "1" if name.startswith("mu_") else _UNITS[name] for name in _FRICTION},
-        **string_units(args),
-    }
-    if args.json:
-        # the tally as the other commands echo it; "dof", the inertias, follows with the
-        # results (the tally's own number, or the one asked for)
-        print_json(json_document(string_json(args), results, units))
-        return 0
-    say_changed(args)
-    print(f"{tally.name}: {tally.length:.1f} m ({tally.bha_length:.1f} m BHA), dof {p.dof}")
-    top = f"J = {p.inertias[0]:.6g} kg m^2"
-    if p.inertias[0] != tally.top_inertia:  # a reduced string: its top carries some pipe
-        top += f" ({tally.top_inertia:g} + {p.inertias[0] - tally.top_inertia:.4g} of the string)"
-    print(f"  top drive   {top}, c_r = {p.top_damping:g} N m s/rad")
-    if p.dof <= 12:
-        for i, (k, c, j) in enumerate(zip(p.stiffnesses, p.dampings, p.inertias[1:], strict=True)):
-            print(
-                f"  element {i + 1:3d} k = {k:.6g} N m/rad, c = {c:.6g} N m s/rad, "
-                f"J = {j:.6g} kg m^2"
-            )
-    else:
-        print(
-            f"  {p.dof - 1} elements; total inertia {sum(p.inertias[1:]):.6g} kg m^2, "
-            f"series stiffness {1 / sum(1 / k for k in p.stiffnesses):.6g} N m/rad"
-        )
-    print(f"  bit         R_b = {p.bit_radius:.6g} m, c_b = {p.bit_damping:g} N m s/rad")
-    # The friction law is the string's too (a tally's [bit] sets it): --set changes it here.
-    print(
-        f"  friction    mu_s = {p.mu_static:g}, mu_c = {p.mu_coulomb:g}, "
-        f"gamma_b = {p.stribeck_decay:g}, v_f = {p.stribeck_velocity:g} rad/s"
-    )
-    return 0
 
 
 def _cmd_window(args: argparse.Namespace) -> int:

@@ -72,6 +72,10 @@ CASES = {
         ["string", PAPER, "--depth", "3000m"],
         {"tally": {"file": PAPER, "depth": 3000.0, "lump": 1}},
     ),
+    "string-preset": (
+        ["string", "--preset", "reduced-scale", "--dof", "3"],
+        {"preset": "reduced-scale"},
+    ),
     "window": (
         "window PAPER --depth 3000m --at-rpm 60 --at-wob 50kN --plot f.png".split(),
         {"tally": {"file": PAPER, "lump": 1}, "name": "paper-eq53", "depths": [3000.0]}

@@ -1,6 +1,6 @@
 """``pydrill string --set``: the lumped string of a tally with some of its values changed, as
 the other commands build it from the same tally and --set, said in the text and the JSON, and a
-bad value refused before anything is printed."""
+bad value refused before anything is printed; and ``--preset``, the paper's strings."""
 
 import dataclasses
 import json
@@ -80,3 +80,54 @@ def test_a_bad_set_is_refused_in_one_line_and_nothing_printed(item, said, capsys
     out, err = capsys.readouterr()
     assert out == ""
     assert said in err and len(err.strip().splitlines()) == 1, err
+
+
+def preset_json(*options: str, capsys) -> dict:
+    assert main(["string", *options, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_a_preset_is_shown_with_the_papers_values(capsys):
+    """'pydrill string --preset': the paper's strings as DESIGN.md section 4 gives them (Eq. 14
+    at dof 4, Eq. 53), --pipes P as --dof P+3, and --set applied, as the other commands build
+    them."""
+    lab = preset_json("--preset", "reduced-scale", "--dof", "4", capsys=capsys)
+    assert list(lab)[:3] == ["preset", "name", "dof"] and lab["preset"] == "reduced-scale"
+    assert lab["inertias"] == [0.518, 0.025, 0.0318, 0.0318]  # J_r, J, J_l = J_b, J_b
+    assert lab["stiffnesses"] == [0.073] * 3 and lab["dampings"] == [1e-4] * 3
+    assert (lab["top_damping"], lab["bit_damping"], lab["bit_radius"]) == (0.18, 0.01, 0.1)
+    assert lab["friction"] == {
+        "mu_static": 0.8, "mu_coulomb": 0.5, "stribeck_decay": 0.9, "stribeck_velocity": 1.0
+    }  # fmt: skip
+    assert lab["length"] is None and lab["bha_length"] is None
+    real = preset_json("--preset", "real-string", capsys=capsys)
+    assert real["inertias"] == [2122.0, 471.9698] and real["stiffnesses"] == [861.5336]
+    assert real["dampings"] == [172.3067] and real["bit_radius"] == 0.155575
+    pipes = preset_json("--preset", "reduced-scale", "--pipes", "2", capsys=capsys)
+    assert pipes == preset_json("--preset", "reduced-scale", "--dof", "5", capsys=capsys)
+    changed = preset_json(
+        "--preset", "reduced-scale", "--set", "bit_damping=0.05", "--set", "mu_static=0.9",
+        capsys=capsys,
+    )  # fmt: skip
+    assert changed["set"] == {"bit_damping": 0.05, "mu_static": 0.9}
+    assert changed["bit_damping"] == 0.05 and changed["friction"]["mu_static"] == 0.9
+    assert main(["string", "--preset", "reduced-scale"]) == 0
+    text = capsys.readouterr().out.splitlines()
+    assert text[0] == "reduced-scale: dof 4 (a preset: a lumped model, no pipe lengths)"
+    assert text[1] == "  top drive   J = 0.518 kg m^2, c_r = 0.18 N m s/rad"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ([], "give a TALLY.toml (a real string, e.g. examples/tallies/paper-eq53.toml) or"),
+        ([str(PAPER), "--preset", "reduced-scale"], "give TALLY.toml or --preset, not both"),
+        (["--preset", "reduced-scale", "--depth", "3000m"], "--depth needs a TALLY.toml"),
+        (["--preset", "reduced-scale", "--lump", "2"], "--lump needs a TALLY.toml"),
+        ([str(PAPER), "--pipes", "3"], "--pipes needs --preset"),
+    ],
+)  # fmt: skip
+def test_a_string_needs_a_tally_or_a_preset_and_options_of_its_kind(args, message, capsys):
+    assert main(["string", *args]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and message in captured.err
