@@ -303,6 +303,12 @@ def test_a_sweep_in_parts_merged_is_the_whole_sweep(sweeps, tmp_path):
         ds.close()
     again = pydrill_("sweep", "whole.toml", "--out", "all.h5", "--resume", "--serial")
     assert again.stdout.startswith("all.h5: 15 points, 0 computed now (0 failed), 15 already done")
+    plan = json.loads(
+        pydrill_("sweep", "whole.toml", "--part", "2/3", "--dry-run", "--serial", "--json").stdout
+    )
+    assert (
+        plan["part"] == "2/3" and plan["points"] == 6 and plan["shape"] == {"wob": 2, "torque": 3}
+    )
     # A part's atlas is that part's sweep: another part is refused there, the same resumed.
     other = subprocess.run(
         [sys.executable, "-m", "pydrill", *"sweep whole.toml --part 2/3 --out p1.h5".split()],
