@@ -17,14 +17,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
+from bench_export import measure  # (this folder: the script's own)
 
 FILL = """
 import sys
@@ -68,16 +67,6 @@ with h5py.File(sys.argv[1]) as a, h5py.File(sys.argv[2]) as b:
         if not np.array_equal(x, y):
             sys.exit(n)
 """
-
-
-def measure(argv: list[str]) -> tuple[float, float]:
-    """Wall time (s) and peak resident memory (MB) of a process running ``argv``."""
-    t0 = time.perf_counter()
-    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL)
-    _, status, usage = os.wait4(proc.pid, 0)
-    if os.waitstatus_to_exitcode(status):
-        raise SystemExit(f"{argv} failed")
-    return time.perf_counter() - t0, usage.ru_maxrss / 1024
 
 
 def main() -> None:

@@ -33,8 +33,9 @@ def value(v: Any) -> str:
             return "inf" if v > 0 else "-inf"
         return repr(v)  # shortest digits that read back as the same double
     if isinstance(v, str):
-        # JSON's escapes are TOML's (\\", \\\\, \\n, \\uXXXX...); DEL is a control character
-        # TOML refuses in a basic string and JSON leaves as it is.
+        # JSON's escapes are TOML's (quote, backslash, newline, a backslash-u and four hex
+        # digits); DEL is a control character TOML refuses in a basic string and JSON leaves
+        # as it is.
         return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
     if isinstance(v, list):
         return "[" + ", ".join(value(x) for x in v) + "]"
