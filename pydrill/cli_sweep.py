@@ -204,6 +204,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             spec = spec_part(spec, k, n, Path(args.spec).name)
         except ValueError as exc:
             raise ValueError(f"--part {args.part}: {exc}") from None
+        args.part = f"{k}/{n}"  # as the JSON, the dry run and the next steps say it
     spec_notes(spec)
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise ValueError(f"--workers = {args.workers} is not allowed: 1 ... 256")

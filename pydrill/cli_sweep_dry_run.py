@@ -10,7 +10,6 @@ from .atlas_summary import model, model_units
 from .cli_atlas_info import axis_line, model_line
 from .cli_options import json_document, print_json
 from .cli_sweep_report import duration
-from .spec_parts import parse_part
 
 
 def _size(n: float) -> str:
@@ -55,7 +54,7 @@ def dry_run(args: argparse.Namespace, spec) -> int:
         inputs = {
             "dry_run": True,
             "spec": args.spec,
-            "part": args.part and "{}/{}".format(*parse_part(args.part)),
+            "part": args.part,
             "atlas": {"path": args.out, "state": plan.atlas},
             "workers": workers,
         }
@@ -96,7 +95,7 @@ def dry_run(args: argparse.Namespace, spec) -> int:
         return 0
     grid = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
     points = f"{plan.points} point" + ("" if plan.points == 1 else "s")
-    part = f", part {'{} of {}'.format(*parse_part(args.part))}" if args.part else ""
+    part = f", part {args.part.replace('/', ' of ')}" if args.part else ""
     print(f"{args.spec}{part}: {points} ({grid}), from " + " and ".join(spec.initials))
     # The string and what the spec holds for the whole sweep (a fixed torque, a depth): the
     # grid's lines alone left a sweep at 9 kN·m looking like one at no torque.

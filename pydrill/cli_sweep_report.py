@@ -12,7 +12,6 @@ from typing import Any
 
 from .atlas_grid import grid_unit
 from .cli_options import bar_size, json_document, print_json
-from .spec_parts import parse_part
 
 
 class LogProgress:
@@ -152,8 +151,7 @@ UNITS = {"wall_time": "s", "write_time": "s"}
 def inputs(args: argparse.Namespace, run) -> dict:
     """What ``sweep --json`` echoes of its command line: the spec, the atlas written, and the
     part of the spec swept ("K/N", or null: all of it)."""
-    part = None if args.part is None else "{}/{}".format(*parse_part(args.part))
-    return {"spec": args.spec, "atlas": str(run.atlas), "part": part}
+    return {"spec": args.spec, "atlas": str(run.atlas), "part": args.part}
 
 
 def results_of(run, cluster, interrupted: bool) -> dict:
@@ -216,7 +214,7 @@ def next_steps(args: argparse.Namespace, report: Any, spec: Any) -> None:
     atlas = shlex.quote(str(report.atlas))
     steps = []  # (command, what it gives): a line each, the command first, to copy whole
     if getattr(args, "part", None) is not None:
-        n = parse_part(args.part)[1]
+        n = int(args.part.split("/")[1])  # (K/N, as _cmd_sweep wrote it)
         if n > 1:
             steps.append(
                 (
