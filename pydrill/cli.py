@@ -55,37 +55,49 @@ regimes (judged on the last --window fraction of the run):
   oscillation  torsional oscillation without sticking: a sustained limit cycle, or one
                still growing away from an unstable steady state (the note says so)
 
-units: wob N, torque N*m, time s, velocities rad/s.
+units: wob N, torque N*m, time s, velocities rad/s; or with a unit: wob kN, lbf, klbf (klbs,
+kips), t (metric tonne-force: tf, tonne; not "tonf", a metric or a US short ton by usage);
+torque kN*m, ft-lbf (ft-lbs, lb-ft), kft-lbf (klb-ft).
 """
 
 
 class _Wrapped(argparse.RawDescriptionHelpFormatter):
-    """Descriptions and epilogs as written (examples stay one command a line, to copy), but
-    a paragraph of prose with a line longer than the terminal is refilled to its width: a
-    description of 400 characters ran off the screen on one line, and wrapping each line
-    alone left stubs ("writing" alone on a line) where the source broke it."""
+    """Descriptions and epilogs keep their layout where it matters (an example stays one
+    command a line, to copy; a table under a header ending in ":" its columns), and every
+    paragraph of prose is refilled to the terminal: its unindented lines, with the indented
+    ones continuing one that does not end in ":" ("JSON fields: ...," then "  severity, ...")
+    under that hanging indent. Wrapped line by line, the source's breaks left stubs
+    ("top_mean," alone on a line); kept when they fitted, they stayed ragged on a wide one."""
 
     def _fill_text(self, text: str, width: int, indent: str) -> str:
         import textwrap
 
         out: list[str] = []
-        para: list[str] = []  # prose lines (not indented, not blank) in a row
+        para: list[str] = []  # a paragraph's lines, its first one unindented
+        hang = ""  # the indent of its continuation lines, once one is indented
 
         def flush() -> None:
-            if any(len(line) > width for line in para):
-                joined = " ".join(line.strip() for line in para)
-                out.extend(textwrap.wrap(joined, width, initial_indent=indent,
-                                         subsequent_indent=indent))  # fmt: skip
-            else:  # fits as written: the author's line breaks are kept
-                out.extend(indent + line for line in para)
+            nonlocal hang
+            joined = " ".join(line.strip() for line in para)
+            # whole words: an option is never broken after a hyphen ("--t-" / "end")
+            out.extend(textwrap.wrap(joined, width, initial_indent=indent,
+                                     subsequent_indent=indent + hang, break_long_words=False,
+                                     break_on_hyphens=False))  # fmt: skip
             para.clear()
+            hang = ""
 
         for line in text.splitlines():
-            if line.strip() and not line[:1].isspace():
+            lead = line[: len(line) - len(line.lstrip())]
+            if line.strip() and not lead:
+                if hang:  # an unindented line after a hanging paragraph starts the next one
+                    flush()
                 para.append(line)
-                continue
-            flush()
-            out.append(indent + line)  # indented (an example: kept whole) or blank
+            elif line.strip() and para and not para[-1].endswith(":") and lead == (hang or lead):
+                hang = lead
+                para.append(line)
+            else:  # blank, or indented under a header (an example, a table row): kept whole
+                flush()
+                out.append(indent + line)
         flush()
         return "\n".join(out)
 
@@ -177,13 +189,14 @@ def build_parser() -> argparse.ArgumentParser:
         "--wob",
         type=_positive("--wob", "force"),
         required=True,
-        help="weight on bit (N, > 0; or 100kN, 25klbf)",
+        help="weight on bit (N, > 0; or 100kN, 25klbf, 25klbs, 25kips, 10t: t, tf, tonne are a "
+        "metric tonne-force)",
     )
     op.add_argument(
         "--torque",
         type=_finite("--torque", "torque"),
         required=True,
-        help="surface torque u (N m, either sign; or 12kN*m, 9kft*lbf)",
+        help="surface torque u (N m, either sign; or 12kN*m, 9kft*lbf, 6600ft-lbs, 6.6klb-ft)",
     )
     run = sim.add_argument_group("simulation")
     run.add_argument(
@@ -357,7 +370,7 @@ def _describe(result: Any, plot: str | None, tally: bool = False) -> str:
             else "none (the torque cannot balance the bit friction)"
         ),
         f"static torque   T_s = {s.static_torque / scale:.4g} {unit} (surface torque "
-        f"{result.torque / scale:g})",
+        f"{_surface_torque(result.torque, big)})",
         f"solver          {st.method} ({st.method_reason}); {counted(st.steps, 'step')}, "
         f"{counted(st.switches, 'switch', 'switches')}, {1e3 * st.wall_time:.1f} ms in the core",
     ]
@@ -366,6 +379,14 @@ def _describe(result: Any, plot: str | None, tally: bool = False) -> str:
     if plot:
         lines.append(f"figure          {plot}")
     return "\n".join(lines)
+
+
+def _surface_torque(torque: float, big: bool) -> str:
+    """The surface torque with its unit, in T_s's unless under 1 kN m: "T_s = 8 kN m (surface
+    torque 0.0083)", no unit, read as 8.3 kN m where --torque 8.3 (N m) was given."""
+    from .cli_options import shown
+
+    return shown(torque, "N m", big and abs(torque) >= 1e3)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

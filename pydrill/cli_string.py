@@ -121,6 +121,7 @@ def tally_params(path: str, depth: str | None, lump: int | None, dof: int | None
         raise
     if depth is not None:  # once the string is built: a refusal is one line, no note before it
         depth_note(meters, depth)
+    _say(tally_notes(tally, path, depth is None))
     return tally, params
 
 
@@ -278,6 +279,20 @@ def depth_note(depth: float, text: str) -> None:
                 + bare
             ]
         )
+
+
+def tally_notes(tally: Any, path: str, own_length: bool = True) -> list[str]:
+    """The notes on a tally's file: a joint length most likely mistyped (``tally.notes``) and,
+    with ``own_length`` (no --depth lengthened it), a string longer than any well ever drilled
+    (a bare "length = 310", read as m for 310 ft, made a 100 km string and said nothing)."""
+    notes = [f"{path}: {note}" for note in tally.notes]
+    if own_length and tally.length > LONGEST_WELL:
+        notes.append(
+            f"{path}: the string is {tally.length / 1e3:g} km long, longer than any well ever "
+            f"drilled (the longest reach some {LONGEST_WELL / 1e3:g} km, the deepest, the Kola "
+            "borehole, 12.3 km): check the sections' counts and lengths"
+        )
+    return notes
 
 
 def _bare(text: str) -> bool:

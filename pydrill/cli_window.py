@@ -137,7 +137,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
 
     from .cli_checks import say_failed_checks
     from .cli_options import check_progress
-    from .cli_string import for_option, load_tally_file
+    from .cli_string import _say, for_option, load_tally_file, tally_notes
     from .cli_window_report import print_window, window_json
     from .window import parse_depths, window_against_depth
 
@@ -162,9 +162,8 @@ def _cmd_window(args: argparse.Namespace) -> int:
             raise
         raise for_option(exc, "--depth", "depth") from None
     _window_notes(args, depths, at_rpm, at_wob)
+    _say(tally_notes(tally, args.tally, own_length=False))  # --depth sets its length
     if tally.top_damping + tally.bit_damping == 0:  # a table of zeros and infs says no why
-        from .cli_string import _say
-
         _say(
             [
                 "the tally has no damping at the top drive or the bit (c_r + c_b = 0): the "

@@ -56,6 +56,11 @@ MAX_DIAMETER = 5.0  # m
 # (tests/test_spec.py builds one of 2000 km); MAX_DOF bounds what a string costs.
 MAX_DEPTH = 6.371e6  # m
 _DEEPEST = " (the Earth's radius; the deepest borehole ever drilled is some 12.3 km)"
+# The longest joint of pipe: range 3 drill pipe is 38-45 ft (at most 13.7 m), collars 30-31 ft.
+# A section's length is one joint's (its count says how many); a bare number is m, so one
+# longer than this was most likely feet ("length = 31" for 31 ft made a 10 km string). Such a
+# length is said in a note, not refused: a section may list stands, or a long tool as one item.
+LONGEST_JOINT = 15.0  # m
 
 
 class TallyError(ValueError):
@@ -104,6 +109,9 @@ class Tally:
     stribeck_decay: float = 0.9  #: γ_b
     stribeck_velocity: float = 1.0  #: v_f, rad/s
     name: str = field(default="tally", compare=False)  #: the tally file's stem
+    #: what the file says that is allowed but most likely mistyped (a bare joint length of
+    #: 31, read as m): the command line says these as notes
+    notes: tuple[str, ...] = field(default=(), compare=False, repr=False)
 
     @property
     def length(self) -> float:

@@ -15,6 +15,7 @@ from .suggest import did_you_mean
 from .tally import (
     _DEEPEST,
     KINDS,
+    LONGEST_JOINT,
     MAX_DEPTH,
     MAX_DIAMETER,
     STEEL_G,
@@ -101,7 +102,8 @@ def _number(table: dict, key: str, where: str, default: float, allowed: str) -> 
     return v
 
 
-def _section(n: int, sec: Any, g: float, rho: float) -> Section:
+def _section(n: int, sec: Any, g: float, rho: float, notes: list[str]) -> Section:
+    """Section ``n``, with a note appended to ``notes`` on a length most likely mistyped."""
     where = f"section[{n}]"
     if not isinstance(sec, dict):
         raise TallyError(
@@ -127,6 +129,7 @@ def _section(n: int, sec: Any, g: float, rho: float) -> Section:
         _get(sec, "shear_modulus", where, "modulus", g),
         _get(sec, "density", where, "density", rho),
     )
+    notes.extend(_length_note(where, sec["length"], s.length))
     k, j = s.joint_stiffness(), s.joint_inertia()
     # Normal floats (not subnormal): springs in series add 1/k, which a subnormal k overflows.
     if not (sys.float_info.min <= k < math.inf and sys.float_info.min <= j < math.inf):
@@ -136,6 +139,22 @@ def _section(n: int, sec: Any, g: float, rho: float) -> Section:
             "shear_modulus and density"
         )
     return s
+
+
+def _length_note(where: str, value: Any, length: float) -> list[str]:
+    """A note on a joint length written without a unit and longer than any joint: read as m,
+    it was most likely feet (or a stand); one written with its unit is taken as meant."""
+    try:
+        bare = not isinstance(value, bool) and math.isfinite(float(value))  # "31 ft" is not
+    except (TypeError, ValueError, OverflowError):
+        bare = False
+    if not bare or length <= LONGEST_JOINT:
+        return []
+    return [
+        f"{where}.length = {_show(value)} is read as {length:g} m per joint (a bare number is "
+        f"m): longer than any joint of pipe (at most some {LONGEST_JOINT:g} m); for feet write "
+        f'length = "{str(value).strip()} ft"'
+    ]
 
 
 def parse_tally(text: str, name: str = "tally") -> Tally:
@@ -178,9 +197,10 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
             "an array of tables, [[section]]"
         )
     sections = []
+    notes: list[str] = []
     length = 0.0
     for n, sec in enumerate(listed):
-        s = _section(n, sec, g, rho)
+        s = _section(n, sec, g, rho, notes)
         try:
             length += s.count * s.length
         except OverflowError:  # a count beyond any float: refused below, as too deep
@@ -228,6 +248,7 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
         stribeck_decay=decay,
         stribeck_velocity=_get(bit, "stribeck_velocity", "bit", "velocity", 1.0),
         name=label,
+        notes=tuple(notes),
     )
     # Every parameter passes the model's own validation: one joint of each section is enough
     # (the counts only scale them) and stays fast for a string of millions of joints.

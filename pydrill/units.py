@@ -1,7 +1,10 @@
 """Driller units in, SI inside: a small, tested conversion table.
 
 ``parse(value, kind)`` accepts a number (already SI) or a string with a unit, e.g. ``"5 in"``,
-``"3000 ft"``, ``"120 rpm"``, ``"100 kN"``, ``"25 klbf"``, ``"12 kN·m"``, ``"9 kft·lbf"``.
+``"3000 ft"``, ``"120 rpm"``, ``"100 kN"``, ``"25 klbf"``, ``"12 kN·m"``, ``"9 kft·lbf"``, and
+the oilfield's spellings of them: ``"25 klbs"``, ``"25 kips"``, ``"10 t"`` (a metric tonne-force),
+``"6600 ft-lbs"``, ``"6.6 klb-ft"``. ``"tonf"`` and ``"ton"`` are refused: a metric tonne-force
+or a US short ton-force (2000 lbf, 9 % less) by usage, a difference that must not be guessed.
 """
 
 from __future__ import annotations
@@ -16,11 +19,14 @@ import numpy as np
 LBF = 4.4482216152605  # N
 FT = 0.3048  # m
 INCH = 0.0254  # m
+TONNE_FORCE = 9806.65  # N: 1 t × g_n
 
 # kind -> {unit: factor to SI}
 UNITS: dict[str, dict[str, float]] = {
     "length": {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "km": 1e3, "in": INCH, "ft": FT},
-    "force": {"N": 1.0, "kN": 1e3, "lbf": LBF, "klbf": 1e3 * LBF, "tonf": 9806.65},
+    # tf: the metric tonne-force (a tonne on the bit). The US short ton-force (2000 lbf) is
+    # 9 % less, and "tonf" or "ton" names either: refused (see _AMBIGUOUS), not guessed.
+    "force": {"N": 1.0, "kN": 1e3, "lbf": LBF, "klbf": 1e3 * LBF, "tf": TONNE_FORCE},
     "torque": {"N·m": 1.0, "kN·m": 1e3, "ft·lbf": FT * LBF, "kft·lbf": 1e3 * FT * LBF},
     "velocity": {"rad/s": 1.0, "rpm": 2 * math.pi / 60},
     "modulus": {
@@ -56,14 +62,6 @@ _ALIASES = {
     "kn.m": "kN·m",
     "kn*m": "kN·m",
     "kn m": "kN·m",
-    "ftlbf": "ft·lbf",
-    "ft.lbf": "ft·lbf",
-    "ft*lbf": "ft·lbf",
-    "ft lbf": "ft·lbf",
-    "kftlbf": "kft·lbf",
-    "kft.lbf": "kft·lbf",
-    "kft*lbf": "kft·lbf",
-    "kft lbf": "kft·lbf",
     '"': "in",
     "inch": "in",
     "inches": "in",
@@ -71,6 +69,45 @@ _ALIASES = {
     "foot": "ft",
     "'": "ft",
     "rad/sec": "rad/s",
+    # the oilfield's spellings of a weight on bit
+    "lb": "lbf",
+    "lbs": "lbf",
+    "klb": "klbf",
+    "klbs": "klbf",
+    "kip": "klbf",
+    "kips": "klbf",
+    "t": "tf",
+    "tonne": "tf",
+    "tonnes": "tf",
+}
+# ... and of a torque: ft-lb(s), lb(s)-ft, lbf-ft, ft-lbf and their k (1000) forms, written
+# with "-", "·", ".", "*", a space or nothing between ("-", "." and "*" are read as "·").
+_FOOT_POUNDS = [("ft", "lbf"), ("ft", "lb"), ("ft", "lbs"), ("lbf", "ft"), ("lb", "ft")]
+_ALIASES.update(
+    {
+        f"{k}{a}{sep}{b}": f"{k}ft·lbf"
+        for k in ("", "k")
+        for a, b in [*_FOOT_POUNDS, ("lbs", "ft")]
+        for sep in ("", "·", " ")
+    }
+)
+#: units that name two different quantities: refused with the choices, never guessed
+_AMBIGUOUS = {
+    "force": {
+        name: "a metric tonne-force (9.80665 kN) is 't', 'tf' or 'tonne'; a US short "
+        "ton-force (2000 lbf = 8.896 kN) is 2 klbf per ton"
+        for name in ("tonf", "ton", "tons")
+    }
+}
+#: each unit's other spellings, as the error messages list them
+_SPELLINGS = {
+    "force": {"lbf": "lb, lbs", "klbf": "klb, klbs, kip, kips", "tf": "t, tonne: metric"},
+    "torque": {
+        "N·m": "Nm, N-m",
+        "kN·m": "kNm, kN-m",
+        "ft·lbf": "ft-lb, ft-lbs, lb-ft, lbf-ft",
+        "kft·lbf": "kft-lb, kft-lbs, klb-ft",
+    },
 }
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
 
@@ -82,9 +119,15 @@ def parse(value: float | int | str, kind: str) -> float:
     if isinstance(value, bool):
         raise ValueError(f"{value!r} is not {a} {kind}")
     if isinstance(value, int | float):
-        if not math.isfinite(value):
+        try:
+            number = float(value)
+        except OverflowError:  # an int beyond any float (a TOML integer of 400 digits)
+            raise ValueError(
+                f"{reprlib.repr(value)} is not a finite {kind}: beyond the range of a float"
+            ) from None
+        if not math.isfinite(number):
             raise ValueError(f"{value!r} is not a finite {kind}")
-        return float(value)
+        return number
     match = _NUMBER.match(str(value))
     if not match:
         raise ValueError(
@@ -93,9 +136,7 @@ def parse(value: float | int | str, kind: str) -> float:
     number, unit = float(match.group(1)), match.group(2)
     factor = 1.0 if unit == "" else _factor(unit, kind)
     if factor is None:
-        raise ValueError(
-            f"{value!r}: unit {unit!r} is not {a} {kind} unit; use one of " + ", ".join(UNITS[kind])
-        )
+        raise ValueError(f"{value!r}: unit {_not_a_unit(unit, kind)}")
     if not math.isfinite(number * factor):  # "1e400 N" was inf, where inf itself is refused
         raise ValueError(
             f"{reprlib.repr(value)} is not a finite {kind}: beyond the range of a float"
@@ -118,11 +159,22 @@ def convert(si_value: float, kind: str, unit: str) -> float:
         raise TypeError(f"unit = {unit!r} is not allowed: a {kind} unit's name, e.g. {SI[kind]!r}")
     factor = _factor(unit.strip(), kind)
     if factor is None:
-        raise ValueError(
-            f"unit = {unit!r} is not {_article(kind)} {kind} unit; use one of "
-            + ", ".join(UNITS[kind])
-        )
+        raise ValueError(f"unit = {_not_a_unit(unit, kind)}")
     return si_value / factor
+
+
+def _not_a_unit(unit: str, kind: str) -> str:
+    """Why ``unit`` is refused for ``kind`` ("'ft-lbs' is not ..."), with the units to use."""
+    ambiguous = _AMBIGUOUS.get(kind, {}).get(unit.strip().lower())
+    if ambiguous is not None:
+        return f"{unit!r} is ambiguous: {ambiguous}"
+    return f"{unit!r} is not {_article(kind)} {kind} unit; use one of {_units_of(kind)}"
+
+
+def _units_of(kind: str) -> str:
+    """The units of ``kind``, each with its other spellings: "N, kN, lbf (lb, lbs), ..."."""
+    spelt = _SPELLINGS.get(kind, {})
+    return ", ".join(f"{u} ({spelt[u]})" if u in spelt else u for u in UNITS[kind])
 
 
 def _check_kind(kind: str) -> None:

@@ -161,7 +161,7 @@ def test_atlas_miss_shows_the_difference(close_atlas):
         ):
             atlas.value(wob=40.000045, torque=8.3)
         with pytest.raises(
-            KeyError, match=r"wob = 100.00004 N is not on .*\(nearest 100.0000004 N\)"
+            KeyError, match=r"wob = 100.00004 N is outside the atlas \(40 N ... 100.0000004 N\)"
         ):
             atlas.value(wob=100.00004, torque=8.3)
         with pytest.raises(
@@ -349,7 +349,7 @@ def test_a_subnormal_output_time_is_refused():
     number=hst.one_of(
         hst.sampled_from(["1e400", "9" * 400, "1e308", "-1e309"]), hst.floats().map(repr)
     ),
-    unit=hst.sampled_from(["", " N", " kN", " klbf", " tonf"]),
+    unit=hst.sampled_from(["", " N", " kN", " klbf", " tf", " kips"]),
 )
 def test_a_quantity_with_its_unit_is_finite_or_refused(number, unit):
     """ "1e400 N" and "1e308 kN" were inf (where inf itself is refused)."""
