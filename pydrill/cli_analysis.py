@@ -176,6 +176,7 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
 
 
 def _cmd_hopf(args: argparse.Namespace) -> int:
+    from .bifurcation import crossing_word
     from .stability import critical_deltas, criticality
 
     if args.omega_max is not None and not args.plot:  # it would be ignored
@@ -197,6 +198,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
                     "delta": c.delta,
                     "frequency": c.frequency,
                     "direction": c.direction,
+                    "crossing": crossing_word(c.direction),  # the text's word for direction
                     "lyapunov": (l1 := c.lyapunov(params)),
                     "criticality": criticality(l1),
                 }
@@ -227,7 +229,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
         l1_text = f"{l1:10.4g}" if l1 is not None else f"{'-':>10s}"
         print(
             f"{c.type:6s} {c.delta:18.10g} {freq}  "
-            f"{'destabilising' if c.direction > 0 else 'stabilising':13s} "
+            f"{crossing_word(c.direction):13s} "
             f"{l1_text}  {criticality(l1) or '-'}"
         )
     if len(crossings) > 40:
@@ -345,6 +347,7 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         raise ValueError("--torque is not allowed with --vary torque: the branch varies it")
     params = string_params(args)
     slow_note("bifurcation", params.dof)
+    omega_max_note(args.omega_max)
     b = branch(params, vary=args.vary, torque=args.torque, wob=args.wob, omega_max=args.omega_max)
     if args.plot:
         from .plot import save
@@ -387,20 +390,40 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
             f"{'omega (rad/s)':>14s} {'rpm':>7s} {'freq (rad/s)':>13s} {'lyapunov':>11s}  "
             "criticality"
         )
-    for pt in b.points:
+    for pt in b.points:  # from the highest Ω down, as the labels count: HB1 first
         freq = f"{pt.frequency:13.6g}" if pt.frequency else f"{'-':>13s}"
         l1 = f"{pt.lyapunov:11.4g}" if pt.lyapunov is not None else f"{'-':>11s}"
         # A point where the steady state is unstable anyway changes nothing one can see.
         n = pt.others_unstable
         others = f"({n} other eigenvalue{'s' if n > 1 else ''} unstable)" if n else ""
         print(
-            f"{pt.type:5s} {pt.wob / k:12.8g} {pt.torque / k:13.8g} {pt.omega:14.8g} "
+            f"{pt.label:5s} {pt.wob / k:12.8g} {pt.torque / k:13.8g} {pt.omega:14.8g} "
             f"{pt.omega * 30 / math.pi:7.1f} {freq} {l1}  "
             + " ".join(x for x in (pt.criticality, others) if x)
         )
     if args.plot:
         print(f"figure: {args.plot}")
     return 0
+
+
+#: rad/s (9549 rpm): no drill string turns this fast, nor the laboratory rig
+FASTEST_OMEGA = 1e3
+
+
+def omega_max_note(omega_max: float | None) -> None:
+    """A note on stderr for an --omega-max beyond any drill string's speed (1e5 rad/s is
+    about a million rpm), as unit_notes gives for --omega: most likely mistyped. The command
+    goes on: the branch still starts near Omega = 0, so its points are the same."""
+    from .cli_options import TOP_DRIVE_RPM
+    from .cli_string import _say
+
+    if omega_max is not None and omega_max > FASTEST_OMEGA:
+        _say(
+            [
+                f"--omega-max is {omega_max:g} rad/s = {rpm(omega_max):.3g} rpm, faster than "
+                f"any drill string turns (a top drive some {TOP_DRIVE_RPM:g} rpm at most)"
+            ]
+        )
 
 
 def _no_points(b) -> str:

@@ -248,10 +248,11 @@ def bifurcation_figure(params, branch) -> Figure:
             color = "#27ae60" if pt.criticality == "supercritical" else "#c0392b"
             ax.plot(px, pt.omega, "s", color=color, ms=8 if few else 5, zorder=5)
             if label and (few or i == 0):
+                # pt.label: the name the table and --json give it (bifurcation.point_labels)
                 text = (
-                    f"HB{i + 1}"
+                    pt.label
                     if short
-                    else f"HB{i + 1} ({pt.criticality[:3]}), frequency {pt.frequency:.3g} rad/s"
+                    else f"{pt.label} ({pt.criticality[:3]}), frequency {pt.frequency:.3g} rad/s"
                 )
                 names.append((ax, text, (px, pt.omega), color))
         for pt in branch.points:
@@ -259,7 +260,7 @@ def bifurcation_figure(params, branch) -> Figure:
                 px = pt.wob if branch.vary == "wob" else pt.torque
                 ax.plot(px, pt.omega, "D", color="black", ms=7, zorder=5)
                 if label:
-                    names.append((ax, "LP", (px, pt.omega), "black"))
+                    names.append((ax, pt.label, (px, pt.omega), "black"))
 
     xs = np.array([pt.wob if branch.vary == "wob" else pt.torque for pt in branch.points])
     zoom = len(xs) > 1 and np.ptp(xs) < 0.15 * np.ptp(x)
@@ -298,7 +299,7 @@ def bifurcation_figure(params, branch) -> Figure:
             ins.grid(alpha=0.3)
             # HB1's place on the axis (Ω) and its oscillation's frequency: both in rad/s.
             first = (
-                f"; HB1 at Ω = {hb[0].omega:.3g} rad/s\n"
+                f"; {hb[0].label} at Ω = {hb[0].omega:.3g} rad/s\n"
                 f"(frequency {hb[0].frequency:.3g} rad/s, {hb[0].criticality})"
                 if hb
                 else ""

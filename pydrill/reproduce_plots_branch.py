@@ -26,14 +26,21 @@ def _draw_branch(ax, b: dict[str, Any], labels: bool) -> list[tuple]:
         lw=1.2,
         label="unstable steady state",
     )
+    from .bifurcation import point_labels
+
     key = "wob" if b["vary"] == "wob" else "torque"
-    hb = sorted((pt for pt in b["points"] if pt["type"] == "HB"), key=lambda q: -q["omega"])
+    # The names pydrill bifurcation gives them (the stored points may predate its "label")
+    named = point_labels([(pt["type"], pt["omega"]) for pt in b["points"]])
+    hb = sorted(
+        ((pt, name) for pt, name in zip(b["points"], named, strict=True) if pt["type"] == "HB"),
+        key=lambda q: -q[0]["omega"],
+    )
     names: list[tuple] = []
-    for i, pt in enumerate(hb):
+    for i, (pt, name) in enumerate(hb):
         color = SUB if pt["criticality"] == "subcritical" else SUPER
         ax.plot(pt[key], pt["omega"], "s", color=color, ms=6, zorder=6)
         if labels and (i == 0 or b["dof"] <= 4):
-            names.append((ax, f"HB{i + 1}", (pt[key], pt["omega"]), color))
+            names.append((ax, name, (pt[key], pt["omega"]), color))
     if b["fold"]:
         ax.plot(b["fold"][key], b["fold"]["omega"], "D", color="black", ms=6, zorder=6)
         if labels:
