@@ -13,6 +13,7 @@ import io
 import json
 from collections.abc import Mapping
 from pathlib import Path
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import h5py
@@ -20,21 +21,21 @@ import numpy as np
 
 from . import atlas_format as fmt
 from .atlas_check import code_problem, layout_problem
-from .atlas_grid import coordinate, distinct, listed, near_enough, on_grid
-from .atlas_grid import grid_value as _on_grid
+from .atlas_grid import CoordinateError, coordinate, grid_index, not_an_axis, selection
 from .atlas_heap import OPENING_BYTES, refuse_damaged_heap
 from .atlas_lock import snapshot
 from .atlas_objects import DATASETS as _DATASETS
 from .atlas_objects import Objects as _Objects
 from .atlas_summary import summary as _summary
-from .atlas_xarray import COUNT_FIELDS, with_regime_names  # noqa: F401 (pydrill.atlas.*)
+from .atlas_xarray import COUNT_FIELDS, Chunks, with_regime_names  # noqa: F401 (pydrill.atlas.*)
 from .atlas_xarray import to_xarray as _to_xarray
 from .journal import AtlasError, journal_hint
 from .spec import SpecError, parse_spec
-from .suggest import did_you_mean
 
 if TYPE_CHECKING:
-    from numpy.typing import ArrayLike
+    import xarray
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike, NDArray
 
     from .atlas_safe import SafeRow
 
@@ -42,10 +43,11 @@ if TYPE_CHECKING:
 class Atlas:
     """An atlas file, opened read-only. Use as a context manager or call :meth:`close`.
 
-    ``axes`` maps each swept axis to its values (grid order), ``initials`` lists the starts
-    (``"rest"``, ``"equilibrium"``), ``spec`` is the sweep specification it was made from and
-    ``version`` the pydrill that wrote it. A missing, damaged or foreign file raises
-    ``pydrill.sweep.AtlasError`` naming the problem, and so does a read after :meth:`close`.
+    ``axes`` maps each swept axis to its values (grid order; read-only, as the mapping is),
+    ``initials`` lists the starts (``"rest"``, ``"equilibrium"``; a tuple), ``spec`` is the
+    sweep specification it was made from and ``version`` the pydrill that wrote it. A
+    missing, damaged or foreign file raises ``pydrill.sweep.AtlasError`` naming the problem,
+    and so does a read after :meth:`close`.
     An Atlas pickles as its path: unpickled (e.g. on a Dask worker), it opens that file again.
     """
 
@@ -97,10 +99,12 @@ class Atlas:
             if problem:
                 raise ValueError(problem)
             named = json.loads(self._f.attrs["axes"])
-            self.axes = {name: self._objects[name][...] for name in named}
-            self.initials = [
+            self._axes = MappingProxyType(
+                {name: _frozen(self._objects[name][...]) for name in named}
+            )
+            self._initials = tuple(
                 s.decode() if isinstance(s, bytes) else s for s in self._objects["initial"][...]
-            ]
+            )
             self.version = str(self._f.attrs.get("pydrill_version", "?"))
             # Every dataset a query reads, up front: a missing one is a damaged atlas here,
             # not a KeyError from deep inside info, plot or value later.
@@ -161,41 +165,45 @@ class Atlas:
         self.close()
 
     @property
+    def axes(self) -> Mapping[str, NDArray[Any]]:
+        """Each swept axis's grid values (SI, grid order), by name, in the order of the grid's
+        dimensions. Read-only, the arrays too: every query reads them (``np.array(v)`` is a
+        copy to change)."""
+        return self._axes
+
+    @property
+    def initials(self) -> tuple[str, ...]:
+        """The starts each point was simulated from (``"rest"``, ``"equilibrium"``)."""
+        return self._initials
+
+    @property
     def shape(self) -> tuple[int, ...]:
         """Grid size along each axis, in the order of :attr:`axes`."""
         return tuple(len(v) for v in self.axes.values())
 
-    def index(self, method: str = "exact", **coords: float) -> tuple[int, ...]:
-        """Grid index of the given coordinates: every axis must be given, but for an axis of
-        one value (a depth swept as ``["3000 m"]``), which may be left out."""
-        extra = set(coords) - set(self.axes)
+    def index(self, method: str = "exact", **coords: float | str) -> tuple[int, ...]:
+        """Grid index of the given coordinates (numbers in SI, or strings with a unit:
+        ``wob="80 N"``): every axis must be given, but for an axis of one value (a depth swept
+        as ``["3000 m"]``), which may be left out. A ``CoordinateError`` (both a KeyError and a
+        ValueError) names an axis the atlas has not, one left out, or a value off the grid
+        (exact), NaN, or more than half a grid step past either end (whatever the method)."""
+        extra = sorted(set(coords) - set(self.axes))
         if extra:
-            raise KeyError(
-                f"{sorted(extra)[0]} is not an axis of this atlas"
-                f"{did_you_mean(sorted(extra)[0], self.axes)}; axes: " + ", ".join(self.axes)
-            )
+            raise not_an_axis(extra[0], self.axes)
         coords = {n: v[0].item() for n, v in self.axes.items() if len(v) == 1} | coords
         missing = set(self.axes) - set(coords)
         if missing:
-            raise KeyError(f"give a value for every axis; missing: {', '.join(sorted(missing))}")
+            raise CoordinateError(
+                f"give a value for every axis; missing: {', '.join(sorted(missing))}"
+            )
         if method not in ("exact", "nearest"):
             raise ValueError(f"method = {method!r}: choose 'exact' or 'nearest'")
-        idx = []
-        for name, values in self.axes.items():
-            v = coordinate(name, coords[name])
-            i = int(np.argmin(np.abs(values - v)))
-            if method == "exact" and not on_grid(values, i, v):
-                shown, near = distinct(v, values[i], name, values)
-                raise KeyError(
-                    f"{name} = {shown} is not on the grid (nearest {near}); "
-                    "use method='nearest' (--nearest)"
-                )
-            if method == "nearest":
-                near_enough(name, values, v)
-            idx.append(i)
-        return tuple(idx)
+        return tuple(
+            grid_index(name, values, coordinate(name, coords[name]), method)
+            for name, values in self.axes.items()
+        )
 
-    def value(self, method: str = "exact", **coords: float) -> dict[str, Any]:
+    def value(self, method: str = "exact", **coords: float | str) -> dict[str, Any]:
         """Everything recorded at one point, as plain data.
 
         Give a value for every axis (``wob=100, torque=8.3``; one of a single value may be
@@ -236,7 +244,8 @@ class Atlas:
             self._heap_checked = limit is None  # the whole file: once per Atlas
 
     def regimes(self, initial: str | None = None) -> np.ndarray:
-        """Regime names on the whole grid for one initial condition."""
+        """Regime names on the whole grid for one initial condition (default: the first); a
+        ``CoordinateError`` (a KeyError and a ValueError) for a start the atlas has not."""
         f = self._file()
         j = self._initial_index(initial)
         self.check()
@@ -247,8 +256,15 @@ class Atlas:
     def _initial_index(self, initial: str | None) -> int:
         if initial is None:
             return 0
+        if not isinstance(initial, str):
+            raise TypeError(
+                f"initial must be the name of a start ({', '.join(map(repr, self.initials))}) "
+                f"or None, got {initial!r}"
+            )
         if initial not in self.initials:
-            raise KeyError(f"initial = {initial!r} is not in this atlas: {self.initials}")
+            raise CoordinateError(
+                f"initial = {initial!r} is not in this atlas: {list(self.initials)}"
+            )
         return self.initials.index(initial)
 
     def safe_region(self) -> np.ndarray:
@@ -273,7 +289,8 @@ class Atlas:
         given in ``at`` (numbers, or strings with a unit: ``torque="9 kN·m"``), the runs of
         consecutive grid points of :meth:`safe_region` as (first, last) grid values, in SI.
         The true edges lie within one grid step beyond them. Points not computed (missing,
-        failed) are not safe; each row counts them (``not_done``)."""
+        failed) are not safe; each row counts them (``not_done``). An axis the atlas has not,
+        or a value of ``at`` past the grid, is a ``CoordinateError``."""
         from .atlas_safe import safe_windows
 
         coords = {name: coordinate(name, v) for name, v in at.items()}
@@ -285,46 +302,19 @@ class Atlas:
         safe and coexistence points, version and spec digest."""
         return _summary(self)
 
-    def sel(self, method: str | None = None, **coords: ArrayLike):
+    def sel(self, method: str | None = None, **coords: ArrayLike | str | slice) -> xarray.Dataset:
         """A slice of the atlas as an ``xarray.Dataset``: fix some axes (or ``initial``),
         keep the others, e.g. ``atlas.sel(torque=8.3).regime_name`` is the regime against W_ob
         (``regime`` holds the same as codes, named in its ``flag_meanings`` attribute). An
-        axis takes a value or a list of them: numbers, or strings with a unit (``"20 kN"``).
-        Without ``method`` (or with ``"exact"``) each value must be on the grid, as :meth:`value`
-        has it (a KeyError says the nearest); ``method="nearest"`` takes the nearest grid value
-        (a KeyError beyond half a step past the grid). An empty list is a ValueError."""
-        unknown = set(coords) - set(self.axes) - {"initial"}
-        if unknown:
-            raise KeyError(
-                f"{sorted(unknown)[0]} is not an axis of this atlas"
-                f"{did_you_mean(sorted(unknown)[0], [*self.axes, 'initial'])}; axes: "
-                + ", ".join([*self.axes, "initial"])
-            )
-        # xarray's own fill methods ("pad", "backfill") answered 1e9 N with the last grid
-        # value's data: only the grid's values, or the nearest within the grid's reach.
-        if not (method is None or (isinstance(method, str) and method in ("exact", "nearest"))):
-            raise ValueError(
-                f"method = {method!r} is not allowed: None (or 'exact') for grid values only, "
-                "or 'nearest'"
-            )
+        axis takes a value or a list of them: numbers, or strings with a unit (``"20 kN"``);
+        or a ``slice(first, last)`` of them (inclusive, either end None: open), which keeps the
+        grid values between, as a list of them would. Without ``method`` (or with ``"exact"``)
+        each value must be on the grid, as :meth:`value` has it; ``method="nearest"`` takes
+        the nearest grid value (not with a slice). A value off the grid, or more than half a
+        step beyond it, an axis or a start the atlas has not, is a ``CoordinateError`` (a
+        KeyError and a ValueError) saying why; an empty list or slice is a ValueError."""
+        chosen = selection(self.axes, self.initials, method, coords)
         method = None if method == "exact" else method
-        chosen: dict[str, Any] = {}  # each axis's value(s) as floats, initial's name(s)
-        for name, v in coords.items():
-            # numbers, or strings with a unit ("20 kN"), as index() takes them
-            many, given = listed(name, v)
-            if name == "initial":  # a name, chosen exactly: "nearest" has no meaning for it
-                for one in given:  # (xarray's KeyError named neither it nor the starts)
-                    if not isinstance(one, str) or one not in self.initials:
-                        raise KeyError(f"initial = {one!r} is not in this atlas: {self.initials}")
-                chosen[name] = given if many else given[0]
-                continue
-            asked = [coordinate(name, one) for one in given]
-            if method == "nearest":  # as value() and index(): never an answer off the grid
-                for one in asked:
-                    near_enough(name, self.axes[name], one)
-            else:  # exact, as index() has it: the grid's own value, or why not
-                asked = [_on_grid(name, self.axes[name], x) for x in asked]
-            chosen[name] = asked if many else asked[0]
         # Selected before it is read: a row of an atlas of 10^6 points, not all of it (5 s
         # and 750 MB); and the file let go of at once, not whenever the view is collected.
         with self.to_xarray() as ds:
@@ -340,9 +330,9 @@ class Atlas:
         initial: str | None = None,
         x: str | None = None,
         y: str | None = None,
-        at: dict[str, float] | None = None,
+        at: Mapping[str, float | str] | None = None,
         profile: bool = False,
-    ):
+    ) -> Figure:
         """The atlas as a map, a matplotlib ``Figure`` (what ``pydrill atlas plot`` saves):
         the regime, or ``metric`` (e.g. ``"severity"``, ``"spectral_abscissa"``; any of
         ``pydrill.plot_atlas.METRICS``) with a colour bar, on the axes ``x`` and ``y``
@@ -369,18 +359,26 @@ class Atlas:
             )
         return atlas_figure(self, initial=initial, x=x, y=y, at=at, metric=metric, profile=profile)
 
-    def to_xarray(self, chunks: dict[str, int] | None = None):
+    def to_xarray(self, chunks: Chunks = None) -> xarray.Dataset:
         """The atlas as an ``xarray.Dataset`` (through h5netcdf), axes as coordinates, read
         lazily. ``regime`` is an integer code; its CF attributes ``flag_values`` and
         ``flag_meanings`` name them (``with_regime_names`` adds a ``regime_name`` variable).
         ``safe`` (int8 on the axes, computed on opening: not in the file) is
         :meth:`safe_region`, 1 where safe, when the sweep recorded stability.
         ``chunks``: read into dask arrays of these chunks, as ``xarray.open_dataset`` takes
-        them (``{}``: the atlas's own), for atlases larger than memory; None: each variable
-        is read whole the first time it is used."""
+        them (a dict by dimension, ``{}``: the atlas's own; ``"auto"``: blocks of dask's
+        size; an int, -1: whole), for atlases larger than memory; None: each variable is read
+        whole the first time it is used. A dimension the atlas has not is a ValueError."""
         self._file()  # closed: refused like every other read
         self._heap()  # xarray reads every attribute and dimension list
         try:
             return _to_xarray(self._source(), self.axes, chunks)
         except (OSError, RuntimeError, KeyError) as exc:  # h5py's, on a damaged file
             raise AtlasError(f"{self.path} is damaged: xarray cannot read it ({exc})") from None
+
+
+def _frozen(values: np.ndarray) -> np.ndarray:
+    """A read-only view of ``values`` (an array of its own, made read-only too): a view of a
+    read-only array cannot be made writeable again (``setflags(write=True)`` is refused)."""
+    values.setflags(write=False)
+    return values.view()

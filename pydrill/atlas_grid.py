@@ -3,11 +3,35 @@ allowed), on a grid point or not, near enough to the grid for "nearest"."""
 
 from __future__ import annotations
 
+import math
 import numbers
 import reprlib
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+
+
+class CoordinateError(ValueError, KeyError):
+    """A coordinate, start or axis name that an atlas query cannot take: an axis the atlas has
+    not, a value off its grid or outside it, a start it was not swept from. Both a ValueError
+    (a bad value, as the figures and the commands have it) and a KeyError (a name not found,
+    what ``Atlas.index``, ``value``, ``regimes`` and ``sel`` raised before): either
+    ``except`` catches it."""
+
+    def __str__(self) -> str:
+        # KeyError's own str() is the repr of its message, quotes and all
+        return str(self.args[0]) if len(self.args) == 1 else super().__str__()
+
+
+def not_an_axis(name: str, names: Any) -> CoordinateError:
+    """The error for ``name``, which is none of the axes ``names``."""
+    from .suggest import did_you_mean
+
+    names = list(names)
+    return CoordinateError(
+        f"{name} is not an axis of this atlas{did_you_mean(name, names)}; axes: {', '.join(names)}"
+    )
 
 
 def on_grid(values: np.ndarray, i: int, v: float) -> bool:
@@ -22,17 +46,26 @@ def on_grid(values: np.ndarray, i: int, v: float) -> bool:
     return abs(v - g) <= tol
 
 
+def grid_index(name: str, values: np.ndarray, v: float, method: str = "exact") -> int:
+    """The index of the grid value of axis ``name`` that ``v`` (SI) names: exactly (as
+    ``on_grid`` has it), or with ``method="nearest"`` the nearest. A CoordinateError beyond
+    half a grid step past either end, whatever the method (``near_enough``: no advice to ask
+    for the nearest, which would be refused too), or off the grid when exact."""
+    near_enough(name, values, v)
+    i = int(np.argmin(np.abs(values - v)))
+    if method == "exact" and not on_grid(values, i, v):
+        shown, near = distinct(v, values[i], name, values)
+        raise CoordinateError(
+            f"{name} = {shown} is not on the grid (nearest {near}); "
+            "use method='nearest' (--nearest)"
+        )
+    return i
+
+
 def grid_value(name: str, values: np.ndarray, value: Any) -> float:
     """The grid value of axis ``name`` that ``value`` names exactly (as ``Atlas.index`` takes
-    it: float32's 8.3 is 8.3); a KeyError, worded as index()'s, if it names none."""
-    v = coordinate(name, value)
-    i = int(np.argmin(np.abs(values - v)))
-    if not on_grid(values, i, v):
-        shown, near = distinct(v, values[i], name, values)
-        raise KeyError(
-            f"{name} = {shown} is not on the grid (nearest {near}); use method='nearest'"
-        )
-    return values[i].item()
+    it: float32's 8.3 is 8.3); a CoordinateError, worded as index()'s, if it names none."""
+    return values[grid_index(name, values, coordinate(name, value))].item()
 
 
 def axis_unit(name: str) -> str:
@@ -85,12 +118,12 @@ def distinct(a: float, b: Any, name: str | None = None, axis: Any = None) -> tup
 
 
 def near_enough(name: str, values: np.ndarray, v: float) -> None:
-    """Refuse (KeyError) a value whose nearest grid point would answer for a place the sweep
+    """Refuse (CoordinateError) a value whose nearest grid point would answer for a place the sweep
     never went: beyond half a grid step past either end, or off a one-value axis."""
     if len(values) == 1:
         if not on_grid(values, 0, v):
             shown, only = distinct(v, values[0], name, values)
-            raise KeyError(f"{name} = {shown} is outside the atlas (only {only})")
+            raise CoordinateError(f"{name} = {shown} is outside the atlas (only {only})")
         return
     ends = np.sort(values)
     lo = ends[0] - 0.5 * (ends[1] - ends[0])
@@ -98,9 +131,11 @@ def near_enough(name: str, values: np.ndarray, v: float) -> None:
     if not lo <= v <= hi:
         unit = shown_unit(name, ends[0], ends[-1])  # the grid's unit, whatever was asked
         first, last = (with_unit(name, e, unit) for e in (ends[0], ends[-1]))
-        raise KeyError(
-            f"{name} = {with_unit(name, v, unit)} is outside the atlas ({first} ... {last})"
-        )
+        # the value and the end it is past in full where they print alike (100.00004 N
+        # past 100.0000004 N read "100 N is outside the atlas (40 N ... 100 N)")
+        shown, end = distinct(v, ends[0] if v < lo else ends[-1], name, ends)
+        first, last = (end, last) if v < lo else (first, end)
+        raise CoordinateError(f"{name} = {shown} is outside the atlas ({first} ... {last})")
 
 
 def listed(name: str, value: Any) -> tuple[bool, list[Any]]:
@@ -116,7 +151,16 @@ def listed(name: str, value: Any) -> tuple[bool, list[Any]]:
 
 def coordinate(name: str, value: Any) -> float:
     """A coordinate as a float: a number, or a string with a unit where the axis measures
-    something (``"20 kN"`` for wob; a bare ``"80"`` is SI). TypeError or ValueError name it."""
+    something (``"20 kN"`` for wob; a bare ``"80"`` is SI). TypeError or CoordinateError name
+    it; NaN is refused as such (it is no place on a grid, nearest or not)."""
+    v = _as_float(name, value)
+    if math.isnan(v):
+        raise CoordinateError(f"{name} = {value!r} is not a number: give a grid value")
+    return v
+
+
+def _as_float(name: str, value: Any) -> float:
+    """``coordinate``'s float, NaN and all."""
     from . import units
     from .spec_rules import KINDS
 
@@ -127,11 +171,11 @@ def coordinate(name: str, value: Any) -> float:
             try:
                 return float(value)
             except ValueError:
-                raise ValueError(f"{name} = {value!r} is not a number") from None
+                raise CoordinateError(f"{name} = {value!r} is not a number") from None
         try:
             return units.parse(value, KINDS[name])
-        except ValueError as exc:
-            raise ValueError(f"{name} = {exc}") from None  # the message starts with the value
+        except ValueError as exc:  # the message starts with the value
+            raise CoordinateError(f"{name} = {exc}") from None
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(
             f"{name} = {value!r} is not allowed: a number, or a string with a unit (e.g. '20 kN')"
@@ -139,6 +183,79 @@ def coordinate(name: str, value: Any) -> float:
     try:
         return float(value)
     except OverflowError:  # an integer beyond any float: an OverflowError from float() it was
-        raise ValueError(
+        raise CoordinateError(
             f"{name} = {reprlib.repr(value)} is not allowed: beyond the range of a float"
         ) from None
+
+
+def selection(
+    axes: Mapping[str, np.ndarray], initials: Sequence[str], method: Any, coords: dict[str, Any]
+) -> dict[str, Any]:
+    """What ``Atlas.sel`` selects (see there): each axis's grid value(s) as floats, initial's
+    name(s), ready for ``xarray.Dataset.sel``; refused, saying why, what is none of them."""
+    unknown = sorted(set(coords) - set(axes) - {"initial"})
+    if unknown:
+        raise not_an_axis(unknown[0], [*axes, "initial"])
+    # xarray's own fill methods ("pad", "backfill") answered 1e9 N with the last grid
+    # value's data: only the grid's values, or the nearest within the grid's reach.
+    if not (method is None or (isinstance(method, str) and method in ("exact", "nearest"))):
+        raise ValueError(
+            f"method = {method!r} is not allowed: None (or 'exact') for grid values only, "
+            "or 'nearest'"
+        )
+    chosen: dict[str, Any] = {}
+    for name, v in coords.items():
+        if isinstance(v, slice):
+            if name == "initial" or method == "nearest":
+                why = (
+                    "initial takes names, not a slice"
+                    if name == "initial"
+                    else "a slice keeps the grid values between its ends: 'nearest' has no "
+                    "meaning for it (leave method out)"
+                )
+                raise ValueError(
+                    f"{name} = {v!r}: {why}; or give a list of values, or use "
+                    "atlas.to_xarray().sel(...) for xarray's own selection"
+                )
+            chosen[name] = _within(name, axes[name], v)
+            continue
+        # numbers, or strings with a unit ("20 kN"), as index() takes them
+        many, given = listed(name, v)
+        if name == "initial":  # a name, chosen exactly: "nearest" has no meaning for it
+            for one in given:  # (xarray's KeyError named neither it nor the starts)
+                if not isinstance(one, str) or one not in initials:
+                    raise CoordinateError(
+                        f"initial = {one!r} is not in this atlas: {list(initials)}"
+                    )
+            chosen[name] = given if many else given[0]
+            continue
+        # each on the grid (exact) or within its reach (nearest), as index() has it
+        mode = "nearest" if method == "nearest" else "exact"
+        asked = [coordinate(name, one) for one in given]
+        for k, one in enumerate(asked):
+            i = grid_index(name, axes[name], one, mode)
+            asked[k] = one if mode == "nearest" else axes[name][i].item()
+        chosen[name] = asked if many else asked[0]
+    return chosen
+
+
+def _within(name: str, values: np.ndarray, bounds: slice) -> list[float]:
+    """The grid values of axis ``name`` from ``bounds.start`` to ``bounds.stop`` inclusive
+    (either None: open), in grid order; a ValueError for a step or a slice of none."""
+    if bounds.step is not None:
+        raise ValueError(
+            f"{name} = {bounds!r}: a step is not allowed (a slice selects the grid values "
+            "between its ends); use atlas.to_xarray().isel(...) to step through a grid"
+        )
+    lo = -math.inf if bounds.start is None else coordinate(name, bounds.start)
+    hi = math.inf if bounds.stop is None else coordinate(name, bounds.stop)
+    kept = [x.item() for x in values if lo <= x <= hi]
+    if not kept:
+        first, last = (
+            with_unit(name, e, grid_unit(name, values)) for e in (min(values), max(values))
+        )
+        raise ValueError(
+            f"{name} = {bounds!r} selects nothing: no grid value between its ends "
+            f"(the grid: {first} ... {last})"
+        )
+    return kept

@@ -62,6 +62,11 @@ def merge_atlases(
     from .atlas_lock import writer_lock
     from .sweep import model_json
 
+    if isinstance(parts, str | bytes | os.PathLike):  # each of its characters taken for a file
+        raise TypeError(
+            f"parts must be a list of atlas paths (e.g. ['part1.h5', 'part2.h5']), got one "
+            f"path, {os.fsdecode(parts)!r}; the merged atlas is the second argument, out"
+        )
     paths = [Path(p) for p in parts]
     if len(paths) < 2:
         raise ValueError(f"give two or more atlases to merge ({len(paths)} given)")

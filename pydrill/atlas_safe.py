@@ -10,13 +10,14 @@ not safe, so it ends a window; each row counts them, so that a gap is not taken 
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import atlas_format as fmt
-from .suggest import did_you_mean
+from .atlas_grid import not_an_axis
 
 if TYPE_CHECKING:
     from .atlas import Atlas
@@ -44,20 +45,16 @@ def safe_windows(
     """``Atlas.safe_windows``: see there."""
     along = default_along(atlas) if along is None else along  # ("" was taken for None)
     names = list(atlas.axes)
+    if not isinstance(along, str):
+        raise TypeError(f"along must be an axis's name ({', '.join(names)}) or None, got {along!r}")
     if along not in names:
-        raise KeyError(
-            f"{along} is not an axis of this atlas{did_you_mean(along, names)}; "
-            f"axes: {', '.join(names)}"
-        )
+        raise not_an_axis(along, names)
     at = dict(at or {})
     if along in at:
         raise ValueError(f"{along} is the axis the windows run along; it cannot also be held")
     unknown = sorted(set(at) - set(names))
     if unknown:
-        raise KeyError(
-            f"{unknown[0]} is not an axis of this atlas{did_you_mean(unknown[0], names)}; "
-            f"axes: {', '.join(names)}"
-        )
+        raise not_an_axis(unknown[0], names)
     safe = atlas.safe_region()  # refuses an atlas without stability
     done = atlas._file()["status"][...] == fmt.STATUS["done"]
     # Each other axis: the grid point nearest its held value, or every one of them.
@@ -99,7 +96,7 @@ def safe_windows(
     return rows
 
 
-def criterion(initials: list[str]) -> str:
+def criterion(initials: Sequence[str]) -> str:
     """What "safe" means for an atlas of these starts, in words."""
     starts = " and from ".join(initials)
     return f"steady from {starts}, and the fastest steady state stable"

@@ -59,7 +59,7 @@ def summary(atlas: Atlas) -> dict[str, Any]:
             name: {"size": len(v), "min": v.min().item(), "max": v.max().item()}
             for name, v in atlas.axes.items()
         },
-        "initial": atlas.initials,
+        "initial": list(atlas.initials),
         "status": {name: int(np.sum(status == code)) for name, code in fmt.STATUS.items()},
         "regimes": regimes,
         # None when stability was not recorded (see safe_region)

@@ -4,8 +4,10 @@
 from __future__ import annotations
 
 import io
+import numbers
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -19,25 +21,56 @@ COUNT_FIELDS = tuple(
 )
 
 
-def to_xarray(
-    source: Path | io.BytesIO, axes: dict[str, Any], chunks: dict[str, int] | None = None
-) -> Any:
+#: what ``Atlas.to_xarray`` takes as ``chunks``, as ``xarray.open_dataset`` does: by dimension
+#: (``{}``: the file's own), ``"auto"`` (dask's size), a size for every dimension (-1: whole),
+#: or None (no dask)
+Chunks: TypeAlias = "Mapping[str, int | str | tuple[int, ...] | None] | int | str | None"
+
+
+def checked_chunks(chunks: Any) -> Any:
+    """``chunks`` if ``xarray.open_dataset`` takes it (see ``Chunks``), else a TypeError or
+    ValueError naming what it takes."""
+    if chunks is None or isinstance(chunks, Mapping):
+        return chunks
+    if isinstance(chunks, str):
+        if chunks != "auto":
+            raise ValueError(f"chunks = {chunks!r} is not allowed: the only name is 'auto'")
+        return chunks
+    if isinstance(chunks, numbers.Integral) and not isinstance(chunks, bool):
+        if chunks < 1 and chunks != -1:
+            raise ValueError(f"chunks = {chunks!r} is not allowed: a size of 1 or more, or -1")
+        return int(chunks)
+    raise TypeError(
+        "chunks must be a dict of sizes by dimension (e.g. {'wob': 100}), 'auto', an int "
+        f"(-1: whole) or None, got {chunks!r}"
+    )
+
+
+def to_xarray(source: Path | io.BytesIO, axes: Mapping[str, Any], chunks: Chunks = None) -> Any:
     """``Atlas.to_xarray`` of the atlas in ``source`` (a file or the copy taken while a sweep
     writes it), whose sweep's axes are ``axes``; ``chunks`` as ``xarray.open_dataset``'s."""
     import xarray as xr
 
+    chunks = checked_chunks(chunks)
     # Chunked, the failure messages too: xarray decodes a text variable whole on opening
     # (70 bytes a point), so they are read by blocks through h5py instead (_lazy_messages).
-    by_blocks = chunks if chunks is not None and _has_messages(source) else None
+    by_blocks = chunks is not None and _has_messages(source)
     ds = opened = xr.open_dataset(
         source,
         engine="h5netcdf",
         chunks=chunks,
-        drop_variables=None if by_blocks is None else ["message"],
+        drop_variables=["message"] if by_blocks else None,
     )
     close = opened.close
-    if by_blocks is not None:
-        ds, close = _lazy_messages(ds, source, axes, by_blocks, opened.close)
+    unknown = sorted(set(chunks) - set(ds.dims)) if isinstance(chunks, Mapping) else []
+    if unknown:  # xarray let them pass (a typo, and the chunks asked for were not made)
+        close()
+        raise ValueError(
+            f"chunks: {unknown[0]!r} is not a dimension of this atlas; its dimensions: "
+            + ", ".join(map(str, ds.dims))
+        )
+    if by_blocks:
+        ds, close = _lazy_messages(ds, source, axes, opened.close)
     if "message" in ds and ds["message"].dims != tuple(axes):
         # Atlases written before ``message`` had its dimension scales: xarray guessed its
         # dimensions from their lengths.
@@ -71,15 +104,16 @@ def _has_messages(source: Path | io.BytesIO) -> bool:
         return isinstance(f.get("message"), h5py.Dataset)
 
 
-def _lazy_messages(ds, source, axes: dict[str, Any], chunks: dict[str, int], close):
-    """``ds`` with the atlas's ``message`` as a dask array read through h5py by blocks of
-    ``chunks`` (an axis not named: whole), and the close of both files."""
+def _lazy_messages(ds, source, axes: Mapping[str, Any], close):
+    """``ds`` with the atlas's ``message`` as a dask array read through h5py in the blocks of
+    ``status`` (on the same axes: as ``chunks`` made them, whatever it was), and the close of
+    both files."""
     import dask.array as da
     import h5py
 
     f = h5py.File(source, "r")
     text = f["message"]
-    blocks = tuple(chunks.get(name, -1) for name in axes)
+    blocks = ds["status"].chunks or tuple(-1 for _ in axes)
     # Objects known to be text (xarray's mark, as it decodes them): written back as
     # variable-length text without first being read whole to find out what they are.
     meta = np.empty((0,) * len(axes), dtype=np.dtype("O", metadata={"element_type": str}))

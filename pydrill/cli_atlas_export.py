@@ -7,7 +7,9 @@ import argparse
 import errno
 import os
 import secrets
+import shlex
 import stat
+import sys
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -33,6 +35,9 @@ BLOCK_POINTS = 2**16
 def cmd_export(args: argparse.Namespace) -> int:
     import math
 
+    import numpy as np
+
+    from . import atlas_format as fmt
     from .atlas import Atlas
 
     out = Path(args.out)
@@ -40,6 +45,7 @@ def cmd_export(args: argparse.Namespace) -> int:
         raise ValueError(f"--out {args.out} is the atlas itself; give another file")
     with Atlas(args.atlas) as atlas:
         atlas.check()  # it is read whole: no code that is none may pass into the export
+        missing = int(np.sum(atlas._file()["status"][...] == fmt.STATUS["missing"]))
         first, *others = atlas.axes
         per_row = math.prod(len(atlas.axes[name]) for name in others)
         rows = max(1, BLOCK_POINTS // per_row)
@@ -56,22 +62,45 @@ def cmd_export(args: argparse.Namespace) -> int:
         try:  # the atlas is closed (its xarray view too) whatever fails
             if netcdf:
                 _write_whole(out, lambda fd: _write_netcdf(ds, fd, bar))
-                written = {"variables": sorted(ds.data_vars)}
+                written = {"variables": sorted(map(str, ds.data_vars))}
             else:  # .csv, as export_path allows
                 lines = _write_whole(out, lambda fd: _write_csv(ds, fd, first, rows, bar))
                 written = {"rows": lines}
         finally:
             bar.close()
             ds.close()
+    if missing:  # exported as missing: say so, and how to compute them
+        print(
+            f"pydrill atlas export: note: {missing_note(args.atlas, missing, points)}",
+            file=sys.stderr,
+        )
     if not args.json:
         print(f"wrote {out}")
         return 0
     from .cli_options import json_document, print_json
 
     results = {"format": "netcdf" if netcdf else "csv", "points": points, **written}
+    results["missing"] = missing
     results["bytes"] = out.stat().st_size
     print_json(json_document({"atlas": args.atlas, "out": args.out}, results, {"bytes": "B"}))
     return 0
+
+
+def missing_note(atlas: str, missing: int, points: int) -> str:
+    """Why ``missing`` of the ``points`` of ``atlas`` are missing and what completes them, in
+    the words of ``pydrill atlas info``: a sweep writing it now, or one stopped (its journal
+    beside it, or not: a journal removed, parts merged before they were complete)."""
+    from .atlas_lock import writer
+    from .journal import journal_path
+
+    count = f"{missing} of {points} points are missing (exported as missing)"
+    holder = writer(Path(atlas))
+    if holder is not None:
+        return f"{count}: a sweep is writing this atlas now ({holder}); export it once done"
+    journal = journal_path(Path(atlas)).exists()
+    stopped = "a sweep into this atlas was stopped;" if journal else "a stopped sweep?"
+    resume = f"pydrill sweep SPEC.toml --out {shlex.quote(atlas)} --resume"
+    return f"{count}: {stopped} '{resume}' completes it (SPEC.toml: the spec it was swept from)"
 
 
 def _write_netcdf(ds, fd: int, bar: Any) -> None:

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from . import atlas_format as fmt
-from .atlas_grid import coordinate
+from .atlas_grid import CoordinateError, coordinate
 from .plot import plt, scale_ticks, unit_scale
 from .plot_atlas_title import context, keep_title_inside, title
 from .suggest import did_you_mean
@@ -37,7 +38,7 @@ MAP_COLORS = {
     "stuck": "#85929e",
     "oscillation": "#af7ac5",
     "failed": "#e74c3c",
-    "missing": "#ffffff",
+    "missing": "#d5d8dc",  # as a metric map's blanks (white ran into the safe outline)
     "no-steady-state": "#d6eaf8",
 }
 #: what the axes are called on a figure (others by their own name)
@@ -56,7 +57,7 @@ if TYPE_CHECKING:
 
 
 def drawn_axes(
-    atlas, x: str | None, y: str | None, at: dict[str, float], profile: bool
+    atlas, x: str | None, y: str | None, at: Mapping[str, float | str], profile: bool
 ) -> tuple[str, str | None, bool]:
     """The axes a figure of ``atlas`` draws, as ``atlas_figure`` chooses them: x, y (None for
     a profile) and whether it is a profile; every other axis is held, at ``at`` or its first
@@ -68,7 +69,7 @@ def drawn_axes(
         raise ValueError(f"y = {y!r}{why}: a profile is drawn along x alone")
     for what, name in [("x", x), ("y", y)] + [("a held axis", n) for n in at]:
         if name is not None and name not in order:
-            raise ValueError(
+            raise CoordinateError(
                 f"{what} = {name!r} is not an axis of this atlas{did_you_mean(name, order)}; "
                 f"axes: {', '.join(order)}"
             )
@@ -94,7 +95,7 @@ def atlas_figure(
     initial: str | None = None,
     x: str | None = None,
     y: str | None = None,
-    at: dict[str, float] | None = None,
+    at: Mapping[str, float | str] | None = None,
     metric: str | None = None,
     profile: bool = False,
 ) -> Figure:
@@ -119,12 +120,9 @@ def atlas_figure(
     stability = false``) is refused (ValueError): there is nothing to map."""
     import numpy as np
     from matplotlib.colors import BoundaryNorm, ListedColormap
-    from matplotlib.patches import Patch
 
-    init = atlas.initials[0] if initial is None else initial  # ("" was taken for None)
-    j = atlas.initials.index(init) if init in atlas.initials else None
-    if j is None:
-        raise ValueError(f"initial = {init!r} is not in this atlas: {atlas.initials}")
+    j = atlas._initial_index(initial)  # (TypeError, CoordinateError: as regimes() has them)
+    init = atlas.initials[j]
     if metric is not None and metric not in METRICS:
         raise ValueError(f"metric = {metric!r} is not allowed: one of {', '.join(METRICS)}")
     if metric in fmt.EQ_FIELDS and not atlas.spec.record["stability"]:
@@ -167,7 +165,7 @@ def atlas_figure(
             norm=BoundaryNorm(np.arange(-0.5, len(shown) + 0.5), len(shown)),
         )
         present = sorted({int(c) for c in np.unique(grid)}, key=lambda c: lut[c])
-        handles = [Patch(color=colors[lut[c]], label=fmt.REGIME_NAMES[c]) for c in present]
+        handles = [_regime_patch(colors[lut[c]], fmt.REGIME_NAMES[c]) for c in present]
         if "caveat" in atlas._f:  # runs whose judgement carries a note: simulate them longer
             caveat = atlas._f["caveat"][..., j][tuple(index)]
             caveat = caveat.T if order.index(xname) > order.index(yname) else caveat
@@ -230,6 +228,15 @@ def atlas_figure(
     return fig
 
 
+def _regime_patch(color: str, name: str) -> Artist:
+    """A regime's legend swatch; a light one edged in grey (missing: light grey on white)."""
+    from matplotlib.colors import to_rgb
+    from matplotlib.patches import Patch
+
+    light = min(to_rgb(color)) > 0.8
+    return Patch(facecolor=color, edgecolor="0.55" if light else color, label=name)
+
+
 def shown_unit(name: str) -> str:
     """A model parameter's unit as a figure shows it (``N·m·s/rad``); "" for a dimensionless
     one (a friction coefficient, the Stribeck decay)."""
@@ -239,16 +246,13 @@ def shown_unit(name: str) -> str:
     return "" if unit in ("1", "friction coefficient") else unit
 
 
-def nearest_index(atlas, name: str, value: float) -> int:
+def nearest_index(atlas, name: str, value: float | str) -> int:
     """The index of the grid value of axis ``name`` nearest ``value``; a ValueError beyond half
     a grid step past either end (or off an axis of one value), as ``Atlas.value(method=
     "nearest")`` refuses: the map would be drawn for a place the sweep never went."""
-    probe = {n: float(v[0]) for n, v in atlas.axes.items()}
+    probe: dict[str, float | str] = {n: float(v[0]) for n, v in atlas.axes.items()}
     probe[name] = coordinate(name, value)  # (float() of None or "9 kN·m" named no axis)
-    try:
-        return atlas.index("nearest", **probe)[list(atlas.axes).index(name)]
-    except KeyError as exc:
-        raise ValueError(exc.args[0]) from None
+    return atlas.index("nearest", **probe)[list(atlas.axes).index(name)]
 
 
 def _edges(v):

@@ -136,7 +136,7 @@ def test_engine_netcdf4_reads_what_pydrill_atlas_reads(atlases, name):
         for axis, values in atlas.axes.items():
             np.testing.assert_array_equal(ds[axis].values, values)
             assert ds[axis].attrs["units"] == fmt.axis_units(axis)
-        assert list(ds["initial"].values) == atlas.initials
+        assert tuple(ds["initial"].values) == atlas.initials
         meanings = dict(
             zip(
                 ds["regime"].attrs["flag_values"].tolist(),
