@@ -93,7 +93,7 @@ class AtlasBusy(AtlasError):
     def of(cls, atlas: Path, holder: object) -> AtlasBusy:
         return cls(
             f"{atlas} is being written by another sweep ({holder}); wait for it to end, or "
-            "stop it (what it computed is kept) and run again with --resume (resume=True)"
+            "stop it (what it computed is kept) and run again with resume=True"
         )
 
 

@@ -188,7 +188,29 @@ def _already_done(out: Path, spec) -> int | None:
     return int(np.count_nonzero(done))
 
 
+# The API's words in the sweep's refusals (AtlasError, SchedulerError), and the command line's:
+# a CLI user was told "use --resume (resume=True)", a Python keyword that is no flag of theirs.
+CLI_WORDS = {"resume=True": "--resume", "scheduler=...": "--scheduler"}
+
+
+def cli_words(message: str) -> str:
+    """``message`` of the Python API in the command line's words (:data:`CLI_WORDS`)."""
+    for api, flag in CLI_WORDS.items():
+        message = message.replace(api, flag)
+    return message
+
+
 def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .sweep import AtlasError, SchedulerError
+
+    try:
+        return _sweep(args)
+    except (AtlasError, SchedulerError) as exc:
+        exc.args = (cli_words(str(exc)),)  # (the same error, said as the command line says it)
+        raise
+
+
+def _sweep(args: argparse.Namespace) -> int:
     from .spec import load_spec
     from .sweep import SweepInterrupted, run_sweep
 

@@ -214,12 +214,14 @@ def next_steps(args: argparse.Namespace, report: Any, spec: Any) -> None:
     atlas = shlex.quote(str(report.atlas))
     steps = []  # (command, what it gives): a line each, the command first, to copy whole
     if getattr(args, "part", None) is not None:
-        n = int(args.part.split("/")[1])  # (K/N, as _cmd_sweep wrote it)
+        n = int(args.part.split("/")[1])  # (K/N, as cli_sweep._sweep wrote it)
         if n > 1:
             steps.append(
                 (
                     f"pydrill atlas merge {atlas} OTHER-PARTS.h5 --out WHOLE.h5",
-                    f"once the other {n - 1} part{'s' * (n > 2)} are swept",
+                    "once the other part is swept"
+                    if n == 2
+                    else f"once the other {n - 1} parts are swept",
                 )
             )
     if spec.record["stability"]:

@@ -144,6 +144,8 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
             f"{out} is a directory; give the atlas a file name, e.g. --out {out / 'atlas.h5'}"
         )
     if out.exists():
+        if not _hdf5(out):  # (a CSV at --out was called "damaged (not a readable HDF5 atlas)")
+            raise AtlasError(f"{out} is not an atlas (not an HDF5 file); choose another --out")
         try:
             import h5py
 
@@ -188,15 +190,26 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
         if not resume:
             raise AtlasError(
                 f"{jp} holds an interrupted sweep of this spec (its atlas {out.name} is gone); "
-                "use --resume (resume=True) to complete it from the journal, or remove the "
-                "journal to start over"
+                "use resume=True to complete it from the journal, or remove the journal to "
+                "start over"
             )
     elif not resume:
         raise AtlasError(
-            f"{out} already exists for this sweep; use --resume (resume=True) to complete it or "
-            "remove it to start over"
+            f"{out} already exists for this sweep; use resume=True to complete it or remove it "
+            "to start over"
         )
     return table
+
+
+def _hdf5(path: Path) -> bool:
+    """Whether ``path`` may be an HDF5 file: its signature at 0, 512, 1024, … bytes (where
+    HDF5 looks for it), or too short to tell (a truncated atlas: damaged, not another file)."""
+    import h5py
+
+    try:
+        return path.stat().st_size < 8 or bool(h5py.is_hdf5(path))
+    except OSError:  # unreadable: h5py says why below
+        return True
 
 
 class _Damaged(ValueError):
@@ -281,7 +294,7 @@ def write_atlas(out: Path, table: fmt.AtlasTable) -> None:
         raise AtlasError(
             f"{out}: cannot write the atlas ({_reason(exc)}); every point computed is kept in "
             f"{journal_path(out).name}: make room or fix the permission, then run again with "
-            "--resume (resume=True)"
+            "resume=True"
         ) from None
 
 

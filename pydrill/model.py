@@ -105,6 +105,17 @@ class Params:
         self._core_params().validate()  # raises ValueError naming the bad parameter
         _check_scale(self)
 
+    def __repr__(self) -> str:
+        # One line, as SimulationResult's: the dataclass's own listed every entry, 18881
+        # characters for a tally's string of 300 inertias.
+        k = self.stiffnesses
+        return (
+            f"<Params {self.name!r} dof={self.dof}: inertias {sum(self.inertias):.4g} kg·m² in "
+            f"all (bit {self.inertias[-1]:.4g}), stiffnesses {min(k):.4g} ... {max(k):.4g} "
+            f"N·m/rad, bit_radius {self.bit_radius:.4g} m, mu_static {self.mu_static:.4g}, "
+            f"mu_coulomb {self.mu_coulomb:.4g}>"
+        )
+
     def _core_params(self) -> _core.Params:
         """:meth:`to_core`, built once for this Params and shared by pydrill's own calls, which
         only read it (the core takes ``const Params&``): a sweep's point hands one string to
@@ -204,11 +215,12 @@ class Params:
 
 def resolve_dof(dof: int | None, pipes: int | None, default: int | None = 4) -> int:
     """``dof`` from either ``dof`` or ``pipes`` (``dof = pipes + 3``), each checked (an
-    integer, or a float of integer value; at most ``MAX_DOF`` inertias)."""
+    integer, as every integer argument: a float, even 3.0, is a ``TypeError``; at most
+    ``MAX_DOF`` inertias)."""
     if dof is not None:
-        dof = _integer("dof", dof, 2, MAX_DOF, whole_floats=True, hint=_LARGEST)
+        dof = _integer("dof", dof, 2, MAX_DOF, hint=_LARGEST)
     if pipes is not None:
-        pipes = _integer("pipes", pipes, 1, MAX_DOF - 3, whole_floats=True, hint=_LARGEST)
+        pipes = _integer("pipes", pipes, 1, MAX_DOF - 3, hint=_LARGEST)
     if dof is not None and pipes is not None and dof != pipes + 3:
         raise ValueError(f"dof = {dof} and pipes = {pipes} disagree: pipes P means dof = P + 3")
     if pipes is not None:
@@ -315,18 +327,22 @@ def _load(name: str, value: float, unit: str) -> float:
 
 
 def _numbers(key: str, values: Any) -> tuple[float, ...]:
-    """A list field (``inertias``, …) as a tuple of floats, each entry checked by name."""
+    """A list field (``inertias``, …) as a tuple of floats, each entry checked by name:
+    ``TypeError`` for what is no list of entries (a number, None, a str, a dict, a set),
+    ``ValueError`` for an array of another shape."""
     if isinstance(values, np.ndarray) and values.ndim == 1 and values.dtype.kind in "iuf":
         return tuple(values.astype(float).tolist())
-    if isinstance(values, np.ndarray) and values.ndim != 1:
+    if isinstance(values, np.ndarray) and values.ndim > 1:
         raise ValueError(f"{key} must be a 1-D list of numbers, got an array of {values.shape}")
     # (a set has no order: {1.0, 2.0} gave some order of the string's entries)
-    if isinstance(values, (str, bytes, dict, set, frozenset)):
-        raise ValueError(f"{key} must be a list of numbers, got {_show(values)}")
+    if isinstance(values, (str, bytes, dict, set, frozenset)) or (
+        isinstance(values, np.ndarray) and values.ndim == 0
+    ):
+        raise TypeError(f"{key} must be a list of numbers, got {_show(values)}")
     try:
         values = list(values)
-    except TypeError:
-        raise ValueError(f"{key} must be a list of numbers, got {_show(values)}") from None
+    except TypeError:  # not iterable: a number, None
+        raise TypeError(f"{key} must be a list of numbers, got {_show(values)}") from None
     unit = _UNITS[key]
     # Floats pass as they are; only another type has its entry named (and checked): a name
     # built for each of a long string's entries cost more than the rest of the check.

@@ -5,7 +5,6 @@ keep it short."""
 
 from __future__ import annotations
 
-import math
 import reprlib
 from typing import Any
 
@@ -42,19 +41,15 @@ def _number(name: str, value: Any, unit: str) -> float:
         ) from None
 
 
-def _integer(
-    name: str, value: Any, low: int, high: int, *, whole_floats: bool = False, hint: str = ""
-) -> int:
-    """``value`` as an int in ``low ... high``: a Python or numpy integer or a 0-d array
-    (with ``whole_floats``, a float of integer value too); ``TypeError`` for another type,
+def _integer(name: str, value: Any, low: int, high: int, *, hint: str = "") -> int:
+    """``value`` as an int in ``low ... high``: a Python or numpy integer or a 0-d array of
+    one; ``TypeError`` for another type (a bool, or a float even of integer value: 3.0 was
+    taken as a size and refused as a count, where one rule serves every integer argument),
     ``ValueError`` out of range, both naming ``name``."""
     plain = _plain(value)
-    kinds = (int, float) if whole_floats else (int,)
-    if isinstance(plain, bool) or not isinstance(plain, kinds):
+    if isinstance(plain, bool) or not isinstance(plain, int):
         raise TypeError(f"{name} must be an integer, got {_show(value)}")
-    if not (isinstance(plain, int) or (math.isfinite(plain) and plain == int(plain))) or not (
-        low <= plain <= high
-    ):
+    if not low <= plain <= high:
         raise ValueError(
             f"{name} = {reprlib.repr(plain)} is not allowed: need an integer {low} ... {high}{hint}"
         )

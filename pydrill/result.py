@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass
+from types import MappingProxyType
 from typing import Any, Literal
 
 import numpy as np
@@ -109,8 +111,9 @@ class SimulationResult:
     def __init__(self, core: Any, params: Params, settings: dict[str, Any]) -> None:
         self._core = core
         self.params: Params = params  #: the string simulated
-        #: the simulation settings as given to :func:`simulate` (``t_end``, ``method``, …)
-        self.settings: dict[str, Any] = settings
+        # Kept behind the read-only :attr:`settings` (its lists as tuples): changed through the
+        # result, they would no longer be what ran, yet inputs() would repeat them.
+        self._settings = {k: tuple(v) if isinstance(v, list) else v for k, v in settings.items()}
         self.wob: float = core.wob  #: N, weight on bit
         self.torque: float = core.torque  #: N·m, surface torque u
         self.t: NDArray[np.float64] = core.t  #: s, the output times, shape (n,)
@@ -123,7 +126,7 @@ class SimulationResult:
         self.viscous_loss: NDArray[np.float64] = core.viscous_loss  #: J, ∫ viscous dissipation dt
         self.friction_loss: NDArray[np.float64] = core.friction_loss  #: J, ∫ T_f ω_b dt at the bit
         self.energy: NDArray[np.float64] = core.energy  #: J, kinetic + elastic at ``t``
-        #: the bit's friction mode at ``t``, as codes into ``pydrill.simulate.MODES``
+        #: the bit's friction mode at ``t``, as codes into ``pydrill.MODES``
         self.mode_index: NDArray[np.int32] = core.modes
         self.stats: SolverStats = SolverStats(**core.stats)  #: the solver's work
         summary = dict(core.summary)
@@ -137,11 +140,18 @@ class SimulationResult:
         state["switches"] = self.switches
         return _restore_result, (state,)
 
+    @property
+    def settings(self) -> Mapping[str, Any]:
+        """The simulation settings as given to :func:`simulate` (``t_end``, ``method``, …),
+        read-only (lists as tuples): :meth:`inputs` gives them as a new, plain dict."""
+        return MappingProxyType(self._settings)
+
     @functools.cached_property
-    def switches(self) -> list[Switch]:
-        """Every stick, slip and reversal of the bit, in time order. Built when first asked
-        for: a sweep reads only the summary, and a long stick-slip run has thousands."""
-        return [Switch(**s) for s in self._core.switches]
+    def switches(self) -> tuple[Switch, ...]:
+        """Every stick, slip and reversal of the bit, in time order (a tuple: the result's,
+        not to be changed). Built when first asked for: a sweep reads only the summary, and a
+        long stick-slip run has thousands."""
+        return tuple(Switch(**s) for s in self._core.switches)
 
     @property
     def dof(self) -> int:
@@ -201,8 +211,7 @@ class SimulationResult:
     @property
     def modes(self) -> list[str]:
         """The friction mode at each output time: ``"slip+"``, ``"slip-"``, ``"stick"`` or
-        ``"band"`` (Karnopp); ``mode_index`` holds the same as codes into ``MODES``
-        (``from pydrill.simulate import MODES``)."""
+        ``"band"`` (Karnopp); ``mode_index`` holds the same as codes into ``pydrill.MODES``."""
         return [MODES[i] for i in self.mode_index]
 
     def stick_intervals(self) -> list[tuple[float, float]]:
@@ -230,16 +239,30 @@ class SimulationResult:
     def energy_balance_error(self) -> float:
         """Relative mismatch of work in = dissipation + Δ(kinetic + elastic energy): the largest,
         over the output times after the first, of the balance between ``t[0]`` and that time,
-        relative to the largest work put in over that span (0.0 with a single output time)."""
+        relative to the run's energy scale: the largest of the work put in, the change of
+        energy, the energy dissipated (viscous and friction) over any of those spans, and the
+        energy at ``t[0]`` and at the end. That scale is 0 only if nothing happens (a string at
+        rest with no torque), and then so is the mismatch: 0.0, as with a single output time.
+        (Relative to the work alone, a string coasting down from a spin with no torque, whose
+        ledger balanced to 6e-10 of its energy, was off by 1e293.)"""
         work = self.work_input[1:] - self.work_input[0]
-        out = (
-            (self.viscous_loss[1:] - self.viscous_loss[0])
-            + (self.friction_loss[1:] - self.friction_loss[0])
-            + (self.energy[1:] - self.energy[0])
+        lost = (self.viscous_loss[1:] - self.viscous_loss[0]) + (
+            self.friction_loss[1:] - self.friction_loss[0]
         )
+        change = self.energy[1:] - self.energy[0]
         if len(work) == 0:
             return 0.0
-        return float(np.max(np.abs(work - out)) / max(float(np.max(np.abs(work))), 1e-300))
+        mismatch = float(np.max(np.abs(work - lost - change)))
+        scale = max(
+            float(np.max(np.abs(work))),
+            float(np.max(np.abs(change))),
+            float(np.max(np.abs(lost))),
+            abs(float(self.energy[0])),
+            abs(float(self.energy[-1])),
+        )
+        if scale == 0.0:  # nothing moved, nothing was put in: nothing to mismatch
+            return 0.0
+        return mismatch / scale
 
     def to_dict(self) -> dict[str, Any]:
         """The summary as plain JSON-ready data (see ``pydrill simulate --json``); its
@@ -299,7 +322,7 @@ class SimulationResult:
             value = getattr(p, key)
             if base is None or value != getattr(base, key):
                 model[key] = list(value) if key in _LISTS else value
-        settings = dict(self.settings)
+        settings = {k: list(v) if isinstance(v, tuple) else v for k, v in self._settings.items()}
         if settings.get("max_switch_rate") == math.inf:  # no limit: null, as inf is not JSON
             settings["max_switch_rate"] = None
         return {

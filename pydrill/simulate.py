@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import sys
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -12,7 +13,7 @@ from numpy.typing import ArrayLike
 from . import _core
 from . import model as _model
 from .model import _LISTS, _SCALARS, PRESETS, Params, _integer, _number, _plain, _show
-from .result import (  # noqa: F401 - re-exported: pydrill.simulate.SimulationResult and kin
+from .result import (  # re-exported: pydrill.simulate.SimulationResult and kin (__all__)
     MODES,
     REGIMES,
     UNITS,
@@ -29,6 +30,22 @@ from .suggest import did_you_mean
 #: DOP853 runs for minutes into its step limit (``max_steps``).
 MAX_T_END = 1e10
 YEAR = 365.25 * 86400.0
+
+# What this module exports, for ``from pydrill.simulate import MODES`` under mypy --strict (an
+# import is re-exported only if listed). ``pydrill.simulate`` itself is the function (it
+# shadows the module): ``pydrill.MODES``, ``pydrill.MAX_T_END`` are the same objects.
+__all__ = [
+    "MAX_T_END",
+    "MODES",
+    "REGIMES",
+    "UNITS",
+    "Regime",
+    "SimulationResult",
+    "SolverStats",
+    "Summary",
+    "Switch",
+    "simulate",
+]
 
 
 def simulate(
@@ -74,16 +91,17 @@ def simulate(
     - ``wob`` (N), ``torque`` (N·m): the operating point, weight on bit > 0 and the torque
       the top drive applies; both at most 1e15 in size (far above any drill string's loads,
       below where the run would overflow).
-    - ``t_end`` (s): simulated time, from t = 0; > 0, at most ``MAX_T_END`` (1e10 s, 317
-      years).
+    - ``t_end`` (s): simulated time, from t = 0; > 0, at most ``pydrill.MAX_T_END`` (1e10 s,
+      317 years).
     - ``initial``: ``"rest"``, ``"equilibrium"`` or a 1-D state of ``2·dof − 1`` numbers
       (ω_0, θ_0, ω_1, …, θ_{N−2}, ω_b; rad/s and rad).
     - ``t_out`` (s): the output times, a non-empty 1-D increasing list in ``[0, t_end]``;
       None (default) for ``n_out`` uniform times from 0 to ``t_end``. Each time is 0 or at least
       2.2e-308 s, and the uniform ones at least that far apart (the core computes with
       subnormal numbers flushed to 0).
-    - ``n_out``: how many uniform output times, 2 ... 1e8 (without ``t_out``). The output,
-      2·dof − 1 numbers of 8 bytes at each output time, must fit in the machine's memory.
+    - ``n_out``: how many uniform output times, 2 ... 1e8. With ``t_out`` it is not used
+      (only checked): its default, 3001, cannot be told from one given. The output, 2·dof − 1
+      numbers of 8 bytes at each output time, must fit in the machine's memory.
     - ``rtol`` (1e-14 <= rtol <= 0.01), ``atol`` (1e-20 <= atol <= 0.001, in the state's
       units: rad and rad/s): the integrator's relative and absolute error tolerances per
       step. Looser ones misjudge the regime (at rtol 0.05 a steady case was judged stick-slip).
@@ -98,9 +116,11 @@ def simulate(
     - ``perturbation``: relative kick of the bit velocity for ``initial="equilibrium"``,
       ``|perturbation| < 1``.
     - ``window_fraction``: the last fraction of the run the regime is judged on, in (0, 1].
-    - ``max_switch_rate`` (switches/s): more stick/slip switches per simulated second
-      than this is chattering, stopped with a :class:`pydrill.SolverError`; None (or inf)
-      for no limit.
+    - ``max_switch_rate`` (switches/s): the chattering guard. At each friction switch
+      the 50 intervals back to the 50th switch before it are timed: shorter than 50 /
+      ``max_switch_rate`` s in all (their mean rate above it), the run is stopped with a
+      :class:`pydrill.SolverError`. Only such bursts are stopped, not a run's mean rate: a
+      run of 50 switches or fewer never is. None (or inf) for no limit.
     - ``preset``: the name of the parameter set (:data:`PRESETS`); None (default) for
       ``"reduced-scale"``. Only without ``params``, or equal to ``params.name``.
     - ``dof``: the number of inertias, 2 ... ``MAX_DOF`` (100000); default 4. With
@@ -329,7 +349,8 @@ def _vector(name: str, value: Any, allowed: str, unit: str) -> list[float]:
     if array.ndim == 0:
         raise TypeError(f"{name} must be {allowed}, got {_show(_plain(value))}")
     if array.dtype.kind not in "iuf":
-        for v in array.ravel():
+        # The entries as given: numpy made [0, "1"] an array of strings, and "0" was blamed.
+        for v in _entries(value) if isinstance(value, (list, tuple)) else array.ravel():
             entry = _plain(v)
             if isinstance(entry, bool) or not isinstance(entry, (int, float)):
                 raise TypeError(f"{name} must be {allowed}: an entry is {_show(entry)}")
@@ -338,6 +359,15 @@ def _vector(name: str, value: Any, allowed: str, unit: str) -> list[float]:
     if array.ndim != 1:
         raise ValueError(f"{name} has shape {array.shape}, not 1-D: it must be {allowed}")
     return array.astype(float).tolist()
+
+
+def _entries(value: Any) -> Iterator[Any]:
+    """The leaves of nested lists and tuples, in order."""
+    for v in value:
+        if isinstance(v, (list, tuple)):
+            yield from _entries(v)
+        else:
+            yield v
 
 
 def _type_name(value: Any) -> str:

@@ -65,11 +65,12 @@ _NONE = object()  # a key one spec has and the other does not
 _PARAMS_KEPT = 16  # strings a spec keeps built (params_at)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # (the fields' ==, of arrays, raised "truth value of an array")
 class SweepSpec:
     """A validated sweep specification (from :func:`load_spec` or :func:`parse_spec`): the
     model, the grid of axes, the simulation settings and what to record. Points are numbered
-    in C order over ``axes``."""
+    in C order over ``axes``. Two specs are equal, and hash alike, when they are the same
+    sweep: the same :attr:`digest`, as an atlas tells its own sweep, whatever the formatting."""
 
     text: str  #: the TOML as given (stored in the atlas)
     preset: str  #: the parameter set (``pydrill.PRESETS``)
@@ -87,6 +88,12 @@ class SweepSpec:
         # after parsing would no longer be its ``text``, which the workers and the atlas read.
         for name in ("overrides", "axes", "simulation", "record", "fixed"):
             object.__setattr__(self, name, ReadOnlyDict(getattr(self, name)))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, SweepSpec) and other.digest == self.digest
+
+    def __hash__(self) -> int:
+        return hash(self.digest)
 
     def differences(self, other: SweepSpec) -> list[str]:
         """What makes ``other`` another sweep than this one, key by key, e.g.

@@ -66,15 +66,22 @@ def simulation(doc: dict[str, Any]) -> dict[str, Any]:
     ):
         v = sim[key]
         if not _is_number(v) or not ok(v):
-            raise _fail(f"simulation.{key}", f"{v!r} is not allowed: {allowed}")
+            raise _fail(
+                f"simulation.{key}", f"{v!r} is not allowed: {_plain_number(key, v)}{allowed}"
+            )
         sim[key] = float(v)
     # window and max_steps kept as written (1, not 1.0): the digest of existing specs with them.
     if not _is_number(sim["window"]) or not 0 < sim["window"] <= 1:
-        raise _fail("simulation.window", f"{sim['window']!r} is not allowed: 0 < window <= 1")
+        window = sim["window"]
+        raise _fail(
+            "simulation.window",
+            f"{window!r} is not allowed: {_plain_number('window', window)}0 < window <= 1",
+        )
     steps = sim["max_steps"]
     if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps < MAX_STEPS:
         raise _fail(
-            "simulation.max_steps", f"{steps!r} is not allowed: an integer >= 1 (below 2**62)"
+            "simulation.max_steps",
+            f"{steps!r} is not allowed: an integer >= 1 (below 2**62)",
         )
     if sim["friction"] not in ("exact", "karnopp"):
         raise _fail("simulation.friction", f"{sim['friction']!r}: choose 'exact' or 'karnopp'")
@@ -83,6 +90,14 @@ def simulation(doc: dict[str, Any]) -> dict[str, Any]:
             "simulation.method", f"{sim['method']!r}: choose auto, dop853, bdf, adams or erk"
         )
     return sim
+
+
+def _plain_number(key: str, value: Any) -> str:
+    """For a string where a number belongs: that it takes a bare number (no unit parser
+    reads these keys; "200 s" was refused as if out of range), ``""`` for anything else."""
+    if not isinstance(value, str):
+        return ""
+    return "must be a number of seconds (no unit), " if key == "t_end" else "a number (no unit), "
 
 
 def record(doc: dict[str, Any]) -> dict[str, Any]:

@@ -120,6 +120,17 @@ class StabilityPoint:
     spectral_abscissa: float  #: largest real part of the eigenvalues, 1/s
     eigenvalues: tuple[complex, ...]  #: sorted by decreasing real part
 
+    def __repr__(self) -> str:
+        # One line: the dataclass's own listed every eigenvalue (27119 characters at dof 300).
+        shown = ", ".join(f"{z:.4g}" for z in self.eigenvalues[:4])
+        more = len(self.eigenvalues) - 4
+        return (
+            f"<StabilityPoint omega={self.omega:.4g} rad/s wob={self.wob:g} N torque="
+            f"{self.torque:.4g} N·m: {'stable' if self.stable else 'unstable'} ({self.unstable} "
+            f"unstable), delta {self.delta:.4g}, margin {self.delta_margin:.4g} N·m·s/rad; "
+            f"eigenvalues {shown}{f' … ({more} more)' if more > 0 else ''}>"
+        )
+
     def to_dict(self, n_eigenvalues: int | None = 6) -> dict:
         """Plain JSON-ready data (``pydrill stability --json``), eigenvalues as ``[re, im]``
         pairs: the leading ``n_eigenvalues`` of them (an integer >= 0), or all with ``None``;

@@ -251,8 +251,8 @@ def _sweep_locked(
             except OSError as exc:  # a full disk: say where, and that what is saved stays
                 raise AtlasError(
                     f"{jp}: cannot write the journal ({_reason(exc)}); the {computed} points "
-                    f"computed before are kept in it: make room, then run again with --resume "
-                    "(resume=True)"
+                    f"computed before are kept in it: make room, then run again with "
+                    "resume=True"
                 ) from None
             table.put(indices, block)
             computed += len(indices)
@@ -328,8 +328,8 @@ def _sweep_locked(
             saved = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
             raise SchedulerError(
                 f"{exc}: the sweep stopped with {saved} of {spec.size} points saved in {out}. "
-                "Start the scheduler and its workers again (or leave --scheduler out to run "
-                "here), then run the same command with --resume (resume=True)"
+                "Start the scheduler and its workers again (or sweep without scheduler=... to "
+                "run here), then run the sweep again with resume=True"
             ) from None
         except Exception:
             if fresh and computed == 0:  # e.g. no scheduler at that address: leave no trace
@@ -343,9 +343,7 @@ def _sweep_locked(
     if left:
         # Every point handed out comes back (done or failed) or raises; this guards the
         # bookkeeping itself. The journal stays, so --resume completes the atlas.
-        raise AtlasError(
-            f"{left} points of {out} were not computed; run again with --resume (resume=True)"
-        )
+        raise AtlasError(f"{left} points of {out} were not computed; run again with resume=True")
     jp.unlink(missing_ok=True)  # everything is in the atlas now
     # (and a journal rewritten in this layout, left half written by a kill: journal.prepare)
     rewrite_path(jp).unlink(missing_ok=True)

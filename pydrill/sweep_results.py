@@ -54,7 +54,7 @@ class SweepInterrupted(KeyboardInterrupt):
         self.failed_in_atlas, self.first_failure = failed_in_atlas, first_failure
         super().__init__(
             f"sweep interrupted: {done} of {points} points are saved in {atlas}; resuming "
-            f"(resume=True, --resume) computes the other {points - done}"
+            f"(resume=True) computes the other {points - done}"
         )
 
 

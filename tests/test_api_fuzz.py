@@ -271,7 +271,7 @@ def test_a_set_of_entries_has_no_order_and_is_refused():
     """{0.5, 0.03} was taken in the set's own order, whatever the caller meant."""
     for make in (lambda v: pydrill.preset(inertias=v), lambda v: P4.replace(dampings=v)):
         with pytest.raises(
-            ValueError, match=r"(inertias|dampings) must be a list of numbers, got set"
+            TypeError, match=r"(inertias|dampings) must be a list of numbers, got set"
         ):
             make({0.5, 0.03, 0.1})
 

@@ -117,7 +117,7 @@ def test_a_journal_without_its_atlas_is_named_for_what_it_is(tmp_path):
     assert not out.exists()  # an empty atlas used to be left beside it
     spec = parse_spec(SMALL)
     journal_path(out).write_text(json.dumps({"spec_digest": spec.digest}) + "\n")
-    with pytest.raises(AtlasError, match=r"holds an interrupted sweep of this spec.*--resume"):
+    with pytest.raises(AtlasError, match=r"holds an interrupted sweep of this spec.*resume=True"):
         run_sweep(spec, out, serial=True)
     assert not out.exists()
 

@@ -89,7 +89,7 @@ def test_wrong_list_length_and_unknown_key():
         preset("reduced-scale", dof=4, top_dampng=0.1)
     with pytest.raises(ValueError, match=r"'t_ned' \(did you mean 't_end'\?\)"):
         pydrill.simulate(preset="reduced-scale", dof=4, wob=100, torque=8.3, t_ned=10)
-    with pytest.raises(ValueError, match="list of numbers"):
+    with pytest.raises(TypeError, match="list of numbers"):  # a wrong type, as documented
         preset("reduced-scale", dof=4, inertias="heavy")
 
 

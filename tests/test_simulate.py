@@ -27,7 +27,7 @@ def test_paper_fig7_stuck(paper_dof4):
     r = paper_dof4[160.0]
     assert r.summary.regime == "stuck"
     assert r.summary.stuck_fraction == 1.0
-    assert r.switches == []  # never leaves the initial stick: u < T_s = 12.8 N·m
+    assert r.switches == ()  # never leaves the initial stick: u < T_s = 12.8 N·m
     assert np.all(r.bit_velocity == 0.0)
 
 

@@ -129,7 +129,7 @@ def test_other_spec_is_never_overwritten(tmp_path):
     )
     with pytest.raises(AtlasError, match=said):
         run_sweep(parse_spec(other), out, serial=True)
-    with pytest.raises(AtlasError, match="--resume"):
+    with pytest.raises(AtlasError, match="resume=True"):  # (the API's words; the CLI's: --resume)
         run_sweep(parse_spec(SMALL), out, serial=True)
     assert out.read_bytes() == before
     # Resuming a finished sweep computes nothing, and the atlas it reads back and writes again

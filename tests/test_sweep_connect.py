@@ -208,8 +208,8 @@ def test_a_scheduler_lost_midway_is_one_clear_error_and_resume_completes_the_atl
     assert stderr.splitlines()[-1] == (
         f"pydrill sweep: error: lost the connection to the Dask scheduler at {address}: the "
         f"sweep stopped with {saved} of {size} points saved in {out}. Start the scheduler and "
-        "its workers again (or leave --scheduler out to run here), then run the same command "
-        "with --resume (resume=True)"
+        "its workers again (or sweep without --scheduler to run here), then run the sweep "
+        "again with --resume"
     )
     with Atlas(out) as atlas:
         assert atlas.summary()["status"] == {"missing": size - saved, "done": saved, "failed": 0}

@@ -367,7 +367,7 @@ def test_a_full_disk_is_named_with_the_file_and_what_is_kept(tmp_path, monkeypat
         run_sweep(spec, out, serial=True)
     said = str(err.value)
     assert said.startswith(f"{journal_path(out)}: cannot write the journal (No space left")
-    assert "the 96 points computed before are kept in it" in said and "--resume" in said
+    assert "the 96 points computed before are kept in it" in said and "resume=True" in said
     monkeypatch.setattr(os, "fsync", real)
     report = run_sweep(spec, out, serial=True, resume=True)
     # at least those 96 (here the failed batch's lines were written before the fsync failed)

@@ -86,7 +86,10 @@ struct PYDRILL_API SimulationOptions {
   int max_order = 0;                 // 0: the method's default; BDF 1..5, Adams 1..12, others 0
   long max_steps = 50'000'000;       // internal steps over the whole run (>= 1), then SolverError
   double window_fraction = 0.5;      // last fraction of the run judged for the regime, in (0, 1]
-  double max_switch_rate = 1e4;      // switches per simulated second (> 0) before it is chattering
+  // Chattering guard (> 0, switches per simulated second): a run is stopped when 50 switches
+  // come within less than 50 / max_switch_rate s of the switch 50 before (a burst whose mean
+  // rate is above it), not by its mean rate over the run; 50 switches or fewer never are.
+  double max_switch_rate = 1e4;
   // Asked about every 0.1 s of wall time while the run goes on (and while its regime is
   // judged: a long string's crossings take seconds); true stops it with
   // Interrupted (a Ctrl-C from Python, a cancel button in a program that embeds pydrill).
