@@ -7,10 +7,20 @@ core (``pydrill._core``), which this package re-exports with documentation and p
 from . import _core, stability, units
 from ._core import SolverError
 from .atlas import Atlas
+from .atlas_grid import CoordinateError
 from .atlas_merge import MergeReport, merge_atlases
 from .atlas_safe import SafeRow
 from .model import MAX_LOAD, PRESETS, Params, _load, _number, preset
-from .simulate import REGIMES, SimulationResult, SolverStats, Summary, Switch, simulate
+from .simulate import (
+    MAX_T_END,
+    MODES,
+    REGIMES,
+    SimulationResult,
+    SolverStats,
+    Summary,
+    Switch,
+    simulate,
+)
 from .spec import SpecError, SweepSpec, load_spec, parse_spec
 from .sweep import AtlasError, ClusterInfo, SchedulerError, SweepInterrupted, SweepReport, run_sweep
 from .sweep_plan import SweepPlan, plan_sweep
@@ -68,12 +78,16 @@ def equilibrium_torque(params: Params, wob: float, omega: float) -> float:
     return -held if omega < 0 else held
 
 
+# (MODES and MAX_T_END live here too: ``pydrill.simulate`` is the function, not its module.)
 __all__ = [
+    "MAX_T_END",
+    "MODES",
     "PRESETS",
     "REGIMES",
     "Atlas",
     "AtlasError",
     "ClusterInfo",
+    "CoordinateError",
     "MergeReport",
     "Params",
     "SafeRow",

@@ -32,6 +32,8 @@ GROUPS: list[tuple[str, str, list[str]]] = [
             "Switch",
             "SolverStats",
             "REGIMES",
+            "MODES",
+            "MAX_T_END",
             "SolverError",
         ],
     ),
@@ -71,7 +73,7 @@ GROUPS: list[tuple[str, str, list[str]]] = [
     (
         "Atlases",
         "The guide: [Sweeps and atlases](guide/sweeps.md).",
-        ["Atlas", "SafeRow", "AtlasError"],
+        ["Atlas", "SafeRow", "AtlasError", "CoordinateError"],
     ),
     (
         "Units",
@@ -303,6 +305,8 @@ def render_object(qual: str, obj: Any, level: int) -> list[str]:
 CONSTANTS = {
     "pydrill.REGIMES": "The regimes `simulate` can judge (`SimulationResult.regime`).",
     "pydrill.PRESETS": "The names `preset` accepts (DESIGN.md §4).",
+    "pydrill.MODES": "The bit's friction modes: the codes of `SimulationResult.mode_index`.",
+    "pydrill.MAX_T_END": "The longest simulated time `simulate` takes (s).",
 }
 
 
