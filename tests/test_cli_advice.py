@@ -214,7 +214,8 @@ def test_an_option_that_takes_units_shows_one_in_its_help(command):
             continue
         takes = [s for s in UNIT_SAMPLES if _takes(action, s)]
         shown = re.findall(
-            r"(?<![\w.])\d+(?:\.\d+)?(?:kN\*m|kNm|kN|klbf|lbf|rpm|rad/s|ft|m)\b", action.help
+            r"(?<![\w.])\d+(?:\.\d+)?(?:kN\*m|kNm|kN|kft\*lbf|klb-ft|ft-lbs?|klbf|lbf|rpm|rad/s|ft|m)(?![\w*-])",
+            action.help,
         )
         name = action.option_strings[0] if action.option_strings else action.dest
         if takes and not shown:
