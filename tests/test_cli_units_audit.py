@@ -231,7 +231,7 @@ def test_the_help_names_the_spellings(capsys):
 
 
 def test_a_hanging_paragraph_is_refilled_and_an_example_kept(monkeypatch):
-    from pydrill.cli import _Wrapped
+    from pydrill.cli_parser import _Wrapped
 
     text = (
         "JSON fields: regime, caveat and the metrics (bit_min, bit_max, bit_mean, top_mean,\n"
