@@ -190,7 +190,7 @@ def _already_done(out: Path, spec) -> int | None:
 
 # The API's words in the sweep's refusals (AtlasError, SchedulerError), and the command line's:
 # a CLI user was told "use --resume (resume=True)", a Python keyword that is no flag of theirs.
-CLI_WORDS = {"resume=True": "--resume", "scheduler=...": "--scheduler"}
+CLI_WORDS = {"resume=True": "--resume", "scheduler=...": "--scheduler", "out=PATH": "--out"}
 
 
 def cli_words(message: str) -> str:
@@ -354,7 +354,7 @@ def spec_notes(spec: SweepSpec) -> None:
         name: ("axes." if name in spec.axes else "model.") + name
         for name in ("depth", "wob", "torque")
     }
-    notes = []
+    notes = tally_file_notes(spec)
     depth = largest("depth")
     if depth is not None and depth > LONGEST_WELL:
         notes.append(
@@ -375,3 +375,19 @@ def spec_notes(spec: SweepSpec) -> None:
             )
     for note in notes:
         print(f"pydrill: note: {note}", file=sys.stderr)
+
+
+def tally_file_notes(spec: SweepSpec) -> list[str]:
+    """A tally string's notes, as simulate and window give them: a bare joint length most
+    likely meant in feet (31 read as 31 m made a 10 km string that a sweep swept silently),
+    and, unless a depth sets the length, a string longer than any well."""
+    if spec.tally_text is None:
+        return []
+    import tomllib
+
+    from .cli_string import tally_notes
+    from .tally import parse_tally
+
+    path = tomllib.loads(spec.text).get("model", {}).get("tally", "model.tally")
+    own_length = "depth" not in spec.axes and "depth" not in spec.fixed
+    return tally_notes(parse_tally(spec.tally_text), str(path), own_length)

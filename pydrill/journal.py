@@ -141,11 +141,11 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
     table = None
     if out.is_dir():
         raise AtlasError(
-            f"{out} is a directory; give the atlas a file name, e.g. --out {out / 'atlas.h5'}"
+            f"{out} is a directory; give the atlas a file name, e.g. {out / 'atlas.h5'}"
         )
     if out.exists():
         if not _hdf5(out):  # (a CSV at --out was called "damaged (not a readable HDF5 atlas)")
-            raise AtlasError(f"{out} is not an atlas (not an HDF5 file); choose another --out")
+            raise AtlasError(f"{out} is not an atlas (not an HDF5 file); choose another out=PATH")
         try:
             import h5py
 
@@ -162,7 +162,7 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
                     raise AtlasError(
                         f"{out} holds a different sweep "
                         f"({_what_differs(spec, *theirs, digest, f.attrs.get('pydrill_version'))})"
-                        "; choose another --out or remove it"
+                        "; choose another out=PATH or remove it"
                     )
                 problem = damage(f, spec)
                 if problem:
@@ -185,7 +185,7 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
         if digest is not None and digest != spec.digest:
             raise AtlasError(
                 f"{jp} belongs to another sweep (spec digest {digest} != {spec.digest}); "
-                "choose another --out, or remove the journal"
+                "choose another out=PATH, or remove the journal"
             )
         if not resume:
             raise AtlasError(
@@ -280,7 +280,7 @@ def _what_differs(
             f"its spec is this one, but its spec_digest {_show(digest)} is not that spec's "
             f"({spec.digest}): the file was changed after pydrill wrote it, or the pydrill that "
             f"wrote it (version {_show(version)}) made another model of this spec; sweep again "
-            "into another --out"
+            "into another out=PATH"
         )
     return shown or f"spec digest {stored.digest}, this spec {spec.digest}"
 

@@ -173,7 +173,8 @@ class Tally:
     def elements(self, lump: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Element stiffnesses, inertias and lengths, top down (``lump`` drill-pipe joints per
         element). Refuses a string of more than ``MAX_DOF`` inertias, naming the lump that fits."""
-        if isinstance(lump, bool) or not isinstance(lump, Integral) or lump < 1:
+        _whole("lump", lump)
+        if lump < 1:
             raise TallyError(
                 f"lump = {_show(lump)} is not allowed: an integer >= 1 "
                 "(drill-pipe joints per element)"
@@ -222,7 +223,8 @@ class Tally:
         k, j, _ = self.elements(lump)
         top = 0.0  # the inertia of the string's top that a reduction adds to the top drive's
         if dof is not None:
-            if isinstance(dof, bool) or not isinstance(dof, Integral) or not 2 <= dof <= len(k) + 1:
+            _whole("dof", dof)
+            if not 2 <= dof <= len(k) + 1:
                 raise TallyError(
                     f"dof = {_show(dof)} is not allowed: 2 ... {len(k) + 1} for this tally"
                 )
@@ -270,6 +272,13 @@ def _shared_inertias(
     inertias = np.array(lower)
     inertias[:-1] += upper[1:]
     return np.array(springs), inertias, upper[0]
+
+
+def _whole(name: str, value: Any) -> None:
+    """Refuse a count that is no integer as every integer argument is (TypeError): a bool, a
+    str, or a float even of integer value (3.0)."""
+    if isinstance(value, bool) or not isinstance(value, Integral):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__} {_show(value)}")
 
 
 def _show(value: Any) -> str:

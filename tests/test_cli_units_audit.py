@@ -118,6 +118,32 @@ def test_window_notes_the_joint_length_too(tmp_path, capsys):
     assert sum("section[" in note and "31 ft" in note for note in notes(err)) == 3
 
 
+def test_a_sweep_from_the_tally_notes_it_before_anything_runs(tmp_path, capsys):
+    """A sweep's spec naming the tally earns the notes simulate and window give: 31 read as m
+    swept a 10 km string without a word."""
+    path = collars_with(tmp_path, 310)
+    spec = tmp_path / "s.toml"
+    body = "[axes]\nwob = [50e3, 100e3]\n[simulation]\nt_end = 5.0\n"
+    spec.write_text(f'[model]\ntally = "{path.name}"\ndof = 4\ntorque = 10e3\n{body}')
+    code, _, err = run(capsys, "sweep", spec, "--out", tmp_path / "a.h5", "--dry-run")
+    assert code == 0
+    said = notes(err)
+    assert len(said) == 4, err  # three sections of 310 m joints, and the 100 km string
+    assert all(n.startswith(f"pydrill: note: {path.name}: ") for n in said)
+    assert sum('write length = "310 ft"' in n for n in said) == 3
+    assert sum("longer than any well ever drilled" in n for n in said) == 1
+    assert not (tmp_path / "a.h5").exists()
+    # at a depth the spec sets, the tally's own length is not the string's: the joints only
+    spec.write_text(f'[model]\ntally = "{path.name}"\ndof = 4\ndepth = "12 km"\n'
+                    f"torque = 10e3\n{body}")  # fmt: skip
+    code, _, err = run(capsys, "sweep", spec, "--out", tmp_path / "a.h5", "--dry-run")
+    assert code == 0 and len(notes(err)) == 3, err
+    # and the shipped tally, written in feet, earns none
+    spec.write_text(f'[model]\ntally = "{COLLARS}"\ndof = 4\ntorque = 10e3\n{body}')
+    code, _, err = run(capsys, "sweep", spec, "--out", tmp_path / "a.h5", "--dry-run")
+    assert code == 0 and notes(err) == [], err
+
+
 # 2. the surface torque with its unit
 
 

@@ -338,7 +338,7 @@ def test_an_atlas_whose_spec_digest_was_changed_says_so(tmp_path, spec, referenc
         f"its spec is this one, but its spec_digest '{'0' * 16}' is not that spec's "
         f"({spec.digest}): the file was changed after pydrill wrote it, or the pydrill that "
         "wrote it (version '0.1.7') made another model of this spec; sweep again into another "
-        "--out"
+        "out=PATH"
     ) in str(err.value)
 
 

@@ -119,7 +119,7 @@ def test_other_spec_is_never_overwritten(tmp_path):
     with pytest.raises(
         AtlasError,
         match=r"holds a different sweep \(simulation.t_end: 100.0 in this spec, 200.0 in the "
-        r"atlas\); choose another --out",
+        r"atlas\); choose another out=PATH",
     ):
         run_sweep(parse_spec(SMALL.replace("t_end = 200.0", "t_end = 100.0")), out, serial=True)
     other = SMALL.replace("[6.0, 8.3]", "[6.0, 8.3, 9.0]").replace('"equilibrium"]', "]")
@@ -159,7 +159,7 @@ def test_damaged_atlas_gives_a_clear_error(tmp_path):
     folder.mkdir()
     with pytest.raises(AtlasError, match=r"runs\.h5 is a directory, not an atlas file"):
         Atlas(folder)
-    with pytest.raises(AtlasError, match=r"runs\.h5 is a directory; .* --out .*runs\.h5/atlas\.h5"):
+    with pytest.raises(AtlasError, match=r"runs\.h5 is a directory; give .* e\.g\. .*runs\.h5/atl"):
         run_sweep(parse_spec(SMALL), folder, serial=True)
     assert list(folder.iterdir()) == [] and sorted(tmp_path.glob("runs.h5*")) == [folder]
 

@@ -7,6 +7,7 @@ import re
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 from sweeping import TALLY_TABLES as BASE
 from sweeping import toml, toml_value
@@ -183,12 +184,20 @@ def test_a_string_of_too_many_inertias_is_refused_naming_the_lump_that_fits():
 
 def test_bad_lump_and_dof_arguments_are_refused_naming_them():
     tally = parse_tally(toml(BASE))
-    for lump in (1.5, 0, True, "2"):  # 1.5 first: the old loop never ended on 0
+    for lump in (0, -3):
         with pytest.raises(TallyError, match=r"lump = \S+ is not allowed: an integer >= 1"):
             tally.to_params(lump=lump)
-    for dof in ("3", 2.0, 1, 200):
+    for dof in (1, 200):
         with pytest.raises(TallyError, match=r"dof = \S+ is not allowed: 2 \.\.\. 103"):
             tally.to_params(dof=dof)
+    # not integers at all: TypeError, as every integer argument of the API (a float of
+    # integer value too; 1.5 first: the old loop never ended on it)
+    for name, bad, shown in (("lump", 1.5, "float 1.5"), ("lump", True, "bool True"),
+                             ("lump", "2", "str '2'"), ("dof", 2.0, "float 2.0"),
+                             ("dof", "3", "str '3'"), ("dof", False, "bool False")):  # fmt: skip
+        with pytest.raises(TypeError, match=rf"^{name} must be an integer, got {shown}$"):
+            tally.to_params(**{name: bad})
+    assert tally.to_params(dof=np.int64(3), lump=np.int32(2)).dof == 3  # numpy integers are taken
 
 
 # The CLI: exit 2, one line naming the key, no traceback, nothing on stdout.
