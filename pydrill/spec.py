@@ -58,7 +58,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
 )
 from .spec_sections import record as _record
 from .spec_sections import simulation as _simulation
-from .spec_tally import _check_tally, _check_tally_size, _read_tally
+from .spec_tally import _check_tally, _check_tally_size, _fixed_depth, _read_tally
 from .suggest import did_you_mean
 
 _NONE = object()  # a key one spec has and the other does not
@@ -94,6 +94,19 @@ class SweepSpec:
 
     def __hash__(self) -> int:
         return hash(self.digest)
+
+    def __repr__(self) -> str:
+        # One line, as Params's: the dataclass's own held the whole TOML and tally texts.
+        grid = " x ".join(f"{name} {len(v)}" for name, v in self.axes.items())
+        string = repr(self.preset)
+        if self.tally_text is not None:
+            string = f"tally {tomllib.loads(self.tally_text).get('name', '?')!r}"
+        size = f" dof={self.dof}" if self.dof is not None else ""
+        starts = " and ".join(self.initials)
+        return (
+            f"<SweepSpec {string}{size}: {self.size} points ({grid}), from {starts}, "
+            f"t_end {self.simulation['t_end']:g} s, digest {self.digest}>"
+        )
 
     def differences(self, other: SweepSpec) -> list[str]:
         """What makes ``other`` another sweep than this one, key by key, e.g.
@@ -353,23 +366,6 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
             where = ", ".join(f"axes.{k} = {v:g}" for k, v in corner.items())
             raise _fail(f"model (at {where})" if where else "model", str(exc)) from None
     return spec
-
-
-def _fixed_depth(value: Any, tally_text: str | None, axes_doc: dict[str, Any]) -> float:
-    """``[model] depth``: the bit depth of a tally string (m, or with a unit), held for the
-    whole sweep; refused without a tally, beside a depth axis, or not > 0."""
-    if tally_text is None:
-        raise _fail(
-            "model.depth",
-            'needs a tally string ([model] tally = "FILE.toml"); a preset\'s length is its dof '
-            "or pipes",
-        )
-    if "depth" in axes_doc:
-        raise _fail("model.depth", "depth is also an axis: give it in one place only")
-    depth = in_si("model.depth", "depth", value)
-    if not _is_number(depth) or not 0 < depth < math.inf:
-        raise _fail("model.depth", f"{value!r} is not allowed: a depth > 0 (m, or '3000 ft')")
-    return float(depth)
 
 
 def _corners(spec: SweepSpec) -> list[dict[str, float]]:

@@ -5,12 +5,13 @@ within ``MAX_DOF`` inertias. ``spec.parse_spec`` applies them; each refusal a
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .spec_rules import MAX_DOF, TextTooLong, _fail, printable, read_text
+from .spec_rules import MAX_DOF, TextTooLong, _fail, _is_number, in_si, printable, read_text
 
 
 def _read_tally(tally_path: Any, base: Path | None) -> str:
@@ -72,3 +73,20 @@ def _check_tally_size(
             f"the string{where} has {n} inertias with lump = {lump}, at most {MAX_DOF} are "
             "allowed: lump more drill-pipe joints (model.lump) or reduce the depth",
         )
+
+
+def _fixed_depth(value: Any, tally_text: str | None, axes_doc: dict[str, Any]) -> float:
+    """``[model] depth``: the bit depth of a tally string (m, or with a unit), held for the
+    whole sweep; refused without a tally, beside a depth axis, or not > 0."""
+    if tally_text is None:
+        raise _fail(
+            "model.depth",
+            'needs a tally string ([model] tally = "FILE.toml"); a preset\'s length is its dof '
+            "or pipes",
+        )
+    if "depth" in axes_doc:
+        raise _fail("model.depth", "depth is also an axis: give it in one place only")
+    depth = in_si("model.depth", "depth", value)
+    if not _is_number(depth) or not 0 < depth < math.inf:
+        raise _fail("model.depth", f"{value!r} is not allowed: a depth > 0 (m, or '3000 ft')")
+    return float(depth)

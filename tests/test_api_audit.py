@@ -169,6 +169,21 @@ def test_a_stability_points_repr_shows_four_eigenvalues_and_counts_the_rest():
     assert "more)" not in small and small.count("j") == 3  # 2·2 − 1 eigenvalues, all shown
 
 
+def test_a_tally_specs_repr_is_one_line_without_its_texts():
+    spec = pydrill.load_spec(ROOT / "sweeps/paper-string-depth.toml")
+    assert spec.tally_text is not None and len(spec.text) + len(spec.tally_text) > 1000
+    text = repr(spec)
+    assert len(text) < 200 and "\n" not in text, text
+    shape = " x ".join(f"{k} {len(v)}" for k, v in spec.axes.items())
+    assert text == (
+        f"<SweepSpec tally 'paper-eq53' dof={spec.dof}: {spec.size} points ({shape}), from "
+        f"rest and equilibrium, t_end {spec.simulation['t_end']:g} s, digest {spec.digest}>"
+    )
+    assert spec.size == int(np.prod([len(v) for v in spec.axes.values()]))
+    small = repr(parse_spec(TINY))
+    assert small.startswith("<SweepSpec 'reduced-scale' dof=") and "tally" not in small
+
+
 # 6. One rule for integers, TypeError for a list that is none
 
 
