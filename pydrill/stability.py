@@ -312,7 +312,9 @@ def hurwitz_determinants(ascending: ArrayLike) -> NDArray[np.float64]:
 
 
 def hopf_deltas_dof2(params: Params) -> list[float]:
-    """The paper's closed form (Eq. 51, n' = 3): δ where Δ_2 = a_2 a_1 − a_0 = 0 inside H_+."""
+    """The paper's closed form (Eq. 51, n' = 3): δ where Δ_2 = a_2 a_1 − a_0 = 0 inside H_+
+    (a_1 > 0, a_0 > 0: below the fold δ = c_r + c_b), 0, 1 or 2 values. A Hopf point above
+    the fold is not among them; :func:`critical_deltas` finds every crossing."""
     return list(_core.hopf_deltas_dof2(_params(params).to_core()))
 
 

@@ -76,7 +76,10 @@ PYDRILL_API std::vector<double> characteristic_polynomial(const Params& params, 
 // a coefficient that is not finite or a leading one <= 0.
 PYDRILL_API std::vector<double> hurwitz_determinants(const std::vector<double>& ascending);
 // The paper's n' = 3 closed form (dof 2, Eq. 50–51 with Δ_2 = a_2 a_1 − a_0):
-// the δ at which Δ_2 = 0, in increasing order (0, 1 or 2 values > 0).
+// the δ at which Δ_2 = 0 inside the paper's H₊ (a_1 > 0 and a_0 > 0, i.e. below
+// the fold δ = c_r + c_b), in increasing order (0, 1 or 2 values > 0). A Hopf
+// point above the fold (a_0 < 0) is not among them: critical_deltas finds every
+// crossing.
 // std::invalid_argument unless dof = 2.
 PYDRILL_API std::vector<double> hopf_deltas_dof2(const Params& params);
 
