@@ -168,6 +168,13 @@ def _not_a_unit(unit: str, kind: str) -> str:
     ambiguous = _AMBIGUOUS.get(kind, {}).get(unit.strip().lower())
     if ambiguous is not None:
         return f"{unit!r} is ambiguous: {ambiguous}"
+    canon = unit.strip().replace("-", "·").replace("*", "·").replace(".", "·")
+    meant = [k for k in UNITS[kind] if k.lower() == canon.lower()]  # but for m/M: case matters
+    if meant:
+        return (
+            f"{unit!r} is not {_article(kind)} {kind} unit: m is milli, M mega; did you mean "
+            f"{meant[0]!r}?"
+        )
     return f"{unit!r} is not {_article(kind)} {kind} unit; use one of {_units_of(kind)}"
 
 
@@ -192,8 +199,21 @@ def _factor(unit: str, kind: str) -> float | None:
     for candidate in (unit, canon, _ALIASES.get(unit.lower(), ""), _ALIASES.get(canon.lower(), "")):
         if candidate in table:
             return table[candidate]
-    matches = {v for k, v in table.items() if k.lower() == canon.lower()}
+    matches = {
+        v for k, v in table.items() if k.lower() == canon.lower() and _same_prefixes(k, canon)
+    }
     return matches.pop() if len(matches) == 1 else None
+
+
+def _same_prefixes(unit: str, written: str) -> bool:
+    """Whether ``written``, ``unit`` in another case, keeps the case of each m/M that begins a
+    symbol with a letter after it: there case is the prefix, milli or mega ("1 mPa" was read
+    as 1 MPa, 10^9 too much, and "1 Mm" as 1 mm). M alone or before a power is still a metre
+    ("KN-M", "kg/M3")."""
+    parts = zip(re.split(r"[·/]", unit), re.split(r"[·/]", written), strict=True)
+    return all(
+        len(a) < 2 or not a[1].isalpha() or a[0] not in "mM" or a[0] == b[0] for a, b in parts
+    )
 
 
 def _article(kind: str) -> str:

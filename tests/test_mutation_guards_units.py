@@ -104,3 +104,26 @@ def test_a_value_overflowing_with_its_factor_is_refused():
 def test_tons_are_refused(ambiguous):
     with pytest.raises(ValueError, match="ambiguous"):
         units.parse(ambiguous, "force")
+
+
+@pytest.mark.parametrize(
+    ("text", "kind", "meant"),
+    [("1 mPa", "modulus", "MPa"), ("1 mpsi", "modulus", "Mpsi"), ("1 Mm", "length", "mm"),
+     ("1 MM", "length", "mm")],
+)  # fmt: skip
+def test_the_case_of_a_milli_or_mega_prefix_is_not_folded(text, kind, meant):
+    """Another case names one unit only, and is read as it ("RPM", "MPA", "KN-M"), but for the
+    prefixes m (1e-3) and M (1e6): "1 mPa" was read as 1 MPa, 10^9 times what it says."""
+    with pytest.raises(ValueError, match=rf"m is milli, M mega; did you mean '{meant}'\?"):
+        units.parse(text, kind)
+
+
+@pytest.mark.parametrize(
+    ("text", "kind", "si"),
+    [("2 MPA", "modulus", 2e6), ("2 MPSI", "modulus", 2e6 * LBF / 0.0254**2),
+     ("2 GPA", "modulus", 2e9), ("2 KN-M", "torque", 2e3), ("2 KM", "length", 2e3),
+     ("2 Kg/M3", "density", 2.0), ("2 KG·M2", "inertia", 2.0), ("2 M/H", "rate", 2 / 3600),
+     ("2 M", "length", 2.0), ("2 RPM", "velocity", 4 * math.pi / 60)],
+)  # fmt: skip
+def test_other_cases_are_still_read_where_no_prefix_changes(text, kind, si):
+    assert units.parse(text, kind) == pytest.approx(si, rel=1e-14)
