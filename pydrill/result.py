@@ -223,10 +223,13 @@ class SimulationResult:
         intervals: list[tuple[float, float]] = []
         start = first if MODES[self.mode_index[0]] in ("stick", "band") else None
         for s in self.switches:
-            if s.t <= first:  # the mode at t[0] already tells what happened before
+            if s.t < first:  # the mode at t[0] already tells what happened before
                 continue
             if s.t > last:
                 break
+            if s.t == first:  # output asked for at a switch: t[0]'s mode is the one before
+                start = first if s.kind in held else None
+                continue
             if s.kind in held and start is None:
                 start = s.t
             elif s.kind not in held and start is not None:

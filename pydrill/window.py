@@ -59,8 +59,8 @@ class Window:
         out = np.full(self.wob.size, np.nan)
         for j in range(self.wob.size):
             ok = np.flatnonzero(self.safe[:, j])
-            if ok.size:
-                out[j] = self.rpm[ok[0]]
+            if ok.size:  # the least, whatever the grid's order (its first was taken)
+                out[j] = self.rpm[ok].min()
         return out
 
 

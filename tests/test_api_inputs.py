@@ -222,6 +222,20 @@ def test_stick_intervals_lie_within_the_output_span():
     assert intervals == clipped
 
 
+@pytest.mark.parametrize("k", [0, 1, 2, 3])
+def test_stick_intervals_of_output_starting_on_a_switch(k):
+    """Output from the very time of a switch: the core reports t[0]'s mode as the one before
+    it, and the switch was skipped (from the stick at 20.2 s, the stick phase to 32.4 s was
+    lost; from the slip at 15.2 s, the bit slipping was called held)."""
+    full = simulate(wob=100.0, torque=8.3, dof=4, t_end=60.0)
+    switch = full.switches[k]
+    r = simulate(wob=100.0, torque=8.3, dof=4, t_end=60.0, t_out=np.linspace(switch.t, 60, 50))
+    t0 = switch.t
+    clipped = [(max(a, t0), b) for a, b in full.stick_intervals() if b > t0]
+    assert r.stick_intervals() == clipped
+    assert (r.stick_intervals()[0][0] == t0) == (switch.kind == "stick")
+
+
 def test_energy_balance_counts_from_the_first_output():
     r = simulate(wob=100.0, torque=8.3, dof=4, t_end=50.0, t_out=[10.0, 20.0, 35.0, 50.0])
     error = r.energy_balance_error()

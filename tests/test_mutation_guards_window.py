@@ -26,22 +26,26 @@ def string():
 
 def test_min_rpm_is_the_least_safe_rpm_of_each_column(string):
     """Window.min_rpm: the least rpm of the grid whose cell is safe, per W_ob, NaN where none
-    is; counted here from ``safe`` directly. (An rpm grid that is not increasing is a
-    different matter: see the audit's report.)"""
+    is; counted here from ``safe`` directly, on grids in any order (a decreasing grid's
+    first safe rpm, its largest, was answered)."""
     wob = np.array([2e4, 6e4, 1.2e5, 2.5e5, 1e7])
-    rpm = np.linspace(2.0, 200.0, 60)
-    w = operating_window(string, wob, rpm)
-    got = w.min_rpm()
-    for j in range(wob.size):
-        safe = rpm[w.safe[:, j]]
-        if safe.size:
-            assert got[j] == safe.min()
-        else:
-            assert np.isnan(got[j])
-    # The grid has columns safe over a band of rpm (its least is what the driller needs) and
-    # a weight no rpm of the grid frees.
-    assert np.isnan(got[-1])
-    assert np.sum(w.safe[:, 1]) > 1 and got[1] < rpm[w.safe[:, 1]].max()
+    increasing = np.linspace(2.0, 200.0, 60)
+    shuffled = np.random.default_rng(3).permutation(increasing)
+    for rpm in (increasing, increasing[::-1], shuffled):
+        w = operating_window(string, wob, rpm)
+        got = w.min_rpm()
+        for j in range(wob.size):
+            safe = rpm[w.safe[:, j]]
+            if safe.size:
+                assert got[j] == safe.min()
+            else:
+                assert np.isnan(got[j])
+        # The grid has columns safe over a band of rpm (its least is what the driller needs)
+        # and a weight no rpm of the grid frees.
+        assert np.isnan(got[-1])
+        assert np.sum(w.safe[:, 1]) > 1 and got[1] < rpm[w.safe[:, 1]].max()
+    ref = operating_window(string, wob, increasing).min_rpm()
+    np.testing.assert_array_equal(operating_window(string, wob, shuffled).min_rpm(), ref)
 
 
 def test_the_stall_edge_at_zero_rpm_is_its_limit(string):
