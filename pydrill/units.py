@@ -168,7 +168,7 @@ def _not_a_unit(unit: str, kind: str) -> str:
     ambiguous = _AMBIGUOUS.get(kind, {}).get(unit.strip().lower())
     if ambiguous is not None:
         return f"{unit!r} is ambiguous: {ambiguous}"
-    canon = unit.strip().replace("-", "·").replace("*", "·").replace(".", "·")
+    canon = _canon(unit.strip())
     meant = [k for k in UNITS[kind] if k.lower() == canon.lower()]  # but for m/M: case matters
     if meant:
         return (
@@ -195,7 +195,7 @@ def _factor(unit: str, kind: str) -> float | None:
     """The factor to SI of ``unit`` (as written, in a canonical spelling, an alias, or in
     another case when that names one unit of ``kind`` only); None if it is none of them."""
     table = UNITS[kind]
-    canon = unit.replace("-", "·").replace("*", "·").replace(".", "·")
+    canon = _canon(unit)
     for candidate in (unit, canon, _ALIASES.get(unit.lower(), ""), _ALIASES.get(canon.lower(), "")):
         if candidate in table:
             return table[candidate]
@@ -203,6 +203,11 @@ def _factor(unit: str, kind: str) -> float | None:
         v for k, v in table.items() if k.lower() == canon.lower() and _same_prefixes(k, canon)
     }
     return matches.pop() if len(matches) == 1 else None
+
+
+def _canon(unit: str) -> str:
+    """``unit`` with its products written as the tables write them: N·m for N-m, N*m, N.m."""
+    return unit.replace("-", "·").replace("*", "·").replace(".", "·")
 
 
 def _same_prefixes(unit: str, written: str) -> bool:
