@@ -112,13 +112,16 @@ def operating_map(
     ts = params.mu_static * wob * params.bit_radius
     category = np.empty((torque.size, wob.size), dtype=np.int8)
     safe_min = np.full(wob.size, np.inf)
+    # The friction law is odd in Ω, so u < 0 mirrors |u| (the steady state turns backwards
+    # at −Ω with the same eigenvalues): the intervals of stable torque hold for |u|.
+    size = np.abs(torque)
     for j, w in enumerate(wob):
         has_stable = np.zeros(torque.size, dtype=bool)
         for lo, hi in stable_torques(params, w, crossings):
-            has_stable |= (torque >= lo) & (torque <= hi)
+            has_stable |= (size >= lo) & (size <= hi)
             if hi > ts[j]:
                 safe_min[j] = min(safe_min[j], max(lo, ts[j]))
-        stuck_possible = np.abs(torque) <= ts[j]
+        stuck_possible = size <= ts[j]
         category[:, j] = np.where(
             has_stable, np.where(stuck_possible, 1, 0), np.where(stuck_possible, 3, 2)
         )

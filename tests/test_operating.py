@@ -13,15 +13,17 @@ from pydrill.operating import CATEGORIES, hopf_curve_wu, operating_map
 
 
 def test_categories_agree_with_the_stability_of_every_steady_state():
+    """Negative torques too: the steady state there turns backwards, and the map once called
+    every u < 0 "no stable steady state" (it compared signed u with |u|'s intervals)."""
     p = pydrill.preset("reduced-scale", dof=3)
     wob = np.linspace(10.0, 250.0, 13)
-    torque = np.linspace(0.5, 25.0, 11)
+    torque = np.concatenate([-np.linspace(0.5, 25.0, 6), np.linspace(0.5, 25.0, 11)])
     omap = operating_map(p, wob, torque)
     for i, u in enumerate(torque):
         for j, w in enumerate(wob):
             points = st.stability(p, w, torque=u)
             has_stable = any(pt.stable for pt in points)
-            stuck = u <= 0.8 * w * 0.1
+            stuck = abs(u) <= 0.8 * w * 0.1
             expected = {(True, False): 0, (True, True): 1, (False, False): 2, (False, True): 3}
             assert omap.category[i, j] == expected[(has_stable, stuck)], (w, u)
     assert abs(sum(omap.fractions().values()) - 1.0) < 1e-12
