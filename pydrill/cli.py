@@ -25,7 +25,7 @@ from .cli_options import (
     os_error_message,
     print_json,
 )
-from .cli_parser import EXIT_USAGE, _Parser
+from .cli_parser import EXIT_USAGE, _Parser, error_json, say_error
 from .cli_set import say_changed
 from .cli_string import (
     _string_options,
@@ -310,10 +310,19 @@ def _surface_torque(torque: float, big: bool) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
-    _Parser.line = (parser, sys.argv[1:] if argv is None else list(argv))
+    line = sys.argv[1:] if argv is None else list(argv)
+    _Parser.argv, _Parser.json_sent = line, False
     try:
-        args = parser.parse_args(argv)
+        return _run(line)
+    finally:
+        _Parser.argv = None
+
+
+def _run(line: list[str]) -> int:
+    parser = build_parser()
+    _Parser.line = (parser, line)
+    try:
+        args = parser.parse_args(line)
     finally:
         _Parser.line = None
     from . import SolverError
@@ -321,33 +330,31 @@ def main(argv: Sequence[str] | None = None) -> int:
     from .tally import TallyError
 
     # "pydrill atlas query: error: ...", not just "pydrill atlas: ...".
-    command = " ".join(filter(None, [args.command, getattr(args, "atlas_command", None)]))
+    prog = "pydrill " + " ".join(filter(None, [args.command, getattr(args, "atlas_command", None)]))
     try:
         return int(args.handler(args))
     except BrokenPipeError:  # e.g. piped into head: not an error of ours
         sys.stderr.close()
         return 0
     except KeyboardInterrupt:  # Ctrl-C: the user knows why; a traceback would only hide it
-        sys.stderr.write(f"\npydrill {command}: interrupted\n")
+        sys.stderr.write(f"\n{prog}: interrupted\n")
+        error_json("interrupted", "stopped by Ctrl-C", 130)
         return 130
     except MemoryError:  # e.g. a string or an output too large for this machine
-        sys.stderr.write(
-            f"pydrill {command}: error: out of memory: ask for a smaller string or fewer output "
-            "times\n"
-        )
+        message = "out of memory: ask for a smaller string or fewer output times"
+        say_error(prog, "error", message, EXIT_USAGE)
         return EXIT_USAGE
     except OSError as exc:  # a path that cannot be read or written: name it, and its option
-        message = os_error_message(exc, sys.argv[1:] if argv is None else argv)
-        sys.stderr.write(f"pydrill {command}: error: {message}\n")
+        say_error(prog, "error", os_error_message(exc, line), EXIT_USAGE)
         return EXIT_USAGE
     # Bad input of every kind.
     except (ValueError, TallyError, AtlasError, SchedulerError) as exc:
-        sys.stderr.write(f"pydrill {command}: error: {exc}\n")
+        say_error(prog, "error", str(exc), EXIT_USAGE)
         return EXIT_USAGE
     except SolverError as exc:
         t = getattr(exc, "t_reached", None)
         where = f" (reached t = {t:g} s)" if t is not None else ""
-        sys.stderr.write(f"pydrill {command}: solver failed{where}: {exc}\n")
+        say_error(prog, "solver failed", str(exc), EXIT_SOLVER, where, t_reached=t)
         return EXIT_SOLVER
 
 

@@ -370,4 +370,7 @@ def print_json(data: Any) -> None:
     """Every command's --json output: one document (laid out by :func:`json_document`),
     indented, strict JSON (no NaN/Infinity, which many parsers refuse; values without a number
     are written as null beforehand)."""
+    from .cli_parser import _Parser
+
     print(json.dumps(data, indent=2, allow_nan=False))
+    _Parser.json_sent = True

@@ -12,6 +12,38 @@ from typing import Any, NoReturn
 EXIT_USAGE = 2
 
 
+def wants_json(argv: Sequence[str]) -> bool:
+    """Whether the command line asked for --json (before a "--", which ends the options)."""
+    for token in argv:
+        if token == "--":
+            return False
+        if token == "--json":
+            return True
+    return False
+
+
+def say_error(
+    prog: str, kind: str, message: str, status: int, where: str = "", **extra: Any
+) -> None:
+    """One failure, said on stderr (``prog: kind: message``) and, for a script that gave --json
+    and parses stdout, also as the one JSON object stdout then holds (:func:`error_json`).
+    ``where`` is for people ("solver failed (reached t = 1.9 s)"); its number is in ``extra``."""
+    sys.stderr.write(f"{prog}: {kind}{where}: {message}\n")
+    error_json(kind, message, status, **extra)
+
+
+def error_json(kind: str, message: str, status: int, **extra: Any) -> None:
+    """A failure as ``{"error": {"kind", "message", "exit_status", ...}}`` on stdout when the
+    command line gave --json: ``json.loads`` meets the failure, not an empty string. Not when
+    the command's own document is out already (its results came before the failure, e.g. a
+    figure that could not be saved): stdout stays one object."""
+    if _Parser.argv is not None and wants_json(_Parser.argv) and not _Parser.json_sent:
+        import json
+
+        error = {"kind": kind, "message": message, "exit_status": status, **extra}
+        print(json.dumps({"error": error}, indent=2, allow_nan=False))
+
+
 class _Wrapped(argparse.RawDescriptionHelpFormatter):
     """Descriptions and epilogs keep their layout where it matters (an example stays one
     command a line, to copy; a table under a header ending in ":" its columns), and every
@@ -57,6 +89,10 @@ class _Parser(argparse.ArgumentParser):
     #: the whole command line and the top parser, while ``main`` parses it: a subcommand's
     #: parser that errs sees only its own part
     line: tuple[argparse.ArgumentParser, Sequence[str]] | None = None
+    #: the whole command line, while ``main`` runs: --json on it makes errors JSON too
+    argv: Sequence[str] | None = None
+    #: whether the command printed its --json document (see :func:`error_json`)
+    json_sent = False
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         if kwargs.get("formatter_class") is argparse.RawDescriptionHelpFormatter:
@@ -87,5 +123,5 @@ class _Parser(argparse.ArgumentParser):
         message = choice_hint(message)
         if not message.startswith("argument ") or "invalid choice" in message:
             parser.print_usage(sys.stderr)
-        sys.stderr.write(f"{parser.prog}: error: {message}\n")
+        say_error(parser.prog, "error", message, EXIT_USAGE)
         raise SystemExit(EXIT_USAGE)

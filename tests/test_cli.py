@@ -106,8 +106,9 @@ def test_bad_input_exits_2_without_traceback(args, needle):
 @pytest.mark.parametrize("method", ["bdf", "dop853"])
 def test_solver_failure_exits_3_naming_the_limit_and_the_time_reached(method):
     """A run that cannot finish (here: 50 internal steps for 300 s) exits 3 with one line that
-    says where it stopped and what to change, never a traceback; --json scripts get nothing
-    on stdout to mistake for a result."""
+    says where it stopped and what to change, never a traceback; --json scripts get one object
+    on stdout, the error alone (nothing to mistake for a result), with the same message and the
+    time reached as a number."""
     proc = run(
         "simulate",
         *("--wob", "100", "--torque", "8.3", "--t-end", "300"),
@@ -115,12 +116,16 @@ def test_solver_failure_exits_3_naming_the_limit_and_the_time_reached(method):
         check=False,
     )
     assert proc.returncode == 3, proc.stderr
-    assert proc.stdout == ""
     err = proc.stderr.strip()
     assert err.startswith("pydrill simulate: solver failed (reached t = ") and "\n" not in err
     t = float(err.split("reached t = ")[1].split(" s")[0])
     assert 0 < t < 300
     assert "--max-steps = 50" in err and "raise --max-steps or shorten --t-end" in err
+    doc = json.loads(proc.stdout)
+    assert list(doc) == ["error"]
+    assert doc["error"]["kind"] == "solver failed" and doc["error"]["exit_status"] == 3
+    assert err.endswith(": " + doc["error"]["message"])
+    assert f"{doc['error']['t_reached']:g}" == f"{t:g}"
 
 
 def test_help_teaches():
