@@ -11,7 +11,7 @@ from .atlas_grid import axis_unit, grid_unit, with_unit
 from .cli_atlas_export import cmd_export, export_path
 from .cli_atlas_info import cmd_info
 from .cli_atlas_merge import register_merge
-from .cli_atlas_query import axis_values, cmd_query, set_texts
+from .cli_atlas_query import axis_values, cmd_query, leave_out_held, set_texts, spec_holds
 from .cli_atlas_safe import register_safe
 from .cli_options import figure_path, json_document, print_json
 
@@ -257,7 +257,7 @@ def held_first(atlas: Any, x: Any, y: Any, at: dict[str, float], profile: bool) 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .atlas import Atlas
     from .atlas_format import EQ_FIELDS
-    from .atlas_grid import on_grid
+    from .atlas_grid import not_an_axis, on_grid
     from .plot import save
     from .plot_atlas import NO_STABILITY, atlas_figure, nearest_index
 
@@ -266,9 +266,12 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     with Atlas(args.atlas) as atlas:
         if args.metric in EQ_FIELDS and not atlas.spec.record["stability"]:
             raise ValueError(f"--metric {args.metric}: {NO_STABILITY}")
+        at = leave_out_held(
+            at, atlas.axes, spec_holds(atlas.spec), lambda n: f"--set {n}={given[n]}"
+        )
         for name, value in at.items():
-            if name not in atlas.axes:
-                continue  # atlas_figure says which axes there are
+            if name not in atlas.axes:  # as 'atlas safe' says it (was "a held axis = 'x' ...")
+                raise ValueError(f"--set {name}={given[name]}: {not_an_axis(name, atlas.axes)}")
             try:
                 k = nearest_index(atlas, name, value)
             except ValueError as exc:

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Callable
 from typing import Any
 
-from .atlas_grid import axis_unit, grid_unit, with_unit
+from .atlas_grid import axis_unit, distinct, grid_unit, with_unit
 from .cli_options import json_document, print_json
 
 
@@ -45,6 +46,41 @@ def axis_values(items: list[str]) -> dict[str, float]:
     return out
 
 
+def spec_holds(spec: Any) -> dict[str, float]:
+    """What an atlas's spec holds at every point without sweeping it (SI): a W_ob, torque or
+    depth in [model], a string parameter it sets there (mu_static = 0.9), its dof."""
+    held = {**spec.fixed}
+    for name, value in spec.overrides.items():  # not the lists (inertias), tally or lump
+        if isinstance(value, int | float) and not isinstance(value, bool) and name != "lump":
+            held[name] = float(value)
+    if spec.dof is not None:
+        held["dof"] = float(spec.dof)
+    return held
+
+
+def leave_out_held(
+    values: dict[str, float], axes: Any, held: dict[str, float], option: Callable[[str], str]
+) -> dict[str, float]:
+    """``values`` asked of an atlas (NAME: SI value) without those of what its spec holds at
+    every point (``held``, no axis): torque = 9 kN·m asked of a sweep at 9 kN·m adds nothing
+    and is left out (equal to 6 digits, as printed, so that 6638 ft·lbf is the same as 9 kN·m);
+    another value is refused, ``option(name)`` naming the option that gave it (it said "torque is
+    not an axis of this atlas", which read as if the atlas knew nothing of the torque)."""
+    out = {}
+    for name, value in values.items():
+        if name in axes or name not in held:
+            out[name] = value  # an axis's value, or one the atlas refuses as no axis
+        elif not math.isclose(value, held[name], rel_tol=1e-6):
+            shown, given = with_unit(name, held[name]), with_unit(name, value)
+            if shown == given:  # 9 kN·m against 9.000001 kN·m: in full
+                given, shown = distinct(value, held[name], name)
+            raise ValueError(
+                f"{option(name)}: its spec holds {name} = {shown} at every point, not {given}; "
+                "leave it out"
+            )
+    return out
+
+
 def set_texts(items: list[str]) -> dict[str, str]:
     """What each ``--set AXIS=VALUE`` gave, as typed (``3000ft``): for its messages."""
     return {name.strip(): value.strip() for name, _, value in (i.partition("=") for i in items)}
@@ -59,6 +95,8 @@ def cmd_query(args: argparse.Namespace) -> int:
         for k in ("wob", "torque", "depth", "dof", "pipes")
         if getattr(args, k) is not None
     }
+    option = {name: f"--{name}" for name in coords}  # which option gave each value
+    given = set_texts(args.set)
     for name, value in axis_values(args.set).items():
         if name in coords:  # --wob 80 --set wob=120: which one was meant?
             raise ValueError(
@@ -66,11 +104,16 @@ def cmd_query(args: argparse.Namespace) -> int:
                 "give it once"
             )
         coords[name] = value
+        option[name] = f"--set {name}={given[name]}"
     with Atlas(args.atlas) as atlas:
+        at = leave_out_held(coords, atlas.axes, spec_holds(atlas.spec), option.__getitem__)
         try:
-            v = atlas.value("nearest" if args.nearest else "exact", **coords)
+            v = atlas.value("nearest" if args.nearest else "exact", **at)
         except KeyError as exc:  # worded for the Python API: say the option instead
             message = exc.args[0].replace("method='nearest' (--nearest)", "--nearest")
+            name = message.split(" ")[0]
+            if name in option and " is not an axis " in message:  # which option gave it
+                message = f"{option[name]}: {message}"
             raise ValueError(message) from None
         initials = atlas.initials
         # safe as 'atlas safe' lists it (None: stability not recorded, nothing is called safe)
@@ -108,7 +151,7 @@ def cmd_query(args: argparse.Namespace) -> int:
         ", ".join(f"{k} = {with_unit(k, x, unit[k])}" for k, x in v["coords"].items())
         + f": {v['status']}"
     )
-    moved = {k: x for k, x in coords.items() if f"{x:g}" != f"{v['coords'][k]:g}"}
+    moved = {k: x for k, x in at.items() if f"{x:g}" != f"{v['coords'][k]:g}"}
     if args.nearest and moved:  # say it: the point shown is not the one asked for
         asked = ", ".join(f"{k} = {with_unit(k, x, unit[k])}" for k, x in moved.items())
         print(f"  (the grid point nearest {asked})")

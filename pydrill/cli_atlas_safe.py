@@ -8,7 +8,7 @@ import textwrap
 from typing import Any
 
 from .atlas_grid import axis_unit, grid_unit, with_unit
-from .cli_atlas_query import axis_values, set_texts
+from .cli_atlas_query import axis_values, leave_out_held, set_texts, spec_holds
 from .cli_options import json_document, print_json
 
 DESCRIPTION = (
@@ -65,6 +65,9 @@ def cmd_safe(args: argparse.Namespace) -> int:
     at = axis_values(args.set)
     given = set_texts(args.set)
     with Atlas(args.atlas) as atlas:
+        at = leave_out_held(
+            at, atlas.axes, spec_holds(atlas.spec), lambda n: f"--set {n}={given[n]}"
+        )
         along = args.along or default_along(atlas)
         if along in at:
             how = "--along" if args.along else "the default --along"
@@ -121,7 +124,8 @@ def cmd_safe(args: argparse.Namespace) -> int:
         print(f"  {label + ':':{width}s}  {shown}" if label else f"  {shown}")
     if len(rows) > 1:
         print(f"  {sum(1 for row in rows if row.windows)} of {len(rows)} have a safe window")
-    print(_edges_note(rows, along, axes[along], unit[along]))
+    if any(row.windows for row in rows):  # no window, no edges to place
+        print(_edges_note(rows, along, axes[along], unit[along]))
     return 0
 
 

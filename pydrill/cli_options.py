@@ -73,7 +73,13 @@ def _duration(name: str):
     def parse(text: str) -> float:
         from .simulate import MAX_T_END, YEAR
 
-        value = _number(name, text, None)
+        try:
+            value = float(text)
+        except ValueError:  # "--t-end 10s" said "must be a number": it is one, with a unit
+            raise argparse.ArgumentTypeError(
+                f"{name} must be a number of seconds without a unit, e.g. 600 for 10 min, got "
+                f"{text!r}"
+            ) from None
         if not 0 < value <= MAX_T_END:  # (a NaN fails it too)
             raise argparse.ArgumentTypeError(
                 f"{name} = {text} is not allowed: need 0 < {name} <= {_count(int(MAX_T_END))} s "
@@ -112,6 +118,10 @@ TOP_DRIVE_TORQUE = 150e3
 TOP_DRIVE_RPM = 300.0
 #: s: a day of drilling; a run that long takes minutes and may end at its step limit
 LONG_RUN = 86400.0
+#: a friction coefficient of a bit on rock is some 0.1 ... 1 (the paper's: 0.5 sliding, 0.8
+#: static); above 2 it is most likely mistyped (mu_static = 8 for 0.8)
+MOST_FRICTION = 2.0
+
 
 #: above this many N (or N·m) a string is a real one: its forces in kN, its torques in kN·m, in
 #: text as on its figures (plot.py draws with this threshold too)
@@ -137,17 +147,34 @@ def _count(n: int) -> str:
     return f"1e{digits}" if n >= 10**6 and n == 10**digits else str(n)
 
 
+def _whole_number(text: str) -> int | None:
+    """``text`` as an int if it is a whole number, written as one ("1000") or in a float's form
+    ("1e3", "1000.0": a count of 10^8 steps is written 1e8); None for anything else (1.5, 1e400,
+    nan, "ten")."""
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return int(value) if math.isfinite(value) and value.is_integer() else None
+
+
 def _integer(name: str, low: int, high: int):
-    """An argparse type: an integer ``low`` ... ``high``, refused naming the option."""
+    """An argparse type: a whole number ``low`` ... ``high`` (1e8 and 1000.0 are whole),
+    refused naming the option and the range."""
 
     def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}") from None
+        value = _whole_number(text)
+        if value is None:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be a whole number {_count(low)} ... {_count(high)}, got {text!r}"
+            )
         if not low <= value <= high:
             raise argparse.ArgumentTypeError(
-                f"{name} = {value} is not allowed: need an integer {_count(low)} ... {_count(high)}"
+                f"{name} = {text} is not allowed: need an integer {_count(low)} ... {_count(high)}"
             )
         return value
 
@@ -155,16 +182,17 @@ def _integer(name: str, low: int, high: int):
 
 
 def _whole(name: str, allowed: str):
-    """An argparse type: an integer, its range checked where the string is built (a tally's
-    size bounds it); a non-integer is refused with the range (was "invalid int value: '1e9'")."""
+    """An argparse type: a whole number (1e3 and 1000.0 are), its range checked where the
+    string is built (a tally's size bounds it); anything else is refused with the range (was
+    "invalid int value: '1e9'")."""
 
     def parse(text: str) -> int:
-        try:
-            return int(text)
-        except ValueError:
+        value = _whole_number(text)
+        if value is None:
             raise argparse.ArgumentTypeError(
-                f"{name} must be an integer, {allowed}, got {text!r}"
-            ) from None
+                f"{name} must be a whole number, {allowed}, got {text!r}"
+            )
+        return value
 
     return parse
 

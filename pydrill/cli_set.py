@@ -80,3 +80,22 @@ def _set_refused(exc: ValueError, sets: dict[str, float]) -> ValueError:
         if str(exc).startswith(f"{name} "):
             return type(exc)(f"--set {exc}")
     return exc
+
+
+def friction_notes(label: str, values: dict[str, float], verb: str = "=") -> list[str]:
+    """A note on each friction coefficient of ``values`` (mu_static, mu_coulomb; others are
+    passed over) above ``cli_options.MOST_FRICTION``, most likely mistyped, in the words of
+    ``label`` (the option or key, "--set " or "axes."): ``--set mu_static = 8: ...``."""
+    from .cli_options import MOST_FRICTION
+
+    notes = []
+    for name in ("mu_static", "mu_coulomb"):
+        value = values.get(name)
+        if value is None or not value > MOST_FRICTION:
+            continue
+        meant = f"; {value / 10:g} meant?" if value / 10 <= MOST_FRICTION else ""
+        notes.append(
+            f"{label}{name} {verb} {value:g}: a friction coefficient above any bit's on rock "
+            f"(some 0.1 ... 1; most likely mistyped above {MOST_FRICTION:g}{meant})"
+        )
+    return notes

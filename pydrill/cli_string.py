@@ -20,7 +20,7 @@ from .cli_options import (
     _whole,
     typed_bare,
 )
-from .cli_set import _set_refused, add_set_option, set_params
+from .cli_set import _set_refused, add_set_option, friction_notes, set_params
 from .model import _SCALARS, _UNITS, MAX_DOF
 
 
@@ -153,6 +153,9 @@ def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = N
                 **sets,
             )
         except ValueError as exc:
+            for api in ("dof", "pipes"):  # a size given as 1e9: "--dof = ...", not "dof = ..."
+                if str(exc).startswith(f"{api} "):
+                    raise for_option(exc, f"--{api}", api) from None
             raise _set_refused(exc, sets) from None
         if args.preset == "real-string":
             unit_notes(args)
@@ -231,7 +234,7 @@ def unit_notes(args: argparse.Namespace) -> None:
             f"--omega is {omega * 30 / math.pi:.4g} rpm, faster than any top drive turns (some "
             f"{TOP_DRIVE_RPM:g} rpm at most)"
         )
-    _say(notes + run_notes(args))
+    _say(notes + friction_notes("--set ", set_params(args)) + run_notes(args))
 
 
 def lab_notes(args: argparse.Namespace) -> None:
@@ -252,7 +255,7 @@ def lab_notes(args: argparse.Namespace) -> None:
                 f"(its {typical}); for a real string give --tally TALLY.toml or --preset "
                 "real-string"
             )
-    _say(notes + run_notes(args))
+    _say(notes + friction_notes("--set ", set_params(args)) + run_notes(args))
 
 
 def run_notes(args: argparse.Namespace) -> list[str]:
@@ -286,6 +289,8 @@ def tally_notes(tally: Any, path: str, own_length: bool = True) -> list[str]:
     with ``own_length`` (no --depth lengthened it), a string longer than any well ever drilled
     (a bare "length = 310", read as m for 310 ft, made a 100 km string and said nothing)."""
     notes = [f"{path}: {note}" for note in tally.notes]
+    mu = {"mu_static": tally.mu_static, "mu_coulomb": tally.mu_coulomb}
+    notes += friction_notes(f"{path}: bit.", mu)
     if own_length and tally.length > LONGEST_WELL:
         notes.append(
             f"{path}: the string is {tally.length / 1e3:g} km long, longer than any well ever "

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .cli_options import figure_path, json_document, print_json, writable_place
+from .cli_options import _whole, figure_path, json_document, print_json, writable_place
 from .cli_sweep_report import (
     UNITS,
     ClusterLines,
@@ -68,7 +68,7 @@ def register_sweep(sub, positive) -> None:
     where = sw.add_mutually_exclusive_group()  # where the points run: one of these, or cores
     where.add_argument(
         "--workers",
-        type=int,
+        type=_whole("--workers", "1 ... 256"),
         metavar="N",
         help="local worker processes (default: one per core this process may use)",
     )
@@ -342,9 +342,11 @@ def _sweep(args: argparse.Namespace) -> int:
 def spec_notes(spec: SweepSpec) -> None:
     """The notes the single-run commands give on implausible values (cli_string), on a
     spec's: a depth beyond the longest well (depth = "30 km" swept a 3334-inertia string
-    quietly), a real string's W_ob or torque beyond what any bit or top drive takes. Said
-    on stderr, before anything runs; the sweep goes on (the values may be meant)."""
+    quietly), a real string's W_ob or torque beyond what any bit or top drive takes, a friction
+    coefficient above any bit's. Said on stderr, before anything runs; the sweep goes on (the
+    values may be meant)."""
     from .cli_options import HEAVIEST_WOB, LONGEST_WELL, TOP_DRIVE_TORQUE
+    from .cli_set import friction_notes
 
     def largest(name: str) -> float | None:
         values = spec.axes.get(name, [spec.fixed[name]] if name in spec.fixed else [])
@@ -373,6 +375,12 @@ def spec_notes(spec: SweepSpec) -> None:
                 f"{key['torque']} reaches {torque / 1e3:g} kN·m: the strongest top drives give "
                 f"some {TOP_DRIVE_TORQUE / 1e3:g} kN·m"
             )
+    # friction coefficients beyond any bit's, on any string (a laboratory one's too)
+    swept: dict[str, float] = {
+        n: float(max(spec.axes[n])) for n in ("mu_static", "mu_coulomb") if n in spec.axes
+    }
+    notes += friction_notes("axes.", swept, "reaches")
+    notes += friction_notes("model.", dict(spec.overrides))
     for note in notes:
         print(f"pydrill: note: {note}", file=sys.stderr)
 

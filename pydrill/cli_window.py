@@ -137,6 +137,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
 
     from .cli_checks import say_failed_checks
     from .cli_options import check_progress
+    from .cli_set import friction_notes, set_params
     from .cli_string import _say, for_option, load_tally_file, tally_notes
     from .cli_window_report import print_window, window_json
     from .window import parse_depths, window_against_depth
@@ -149,7 +150,8 @@ def _cmd_window(args: argparse.Namespace) -> int:
         for option, given in (("--check-dof", args.check_dof), ("--t-end", args.t_end_given)):
             if given is not None:
                 raise ValueError(f"{option} needs --check K: it sets how the check simulates")
-    tally = _with_sets(load_tally_file(args.tally), args)
+    written = load_tally_file(args.tally)  # as its file says it (its notes are the file's)
+    tally = _with_sets(written, args)
     # Each refusal names its option ("depth 10 m is shallower than the BHA", "dof = 1 is not
     # allowed" of --check-dof, "'3000rpm': unit 'rpm' is not a length unit" said none).
     at_rpm = np.array(_rpms(args.at_rpm))
@@ -162,7 +164,8 @@ def _cmd_window(args: argparse.Namespace) -> int:
             raise
         raise for_option(exc, "--depth", "depth") from None
     _window_notes(args, depths, at_rpm, at_wob)
-    _say(tally_notes(tally, args.tally, own_length=False))  # --depth sets its length
+    _say(tally_notes(written, args.tally, own_length=False))  # --depth sets its length
+    _say(friction_notes("--set ", set_params(args)))  # mu_static=8 for 0.8, as in simulate
     if tally.top_damping + tally.bit_damping == 0:  # a table of zeros and infs says no why
         _say(
             [

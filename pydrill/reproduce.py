@@ -266,6 +266,8 @@ examples:
 def register_reproduce(sub) -> None:
     import argparse
 
+    from .cli_options import _whole
+
     rep = sub.add_parser(
         "reproduce",
         help="recompute the paper's figures and write a report comparing the numbers",
@@ -281,7 +283,9 @@ def register_reproduce(sub) -> None:
     )
     rep.add_argument("--force", action="store_true", help="ignore what DIR already holds")
     rep.add_argument(
-        "--workers", type=int, help="Dask worker processes (default: one per core it may use)"
+        "--workers",
+        type=_whole("--workers", "1 ... 256"),
+        help="Dask worker processes (default: one per core it may use)",
     )
     rep.add_argument("--scheduler", metavar="ADDRESS", help="use an existing Dask scheduler")
     rep.add_argument("--json", action="store_true", help="print one JSON summary for scripts")

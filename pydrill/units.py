@@ -80,6 +80,11 @@ _ALIASES = {
     "tonne": "tf",
     "tonnes": "tf",
 }
+# ... and of a damping, as the commands print it ("N m s/rad") and as torques are spelt: with a
+# space or nothing between (N-m-s/rad, N*m*s/rad, N.m.s/rad are read as N·m·s/rad by _canon)
+_ALIASES.update({f"n{sep}m{sep}s/rad": "N·m·s/rad" for sep in ("", " ")})
+# ... and of an inertia, as printed ("kg m^2", and kg·m² in the docs and the tallies' comments)
+_ALIASES.update({f"kg{sep}m{p}": "kg·m2" for sep in (" ", "·") for p in ("2", "^2", "²")})
 # ... and of a torque: ft-lb(s), lb(s)-ft, lbf-ft, ft-lbf and their k (1000) forms, written
 # with "-", "·", ".", "*", a space or nothing between ("-", "." and "*" are read as "·").
 _FOOT_POUNDS = [("ft", "lbf"), ("ft", "lb"), ("ft", "lbs"), ("lbf", "ft"), ("lb", "ft")]
@@ -108,6 +113,8 @@ _SPELLINGS = {
         "ft·lbf": "ft-lb, ft-lbs, lb-ft, lbf-ft",
         "kft·lbf": "kft-lb, kft-lbs, klb-ft",
     },
+    "damping": {"N·m·s/rad": "N m s/rad, Nms/rad, N-m-s/rad"},
+    "inertia": {"kg·m2": "kg m^2, kg·m²"},
 }
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
 

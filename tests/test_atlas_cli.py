@@ -689,7 +689,8 @@ def test_set_takes_values_with_units_as_the_other_options_do(parameter_atlas, tm
     assert wrong.returncode == 2
     assert wrong.stderr.strip() == (
         "pydrill atlas query: error: --set 'bit_damping=0.05 kN': "
-        "bit_damping = '0.05 kN': unit 'kN' is not a damping unit; use one of N·m·s/rad"
+        "bit_damping = '0.05 kN': unit 'kN' is not a damping unit; use one of N·m·s/rad "
+        "(N m s/rad, Nms/rad, N-m-s/rad)"
     )
     bare = pydrill(*query, "--set", "bit_damping", "--set", "mu_static=0.8")
     assert bare.returncode == 2 and "--set 'bit_damping': expected AXIS=VALUE" in bare.stderr
