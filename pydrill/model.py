@@ -151,7 +151,13 @@ class Params:
         from .stability_checks import _checked  # (stability imports this module)
 
         w = _checked("wob", wob, 0.0, strict=False)  # NaN gave NaN, "abc" a TypeError of str's
-        ts = self.mu_static * w * self.bit_radius
+        with np.errstate(over="ignore"):  # (redone below)
+            ts = self.mu_static * w * self.bit_radius
+        if not np.isfinite(ts).all():
+            # μ_sb·W_ob overflowed (inf for mu_static = 3.4e293, bit_radius = 0.5, 1e15 N):
+            # μ_sb·R_b first, the product _check_scale bounds. Only then: the order above is
+            # the formula's, and T_s is compared with torques computed that way.
+            ts = np.where(np.isfinite(ts), ts, self.mu_static * self.bit_radius * w)
         return float(ts) if w.ndim == 0 else ts
 
     def replace(self, **changes: Any) -> Params:
