@@ -29,6 +29,7 @@ from .atlas_objects import Objects as _Objects
 from .atlas_summary import summary as _summary
 from .atlas_xarray import COUNT_FIELDS, Chunks, with_regime_names  # noqa: F401 (pydrill.atlas.*)
 from .atlas_xarray import to_xarray as _to_xarray
+from .file_kinds import misplaced
 from .journal import AtlasError, journal_hint
 from .spec import SpecError, parse_spec
 
@@ -66,8 +67,10 @@ class Atlas:
         try:
             self._f = h5py.File(self._source(), "r")
         except OSError as exc:
+            # A whole spec, tally or figure given for the atlas: not "truncated or corrupt?"
             raise AtlasError(
-                f"{self.path} is not a readable HDF5 atlas (truncated or corrupt?): {exc}"
+                misplaced(self.path, "atlas")
+                or f"{self.path} is not a readable HDF5 atlas (truncated or corrupt?): {exc}"
                 + journal_hint(self.path)
             ) from None
         try:

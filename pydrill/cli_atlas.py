@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 import textwrap
+from pathlib import Path
 from typing import Any
 
 from .atlas_grid import axis_unit, grid_unit, with_unit
@@ -261,6 +262,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from .plot import save
     from .plot_atlas import NO_STABILITY, atlas_figure, nearest_index
 
+    if Path(args.out).resolve() == Path(args.atlas).resolve():  # (an atlas named f.png)
+        raise ValueError(f"--out {args.out} is the atlas itself; give another file")
     at = axis_values(args.set)
     given = set_texts(args.set)
     with Atlas(args.atlas) as atlas:

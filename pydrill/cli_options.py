@@ -263,7 +263,7 @@ def check_failed(exc: Exception, point: str, simulate_line: str, t_end: float) -
 
 # What matplotlib writes with what it installs, chosen by the file's suffix. Checked when the
 # command line is read, so that a long computation does not end in "format not supported".
-FIGURE_SUFFIXES = tuple(".png .pdf .svg .svgz .eps .ps .jpg .jpeg .tif .tiff .webp".split())
+from .file_kinds import FIGURE_SUFFIXES  # noqa: E402  (one list, also for the atlas's name)
 
 
 def figure_path(text: str) -> str:

@@ -238,7 +238,10 @@ def next_steps(args: argparse.Namespace, report: Any, spec: Any) -> None:
     else:  # no stability recorded: nothing can be called safe (atlas safe refuses)
         steps.append((f"pydrill atlas info {atlas}", "what it found"))
     if not args.plot:
-        figure = shlex.quote(str(Path(report.atlas).with_suffix(".png")))
+        figure_path = Path(report.atlas).with_suffix(".png")
+        if figure_path == Path(report.atlas):  # an atlas called x.png: never the atlas itself
+            figure_path = figure_path.with_name(figure_path.stem + "-map.png")
+        figure = shlex.quote(str(figure_path))
         steps.append((f"pydrill atlas plot {atlas} --out {figure}", "a regime map"))
     width = max(len(command) for command, _ in steps)
     lines = [f"{command:{width}s}  # {what}" for command, what in steps]

@@ -284,6 +284,7 @@ def register_reproduce(sub) -> None:
     rep.add_argument("--force", action="store_true", help="ignore what DIR already holds")
     rep.add_argument(
         "--workers",
+        metavar="N",
         type=_whole("--workers", "1 ... 256"),
         help="Dask worker processes (default: one per core it may use)",
     )

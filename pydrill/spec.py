@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from .file_kinds import misplaced
 from .model import PRESETS, Params, preset
 from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's API too
     DEPTH_AXES,
@@ -401,9 +402,13 @@ def load_spec(path: str | Path) -> SweepSpec:
     try:
         text = read_text(path)
     except UnicodeDecodeError:
-        raise SpecError(f"cannot read the spec {shown}: not UTF-8 text") from None
+        message = misplaced(path, "spec", shown) or f"cannot read the spec {shown}: not UTF-8 text"
+        raise SpecError(message) from None
     except OSError as exc:
         raise SpecError(f"cannot read the spec {shown}: {exc.strerror}") from None
     except TextTooLong as exc:
         raise SpecError(f"cannot read the spec {shown}: {exc}") from None
-    return parse_spec(text, base=path.parent)
+    try:
+        return parse_spec(text, base=path.parent)
+    except SpecError as exc:  # a tally given for the spec: say so, not its first odd key
+        raise SpecError(misplaced(path, "spec", shown) or str(exc)) from None

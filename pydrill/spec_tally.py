@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from .file_kinds import misplaced
 from .spec_rules import MAX_DOF, TextTooLong, _fail, _is_number, in_si, printable, read_text
 
 
@@ -27,7 +28,8 @@ def _read_tally(tally_path: Any, base: Path | None) -> str:
     try:
         return read_text(path)
     except UnicodeDecodeError:
-        raise _fail("model.tally", f"cannot read {shown}: not UTF-8 text") from None
+        message = misplaced(path, "tally", shown) or f"cannot read {shown}: not UTF-8 text"
+        raise _fail("model.tally", message) from None
     except OSError as exc:
         raise _fail("model.tally", f"cannot read {shown}: {exc.strerror}") from None
     except TextTooLong as exc:

@@ -25,6 +25,7 @@ import numpy as np
 from . import atlas_format as fmt
 from . import batching
 from .batching import Batcher, batches, dealing_order  # noqa: F401 (re-exported)
+from .file_kinds import atlas_name_problem
 from .interrupt import stop_between_batches
 from .journal import AtlasError, _reason, journal_path, prepare, rewrite_path, write_atlas
 from .spec import SweepSpec, _require_spec
@@ -138,6 +139,10 @@ def run_sweep(
 
     check_memory(spec)
     out = Path(out)
+    if not (out.exists() or journal_path(out).exists()):
+        problem = atlas_name_problem(out)
+        if problem:  # before the folder is made: nothing is written
+            raise AtlasError(problem)
     t0 = time.perf_counter()
     params_json = model_json(spec)
     # The atlas's directory is made as for every other output of pydrill, and removed again

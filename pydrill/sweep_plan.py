@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from . import atlas_format as fmt
-from .journal import iter_journal, journal_path, read_existing
+from .file_kinds import atlas_name_problem
+from .journal import AtlasError, iter_journal, journal_path, read_existing
 from .journal_lines import line as journal_line
 from .spec import SweepSpec, _require_spec
 
@@ -81,6 +82,9 @@ def _todo(spec: SweepSpec, out: Path | None, resume: bool) -> tuple[np.ndarray, 
         return everything, "none"
     jp = journal_path(out)
     if not (out.exists() or jp.exists()):
+        problem = atlas_name_problem(out)
+        if problem:
+            raise AtlasError(problem)
         return everything, "new"
     from .atlas_lock import AtlasBusy, writer
 
