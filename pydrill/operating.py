@@ -57,7 +57,8 @@ def stable_torques(
     Ω_k where δ(Ω_k) = δ_k, a crossing's (closed form, :func:`stribeck_slope` inverted). On each
     piece of Ω between them the count of unstable eigenvalues is constant; u(Ω) = cΩ + T_fb(Ω)
     is convex (u'' = −δ' > 0), so over a piece it is least at Ω_c, where δ(Ω_c) = c, or at an
-    end, and greatest at an end (unbounded on the last piece)."""
+    end, and greatest at an end (unbounded on the last piece). Each (lo, hi) is open: an end
+    is T_s (Ω → 0+, the stuck bit) or u on a stability boundary, held by no stable state."""
     p = params
     g = p.stribeck_decay / p.stribeck_velocity
     top = float(stribeck_slope(p, wob, 0.0))  # δ(0)
@@ -118,7 +119,10 @@ def operating_map(
     for j, w in enumerate(wob):
         has_stable = np.zeros(torque.size, dtype=bool)
         for lo, hi in stable_torques(params, w, crossings):
-            has_stable |= (size >= lo) & (size <= hi)
+            # Open at both ends: an end is T_s, the limit Ω -> 0+ (the stuck bit, not a
+            # steady state), or u on a stability boundary. u = T_s was called stable at
+            # small W_ob, where stability() finds no steady state at all.
+            has_stable |= (size > lo) & (size < hi)
             if hi > ts[j]:
                 safe_min[j] = min(safe_min[j], max(lo, ts[j]))
         stuck_possible = size <= ts[j]
