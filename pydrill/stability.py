@@ -213,9 +213,10 @@ def unstable_count(crossings: Iterable[Crossing], delta: ArrayLike) -> NDArray[n
     of them)."""
     crossings = _crossing_list(crossings)
     deltas = np.array([c.delta for c in crossings], dtype=float)
-    if np.any(np.diff(deltas) < 0):
+    # (NaN compares false both ways: the order check alone let a NaN delta through.)
+    if not np.all(np.isfinite(deltas)) or np.any(np.diff(deltas) < 0):
         raise ValueError(
-            "crossings are not in increasing order of delta: give critical_deltas(params)"
+            "crossings are not finite deltas in increasing order: give critical_deltas(params)"
         )
     delta = _checked("delta", delta, 0.0, strict=False)
     steps = np.array([c.direction * c.multiplicity for c in crossings], dtype=np.int64)

@@ -113,6 +113,12 @@ def test_crossings_out_of_order_are_refused(string):
     assert [c.delta for c in cs] == sorted(c.delta for c in cs)
     with pytest.raises(ValueError, match="increasing order"):
         unstable_count(list(reversed(cs)), 0.1)
+    # A NaN delta compares false both ways, so the order check alone let it through; where it
+    # sits the binary search's answer is arbitrary.
+    for k in (0, len(cs) // 2, len(cs) - 1):
+        bad = [dataclasses.replace(c, delta=math.nan) if i == k else c for i, c in enumerate(cs)]
+        with pytest.raises(ValueError, match="not finite deltas in increasing order"):
+            unstable_count(bad, 0.1)
 
 
 def test_a_mapping_is_not_taken_as_a_list_of_crossings(string):
