@@ -275,5 +275,5 @@ def test_unstable_counts_are_the_eigenvalues_right_of_the_axis():
     for delta, count in zip(probes, counts, strict=True):
         assert count == np.count_nonzero(eigenvalues(p, delta).real > 0), delta
     assert len(set(counts.tolist())) > 1
-    with pytest.raises(ValueError, match="not in increasing order"):
+    with pytest.raises(ValueError, match="not finite deltas in increasing order"):
         unstable_count(crossings[::-1], probes)
