@@ -90,19 +90,20 @@ def build_parser() -> argparse.ArgumentParser:
         "--inertias",
         type=_list("--inertias"),
         metavar="I0,I1,...",
-        help="override every inertia (kg m^2, each > 0), top drive first",
+        help="override every inertia (kg m^2, each > 0), top drive first; without --dof "
+        "their number is the dof, with it they must agree",
     )
     model.add_argument(
         "--stiffnesses",
         type=_list("--stiffnesses"),
         metavar="K0,...",
-        help="override every spring stiffness (N m/rad, each > 0)",
+        help="override every spring stiffness (N m/rad, each > 0), one fewer than the inertias",
     )
     model.add_argument(
         "--dampings",
         type=_list("--dampings"),
         metavar="C0,...",
-        help="override every spring damping (N m s/rad, each >= 0)",
+        help="override every spring damping (N m s/rad, each >= 0), one per spring",
     )
     op = sim.add_argument_group("operating point")
     op.add_argument(

@@ -299,8 +299,9 @@ def preset(
             values = _as_list(key, overrides[key], n)
             need = n if key == "inertias" else n - 1
             if len(values) != need:
+                entries = "1 entry" if len(values) == 1 else f"{len(values)} entries"
                 raise ValueError(
-                    f"{key} has {len(values)} entries: dof = {n} needs {need}"
+                    f"{key} has {entries}: dof = {n} needs {need}"
                     + (" (one per inertia)" if key == "inertias" else " (one per spring)")
                 )
     core = _core.preset(name, n)

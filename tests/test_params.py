@@ -81,6 +81,8 @@ def test_bad_parameter_is_refused_with_name_value_and_range(changes, name, allow
 def test_wrong_list_length_and_unknown_key():
     with pytest.raises(ValueError, match="stiffnesses has 2 entries: dof = 4 needs 3"):
         preset("reduced-scale", dof=4, stiffnesses=[0.1, 0.1])
+    with pytest.raises(ValueError, match="stiffnesses has 1 entry: dof = 4 needs 3"):
+        preset("reduced-scale", dof=4, stiffnesses=[0.1])
     with pytest.raises(ValueError, match="unknown parameter 'spring': allowed are inertias"):
         preset("reduced-scale", dof=4).replace(spring=3)  # nothing near it: no guess
     with pytest.raises(ValueError, match=r"'stifnesses' \(did you mean 'stiffnesses'\?\)"):
