@@ -85,6 +85,8 @@ _ALIASES = {
 _ALIASES.update({f"n{sep}m{sep}s/rad": "N·m·s/rad" for sep in ("", " ")})
 # ... and of an inertia, as printed ("kg m^2", and kg·m² in the docs and the tallies' comments)
 _ALIASES.update({f"kg{sep}m{p}": "kg·m2" for sep in (" ", "·") for p in ("2", "^2", "²")})
+# ... and as an atlas's axes write them for CF and netCDF readers (UDUNITS, atlas_schema)
+_ALIASES.update({"n m s rad-1": "N·m·s/rad", "rad s-1": "rad/s", "kg m-3": "kg/m3", "m s-1": "m/s"})
 # ... and of a torque: ft-lb(s), lb(s)-ft, lbf-ft, ft-lbf and their k (1000) forms, written
 # with "-", "·", ".", "*", a space or nothing between ("-", "." and "*" are read as "·").
 _FOOT_POUNDS = [("ft", "lbf"), ("ft", "lb"), ("ft", "lbs"), ("lbf", "ft"), ("lb", "ft")]

@@ -5,6 +5,7 @@ otherwise, saying so; the units the commands print are read back; a friction coe
 (for 0.8) is noted. Expected values come from the definitions, the raw atlas datasets or a
 second run of the same command, not from the code under test."""
 
+import json
 import re
 from pathlib import Path
 
@@ -14,8 +15,10 @@ import pytest
 
 from pydrill import atlas_format as fmt
 from pydrill import cli, units
+from pydrill.atlas_schema import axis_units
 from pydrill.cli_sweep import spec_notes
 from pydrill.spec import parse_spec
+from pydrill.spec_rules import KINDS
 from pydrill.sweep import run_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -239,6 +242,30 @@ def test_damping_is_spelt_as_torque_is():
     assert units.parse("2122 kg·m²", "inertia") == 2122.0
     with pytest.raises(ValueError, match="not a damping unit"):
         units.parse("3 N m", "damping")  # a torque is no damping
+
+
+def test_every_axis_unit_an_atlas_writes_is_read_back(tmp_path, capsys):
+    """An atlas's axes carry UDUNITS units for CF readers ("N m s rad-1", "rad s-1"); a value
+    written with the unit read from the file picks the point of that value (it said "unit
+    'N m s rad-1' is not a damping unit")."""
+    for name, kind in KINDS.items():
+        unit = axis_units(name)
+        assert units.parse(f"2.5 {unit}", kind) == 2.5, (name, unit)
+    spec = HELD.replace("mu_static = [0.8, 0.9]", "bit_damping = [0.01, 0.05]")
+    run_sweep(parse_spec(spec), tmp_path / "d.h5", serial=True)
+    with h5py.File(tmp_path / "d.h5", "r") as f:
+        unit = f["bit_damping"].attrs["units"]
+        regimes = f["regime"][...]
+    assert unit == "N m s rad-1"
+    for j, value in enumerate((0.01, 0.05)):
+        code, out, err = run(
+            capsys, "atlas", "query", tmp_path / "d.h5", "--wob", "60",
+            "--set", f"bit_damping={value} {unit}", "--json",
+        )  # fmt: skip
+        assert code == 0, err
+        answer = json.loads(out)
+        assert answer["coords"] == {"wob": 60.0, "bit_damping": pytest.approx(value)}
+        assert answer["regime"] == fmt.REGIME_NAMES[regimes[1, j, 0]]
 
 
 # 6. a friction coefficient most likely mistyped
