@@ -153,6 +153,20 @@ def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = N
                 **sets,
             )
         except ValueError as exc:
+            if "for preset 'real-string'" in str(exc):  # the core's words are for C++ users
+                size = (
+                    f"--dof {args.dof}"
+                    if args.dof is not None
+                    else f"--pipes {args.pipes}"
+                    if args.pipes is not None
+                    else "a string of another length (--inertias ...)"
+                )
+                raise ValueError(
+                    f"{size} is not allowed with --preset real-string: it is the paper's 2-DOF "
+                    "string (Eq. 53); give --dof 2, or the string pipe by pipe from a tally: "
+                    "--tally TALLY.toml [--depth D] [--dof N] (examples/tallies/paper-eq53.toml "
+                    "is the paper's)"
+                ) from None
             for api in ("dof", "pipes"):  # a size given as 1e9: "--dof = ...", not "dof = ..."
                 if str(exc).startswith(f"{api} "):
                     raise for_option(exc, f"--{api}", api) from None

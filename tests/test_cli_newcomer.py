@@ -322,3 +322,26 @@ def test_a_tally_s_and_a_spec_s_friction_above_two_is_noted(tmp_path, capsys):
         n.removeprefix("pydrill: note: ").split(": ")[0] for n in notes(capsys.readouterr().err)
     ]
     assert said == ["axes.mu_static reaches 6", "model.mu_coulomb = 4"]
+
+
+# 7. the paper's real string at another size
+
+
+@pytest.mark.parametrize(
+    "size, named",
+    [(["--dof", "3"], "--dof 3"), (["--pipes", "10"], "--pipes 10"), (["--inertias", "1,2,3"], "")],
+)
+def test_the_real_string_at_another_size_points_to_its_tally(capsys, size, named):
+    """The core's refusal spoke to C++ ("Params::inertias, stiffnesses, dampings"); the command
+    names the option typed and the tally that holds the paper's string pipe by pipe, and what
+    it suggests runs."""
+    base = ["--wob", "100kN", "--torque", "10kN*m", "--t-end", "5"]
+    code, out, err = run(capsys, "simulate", "--preset", "real-string", *size, *base)
+    assert (code, out) == (2, "")
+    assert err.startswith(f"pydrill simulate: error: {named}")
+    assert "Params::" not in err and "--tally TALLY.toml [--depth D] [--dof N]" in err
+    tally = re.search(r"\((examples/tallies/\S+\.toml) is the paper's\)", err)
+    assert tally, err
+    code, out, err = run(capsys, "simulate", "--tally", ROOT / tally[1], "--dof", "3", *base)
+    assert code == 0, err
+    assert "paper-eq53 at" in out and "3 inertias" in out
