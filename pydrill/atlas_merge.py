@@ -106,7 +106,8 @@ def merge_atlases(
             if written != atlas.spec.digest:
                 # Its points are not this spec's: merged, they would pass for them.
                 raise AtlasError(
-                    f"{p}: its spec makes digest {atlas.spec.digest} here, but the atlas was "
+                    f"{p}: its spec makes digest {atlas.spec.digest} in this pydrill "
+                    f"({__version__}), but the atlas was "
                     f"written as {written or 'no digest'}: the file was changed after pydrill "
                     f"wrote it, or pydrill {atlas.version} made another model of this spec "
                     "(its points are of that model); sweep that part again to merge it"

@@ -72,9 +72,9 @@ def cmd_info(args: argparse.Namespace) -> int:
     )
     if s["spec_digest_here"] != s["spec_digest"]:
         note = (
-            f"note: its spec makes digest {s['spec_digest_here']} here: the file was changed "
-            f"after pydrill wrote it, or pydrill {s['pydrill_version']} made another model of "
-            "this spec (its points are of that model; --resume refuses the atlas)"
+            f"note: its spec makes digest {s['spec_digest_here']} in this pydrill: the file "
+            f"was changed after pydrill wrote it, or pydrill {s['pydrill_version']} made "
+            "another model of this spec (its points are of that model; --resume refuses the atlas)"
         )
         print(textwrap.fill(note, 79, initial_indent="  ", subsequent_indent="        "))
     print(model_line(s["model"]))

@@ -233,6 +233,7 @@ def test_info_says_when_the_written_digest_is_not_its_specs(small_atlas, tmp_pat
         [*CMD, "atlas", "info", str(out)], capture_output=True, text=True, check=True
     ).stdout
     assert "spec 0123456789abcdef\n  note: its spec makes digest " + here in text
+    assert f"digest {here} in this pydrill: the file was changed" in " ".join(text.split())
     assert "or pydrill 0.1.7 made another model of" in " ".join(text.split())
 
 
