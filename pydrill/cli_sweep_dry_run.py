@@ -66,7 +66,7 @@ def dry_run(args: argparse.Namespace, spec) -> int:
             "todo": plan.todo,
             "sampled": plan.sampled,
             "failed": plan.failed,
-            "message": plan.message,
+            "message": plan.message or None,  # the first failure's; null, not "", if none
             "point_seconds": dict(
                 zip(
                     spread,

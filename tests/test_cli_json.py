@@ -161,6 +161,7 @@ def test_the_dry_runs_time_ranges_list_their_ends_in_one_order(atlas_dir, tmp_pa
     data = run_json("sweep", "s.toml", "--dry-run", "--workers", "2", cwd=tmp_path)
     ranges = [data[k] for k in ("point_seconds", "compute_seconds", "wall_seconds")]
     assert [list(r) for r in ranges] == [["low", "estimate", "high"]] * 3
+    assert data["failed"] == 0 and data["message"] is None  # null, not "", with no failure
 
 
 def test_stability_json_says_how_many_eigenvalues_it_leaves_out(tmp_path):

@@ -192,6 +192,7 @@ def test_the_cli_dry_run_reports_and_warns_of_failing_points(tmp_path):
     assert data["dry_run"] is True and data["atlas"] == {"path": None, "state": "none"}
     assert data["shape"] == {"wob": 3, "torque": 2} and data["initial"] == ["rest"]
     assert data["todo"] == data["sampled"] == 6 and 0 < data["failed"] < 6
+    assert "max_steps" in data["message"]
     assert data["workers"] == 1
     c = data["compute_seconds"]
     assert c["low"] == c["estimate"] == c["high"] > 0  # every point timed: no spread left
