@@ -12,6 +12,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from cli_running import notes, run
 
 from pydrill import atlas_format as fmt
 from pydrill import cli, units
@@ -23,20 +24,6 @@ from pydrill.sweep import run_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = str(ROOT / "examples" / "tallies" / "paper-eq53.toml")
-
-
-def run(capsys, *args):
-    """Exit status, stdout and stderr of ``pydrill ARGS`` (a bad option value exits at once)."""
-    try:
-        code = cli.main([str(a) for a in args])
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def notes(err: str) -> list[str]:
-    return [line for line in err.splitlines() if line.startswith("pydrill: note: ")]
 
 
 # 1. whole numbers in a float's form

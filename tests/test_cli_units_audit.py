@@ -11,6 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
+from cli_running import notes, run
 
 from pydrill import cli, load_tally, units
 from pydrill.tally import parse_tally
@@ -19,20 +20,6 @@ ROOT = Path(__file__).resolve().parents[1]
 TALLIES = sorted((ROOT / "examples" / "tallies").glob("*.toml"))
 COLLARS = ROOT / "examples" / "tallies" / "5.5in-dp-8in-collars.toml"
 FT, LBF, TONNE_FORCE = 0.3048, 4.4482216152605, 1000 * 9.80665
-
-
-def run(capsys, *args):
-    """Exit status, stdout and stderr of ``pydrill ARGS`` (a bad option value exits at once)."""
-    try:
-        code = cli.main([str(a) for a in args])
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def notes(err: str) -> list[str]:
-    return [line for line in err.splitlines() if line.startswith("pydrill: note: ")]
 
 
 def collars_with(tmp_path, length) -> Path:

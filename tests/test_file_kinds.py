@@ -15,9 +15,9 @@ import pytest
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from cli_running import run
 from sweeping import TINY
 
-from pydrill import cli
 from pydrill.file_kinds import what_is
 from pydrill.journal import AtlasError
 from pydrill.spec import SpecError, load_spec, parse_spec
@@ -26,15 +26,6 @@ from pydrill.sweep_plan import plan_sweep
 from pydrill.tally import TallyError, load_tally
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def run(capsys, *args):
-    try:
-        code = cli.main([str(a) for a in args])
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
 
 
 def folder(path: Path) -> dict[str, bytes]:
