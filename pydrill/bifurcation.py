@@ -172,8 +172,9 @@ def branch(
     - ``torque`` (N·m) or ``wob`` (N): the one held fixed, a finite number > 0, at most
       ``MAX_LOAD`` (1e15) as in :func:`pydrill.simulate`; the varied one is not given.
     - ``omega_max`` (rad/s): the largest Ω sampled, a finite number > 0; None (default) for
-      u / (c_r + c_b) with ``vary="wob"`` (where W_ob reaches 0; never beyond it), 40 with
-      ``vary="torque"`` (where its torque must be at most ``MAX_LOAD``).
+      u / (c_r + c_b) with ``vary="wob"`` (where W_ob reaches 0; never beyond it; 100 without
+      damping at the ends, where it never does), 40 with ``vary="torque"`` (where its torque
+      must be at most ``MAX_LOAD``).
     - ``samples``: the number of Ω sampled, an integer 2 ... ``MAX_SAMPLES`` (1000000): half
       evenly up to ``omega_max``, half geometrically from ``FLOOR`` v_f/γ_b (1e-6 of the
       friction law's velocity scale) up, so that the low speeds where the Hopf and fold points
@@ -201,8 +202,10 @@ def branch(
     samples = _integer("samples", samples, 2, MAX_SAMPLES)
     if vary == "wob":
         torque = fixed = _positive("torque", torque, "N·m", "varying wob needs")
-        top = torque / c if c > 0 else 100.0
-        omega_max = top if omega_max is None else min(omega_max, top)
+        if c > 0:  # W_ob reaches 0 at u / c: nothing beyond it
+            omega_max = torque / c if omega_max is None else min(omega_max, torque / c)
+        elif omega_max is None:  # no damping at the ends: W_ob > 0 at every Ω
+            omega_max = 100.0
 
         def wob_of(w):
             return (torque - c * np.asarray(w)) / (p.bit_radius * _mu(p, w))

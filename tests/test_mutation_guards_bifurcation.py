@@ -62,6 +62,17 @@ def test_the_wob_branch_ends_where_the_weight_on_bit_reaches_zero_whatever_omega
         assert w == pytest.approx(wob_on_branch(p, 8.1, om), rel=1e-12)
 
 
+def test_without_damping_at_the_ends_the_wob_branch_goes_as_far_as_asked():
+    """With c_r + c_b = 0 the weight on bit W_ob = u / (R_b μ_b(Ω)) > 0 at every Ω: there is
+    no end to stop at, so omega_max is taken as given (it was cut to 100 rad/s silently);
+    without it the branch goes to 100 rad/s."""
+    p = pydrill.preset(dof=2).replace(top_damping=0.0, bit_damping=0.0)
+    far = branch(p, vary="wob", torque=8.1, omega_max=500.0, samples=200)
+    assert far.omega[-1] == pytest.approx(500.0, rel=1e-8)
+    assert far.wob[-1] == pytest.approx(8.1 / (p.bit_radius * p.mu_coulomb), rel=1e-9)
+    assert branch(p, vary="wob", torque=8.1, samples=200).omega[-1] == pytest.approx(100.0)
+
+
 @pytest.mark.parametrize(("dof", "vary", "fixed"), [(4, "torque", 100.0), (2, "wob", 8.1)])
 def test_stability_along_the_branch_and_at_its_points_matches_the_dense_eigenvalues(
     dof, vary, fixed
