@@ -233,8 +233,9 @@ def selection(
         mode = "nearest" if method == "nearest" else "exact"
         asked = [coordinate(name, one) for one in given]
         for k, one in enumerate(asked):
-            i = grid_index(name, axes[name], one, mode)
-            asked[k] = one if mode == "nearest" else axes[name][i].item()
+            # the grid value itself, nearest too: at a tie (6.5 between 6 and 7) xarray's
+            # nearest took the larger, grid_index (value, index) the first
+            asked[k] = axes[name][grid_index(name, axes[name], one, mode)].item()
         chosen[name] = asked if many else asked[0]
     return chosen
 

@@ -92,8 +92,11 @@ def to_xarray(source: Path | io.BytesIO, axes: Mapping[str, Any], chunks: Chunks
             ds[name].encoding.update(dtype=count.dtype, _FillValue=count.dtype.type(-1))
     ds = with_safe(ds)
     # What assign makes has no close of its own: its close() left the file open, for as long
-    # as the dataset (or its dask arrays, or a traceback that names it) lived.
-    ds.set_close(close)
+    # as the dataset (or its dask arrays, or a traceback that names it) lived. The dataset
+    # opened has its own: made its own closer (nothing assigned: an atlas without stability,
+    # no ``safe``), its close() called itself without end.
+    if ds is not opened:
+        ds.set_close(close)
     return ds
 
 
