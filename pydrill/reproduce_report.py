@@ -3,6 +3,7 @@ computed, and where and why they differ. Every number is read from the computed 
 
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 from typing import Any
 
@@ -163,6 +164,29 @@ def _fig7(n: dict[str, Any]) -> list[str]:
     ]
 
 
+def _fig8_verdict(f: dict[str, Any]) -> str:
+    """Fig. 8's two claims judged from the numbers (the report once stated both whatever they
+    were): every x_out on ∂Σ̃⁺ (T_e = T_s to 10⁻⁶ N·m), the time stuck increasing with W_ob."""
+    sf = f["stuck_fraction_by_wob"]
+    off = max((abs(v["torque_out"] - f["static_torque"]) for v in f["visits"]), default=0.0)
+    fractions = [sf[w] for w in sorted(sf, key=float)]
+    rising = all(a < b for a, b in itertools.pairwise(fractions))
+    return (
+        (
+            f"Every x_out lies on ∂Σ̃⁺: T_e = T_s = {g(f['static_torque'])} N·m to rounding. "
+            if off < 1e-6
+            else f"NOT every x_out lies on ∂Σ̃⁺: T_e − T_s up to {g(off, 2)} N·m. "
+        )
+        + "Time stuck against W_ob (u = 8.3 N·m, from rest): "
+        + ", ".join(f"{w} N: {100 * v:.0f} % ({f['regime_by_wob'][w]})" for w, v in sf.items())
+        + (
+            " — increasing with W_ob, as the paper says."
+            if rising
+            else " — NOT increasing with W_ob, unlike what the paper says."
+        )
+    )
+
+
 def _fig8(n: dict[str, Any]) -> list[str]:
     f = n["fig08"]
     rows = [
@@ -174,7 +198,6 @@ def _fig8(n: dict[str, Any]) -> list[str]:
             f"| {i} | {g(v['t_in'])} | {g(v['t_out'])} | {g(v['duration'])} | "
             f"{g(v['phi_b'])} | {g(v['torque_out'])} |"
         )
-    sf = f["stuck_fraction_by_wob"]
     return [
         "## Fig. 8 — the visits to Σ̃ during stick-slip (n = 8, W_ob = 100 N, u = 8.3 N·m)",
         "",
@@ -186,10 +209,7 @@ def _fig8(n: dict[str, Any]) -> list[str]:
         "",
         *rows,
         "",
-        f"Every x_out lies on ∂Σ̃⁺: T_e = T_s = {g(f['static_torque'])} N·m to rounding. "
-        "Time stuck against W_ob (u = 8.3 N·m, from rest): "
-        + ", ".join(f"{w} N: {100 * v:.0f} % ({f['regime_by_wob'][w]})" for w, v in sf.items())
-        + " — increasing with W_ob, as the paper says.",
+        _fig8_verdict(f),
         "",
         "**Differences.** None.",
         "",

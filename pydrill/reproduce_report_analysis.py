@@ -33,7 +33,7 @@ def head(n: dict[str, Any], summary: dict[str, Any]) -> list[str]:
         f"| 10 | Hopf locus H₂ from Δ₂ = 0 (Eq. 51) | δ = {g(f10['h2_delta'], 6)} (Eq. 14), "
         f"{g(n['fig10b']['h2_delta'], 6)} N·m·s/rad (Eq. 53) |",
         f"| 11 | HB and LP points, n' = 3 and 7 | HB1 at W_ob = {g(c['wob'], 6)} N (n' = 7, "
-        f"u = 8.1), LP at {g(n['fig11c']['fold']['wob'], 6)} N; all subcritical |",
+        f"u = 8.1), LP at {g(n['fig11c']['fold']['wob'], 6)} N; {_hb_verdict(n)} |",
         f"| 12 | (W_ob, u) of Hopf points | {len(n['strings']['dof4']['fig12']['curves'])} Hopf "
         "curves for n' = 7, each of one criticality |",
     ]
@@ -62,6 +62,30 @@ def head(n: dict[str, Any], summary: dict[str, Any]) -> list[str]:
     ]
 
 
+def _hb_verdict(n: dict[str, Any]) -> str:
+    """The criticality of Fig. 11's Hopf points, judged here from the sign of each l₁ (the
+    table once said "all subcritical" whatever the numbers)."""
+    l1 = [p["lyapunov"] for k in "abcd" for p in n[f"fig11{k}"]["points"] if p["type"] == "HB"]
+    sub = sum(v is not None and v > 0 for v in l1)
+    return "all subcritical" if l1 and sub == len(l1) else f"{sub} of {len(l1)} subcritical"
+
+
+def _agreement(n: dict[str, Any]) -> str:
+    """How far apart H₂'s δ from the bit impedance, Eq. (51)'s closed form and the root of
+    Δ₂ are (three independent routes), for both strings; the report once said "agree to
+    rounding" whatever they were."""
+    spread = 0.0
+    for key in ("fig10a", "fig10b"):
+        f = n[key]
+        values = [f["h2_delta"], f["eq51_deltas"][0], *f["hurwitz_roots"][:1]]
+        if len(values) < 3:
+            return "do not agree: Δ₂ has no positive root"
+        spread = max(spread, (max(values) - min(values)) / min(values))
+    if spread < 1e-8:
+        return f"agree to rounding ({g(spread, 1)} relative)"
+    return f"DISAGREE, by up to {g(spread, 2)} relative"
+
+
 def _fig10(n: dict[str, Any]) -> list[str]:
     lines = [
         "## Fig. 10 — (Ω, W_ob) where steady drilling is stable, n' = 3",
@@ -88,10 +112,16 @@ def _fig10(n: dict[str, Any]) -> list[str]:
     lines += [
         "",
         "The critical slope from the bit impedance (any dof), the closed form of Eq. (51) and "
-        "the roots of the Hurwitz determinant agree to rounding. The second root of Δ₂ is "
-        f"H₁ (δ = {g(a['h1_delta'], 5)} > c_r + c_b = {g(a['fold_delta'])}: outside H₊, a "
-        "real eigenvalue is already unstable there, so H₁ is no Hopf bifurcation, as the paper "
-        "says). The boundary is W_ob = δ₁ e^{γ_b Ω/v_f}/(R_b γ_b/v_f (μ_sb − μ_cb)): safe "
+        f"the roots of the Hurwitz determinant {_agreement(n)}. The second root of Δ₂ is "
+        + (
+            f"H₁ (δ = {g(a['h1_delta'], 5)} > c_r + c_b = {g(a['fold_delta'])}: outside H₊, a "
+            "real eigenvalue is already unstable there, so H₁ is no Hopf bifurcation, as the "
+            "paper says)."
+            if a["h1_delta"] > a["fold_delta"]
+            else f"H₁ (δ = {g(a['h1_delta'], 5)} ≤ c_r + c_b = {g(a['fold_delta'])}: inside "
+            "H₊, NOT as the paper says)."
+        )
+        + " The boundary is W_ob = δ₁ e^{γ_b Ω/v_f}/(R_b γ_b/v_f (μ_sb − μ_cb)): safe "
         "W_ob grows e-fold every 1.1 rad/s of Ω.",
         "",
         "**Differences.** Eq. (50) prints Δ₂ = a₁ − a₂ − a₀; taken literally (it is not even "
