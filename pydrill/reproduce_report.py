@@ -64,6 +64,29 @@ def _fig4(n: dict[str, Any]) -> list[str]:
     ]
 
 
+def _period_verdict(f: dict[str, Any]) -> str:
+    """Whether the stick-slip period from rest grows with W_ob, judged from the orbits (the
+    report once said so whatever they were)."""
+    periods = [
+        (float(w), o["period"])
+        for w, o in f["orbits"].items()
+        if o["regime"] == "stick-slip" and o["period"]
+    ]
+    periods.sort()
+    if len(periods) < 2:
+        return "Too few stick-slip orbits to tell how their period changes with W_ob"
+    shown = ", ".join(f"{g(t, 3)} s at {g(w)} N" for w, t in periods)
+    if all(a[1] < b[1] for a, b in itertools.pairwise(periods)):
+        return (
+            f"The stick-slip period grows with W_ob ({shown}: the bit stays stuck longer), "
+            "as the paper says"
+        )
+    return (
+        f"The stick-slip period does NOT grow with W_ob throughout ({shown}), unlike what "
+        "the paper says"
+    )
+
+
 def _fig5(n: dict[str, Any]) -> list[str]:
     f = n["fig05"]
     iv = f["interval"]
@@ -93,9 +116,8 @@ def _fig5(n: dict[str, Any]) -> list[str]:
         f"**{g(iv['lower'])} < W_ob < {g(iv['upper'])} N**, {iv['below']} below, {iv['above']} "
         f"above. The reference value of Eq. (38) is W*_ob = u/(μ_sb R_b) = {g(iv['wob_star'])} N, "
         f"so ε⁻ = {g(iv['wob_star'] - iv['lower'])} N and ε⁺ = "
-        f"{g(iv['upper'] - iv['wob_star'])} N. The stick-slip period grows with W_ob (the bit "
-        "stays stuck longer), as the paper says; the quasi-equilibrium the stuck string "
-        f"relaxes to has φ_r − φ_b = u/k_t = {g(f['quasi_equilibrium_twist'])} rad.",
+        f"{g(iv['upper'] - iv['wob_star'])} N. {_period_verdict(f)}; the quasi-equilibrium the "
+        f"stuck string relaxes to has φ_r − φ_b = u/k_t = {g(f['quasi_equilibrium_twist'])} rad.",
         "",
         "**Differences.** None in kind. The paper gives no W_ob at which the bit sticks for "
         "good; pydrill finds it, and finds that the bit can stick for good only past W*_ob "

@@ -349,7 +349,20 @@ def test_fig4_and_fig5_quote_the_differences_worked_out_here():
     assert k != ex  # a self-difference would print 0
     assert f"the same to {g(abs(k - ex) / ex, 2)} relative" in "\n".join(rr._fig4({"fig04": f4}))
     lower = f5["interval"]["lower"]
-    assert f"ε⁻ = {g(8.1 / 0.08 - lower)} N" in "\n".join(rr._fig5({"fig05": f5}))
+    text = "\n".join(rr._fig5({"fig05": f5}))
+    assert f"ε⁻ = {g(8.1 / 0.08 - lower)} N" in text
+    # The period from rest grows with W_ob over the stick-slip orbits, judged by hand here;
+    # the report says so only then (it once said so whatever the orbits were).
+    slips = [o for o in f5["orbits"].values() if o["regime"] == "stick-slip"]
+    periods = [o["period"] for o in slips]
+    assert len(periods) >= 2 and periods == sorted(periods)
+    assert "The stick-slip period grows with W_ob (" in text
+    first, second = list(f5["orbits"])[:2]
+    assert {f5["orbits"][first]["regime"], f5["orbits"][second]["regime"]} == {"stick-slip"}
+    swapped = dict(f5["orbits"])
+    swapped[first], swapped[second] = swapped[second], swapped[first]
+    text = "\n".join(rr._fig5({"fig05": {**f5, "orbits": swapped}}))
+    assert "The stick-slip period does NOT grow with W_ob throughout" in text
 
 
 def test_fig8s_verdicts_fail_when_the_numbers_do_not_agree():
