@@ -104,9 +104,19 @@ class AtlasTable:
     ) -> None:
         """``_apply`` of each record of ``part``, field by field, at the flat indices ``idx``
         (their own, ``rec["i"]``, by default); a record's absent values are stored as their
-        fill, as ``put`` stores a block's."""
+        fill, as ``put`` stores a block's.
+
+        At their own indices (a journal's replay) a point's last record is all the table
+        holds of it, as if it were the only one: pydrill journals each point once, but a
+        journal joined by hand can hold a point twice, and a failed record after a done one
+        must not keep the done run's steady states or eigenvalues."""
         if idx is None:
             idx = np.array([rec["i"] for rec in part], dtype=np.int64)
+            _, first = np.unique(idx[::-1], return_index=True)
+            if len(first) < len(idx):  # keep each point's last record of the chunk
+                keep = np.sort(len(idx) - 1 - first)
+                part, idx = [part[k] for k in keep], idx[keep]
+            self._blank_rows(idx, flat)
         flat["status"][idx] = [STATUS[rec["status"]] for rec in part]
         messages = np.empty(len(part), dtype=object)
         messages[:] = [rec.get("message", "") for rec in part]
@@ -153,6 +163,12 @@ class AtlasTable:
         if co:
             flat["coexistence"][idx[[k for k, _ in co]]] = [int(v) for _, v in co]
 
+    def _blank_rows(self, idx: np.ndarray, flat: dict[str, np.ndarray]) -> None:
+        """Put the rows ``idx`` back to a fresh table's values (a point never computed)."""
+        fresh = AtlasTable(self.spec, points=1)._flat()
+        for name, array in flat.items():
+            array[idx] = fresh[name][0]
+
     def _flat(self) -> dict[str, np.ndarray]:
         """Views of the arrays with the point axes flattened (they share memory with them)."""
         n = self.status.size
@@ -169,6 +185,7 @@ class AtlasTable:
         }
 
     def _apply(self, rec: dict[str, Any], i: int, flat: dict[str, np.ndarray]) -> None:
+        self._blank_rows(np.array([i]), flat)  # the record is all the table holds of i
         flat["status"][i] = STATUS[rec["status"]]
         flat["message"][i] = rec.get("message", "")
         runs = rec.get("runs", {})
