@@ -16,7 +16,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .model import Params
-from .stability import Crossing, boundary_wob, critical_deltas, stribeck_slope, unstable_count
+from .stability import (
+    Crossing,
+    _check_crossings,
+    boundary_wob,
+    critical_deltas,
+    stribeck_slope,
+    unstable_count,
+)
 
 #: Category of each (W_ob, u) cell, by code.
 CATEGORIES = (
@@ -58,7 +65,17 @@ def stable_torques(
     piece of Ω between them the count of unstable eigenvalues is constant; u(Ω) = cΩ + T_fb(Ω)
     is convex (u'' = −δ' > 0), so over a piece it is least at Ω_c, where δ(Ω_c) = c, or at an
     end, and greatest at an end (unbounded on the last piece). Each (lo, hi) is open: an end
-    is T_s (Ω → 0+, the stuck bit) or u on a stability boundary, held by no stable state."""
+    is T_s (Ω → 0+, the stuck bit) or u on a stability boundary, held by no stable state.
+
+    ``crossings`` must be ``critical_deltas(params)`` (another string's are refused when they
+    can be told apart: a fold elsewhere than at c_r + c_b)."""
+    return _stable_torques(params, wob, _check_crossings(params, crossings))
+
+
+def _stable_torques(
+    params: Params, wob: float, crossings: list[Crossing]
+) -> list[tuple[float, float]]:
+    """:func:`stable_torques` of crossings already checked (any crossings: its arithmetic)."""
     p = params
     g = p.stribeck_decay / p.stribeck_velocity
     top = float(stribeck_slope(p, wob, 0.0))  # δ(0)
@@ -108,8 +125,9 @@ def operating_map(
     wob, torque = _grid("wob", wob), _grid("torque", torque)
     if np.any(wob <= 0):
         raise ValueError(f"wob = {wob[wob <= 0][0]:g} is not allowed: every wob must be > 0 N")
-    if crossings is None:
-        crossings = critical_deltas(params)
+    crossings = (
+        critical_deltas(params) if crossings is None else _check_crossings(params, crossings)
+    )
     ts = params.mu_static * wob * params.bit_radius
     category = np.empty((torque.size, wob.size), dtype=np.int8)
     safe_min = np.full(wob.size, np.inf)
@@ -118,7 +136,7 @@ def operating_map(
     size = np.abs(torque)
     for j, w in enumerate(wob):
         has_stable = np.zeros(torque.size, dtype=bool)
-        for lo, hi in stable_torques(params, w, crossings):
+        for lo, hi in _stable_torques(params, w, crossings):
             # Open at both ends: an end is T_s, the limit Ω -> 0+ (the stuck bit, not a
             # steady state), or u on a stability boundary. u = T_s was called stable at
             # small W_ob, where stability() finds no steady state at all.

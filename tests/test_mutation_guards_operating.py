@@ -153,15 +153,17 @@ def test_stable_torques_when_the_first_crossing_sits_at_zero_velocity():
     assert stable_torques(p, w, crossings) == [(p.static_torque(w), np.inf)]
 
 
-def test_stable_torques_follow_any_crossings_given():
+def test_stable_torques_follow_any_crossings_given(monkeypatch):
     """The interval arithmetic in general, as stable_torques' docstring states it: on a piece
     of Ω with no crossing, u(Ω) is convex with its least value at Ω_c (δ(Ω_c) = c_r + c_b)
     or at an end, its greatest at an end. A string's own crossings never make a piece stable
     at δ > c_r + c_b (its fold), so there every stable piece lies where u rises and the
     least/greatest are simply its ends; these made-up crossings (stable for δ in (0.95, δ(0)),
     (0.6, 0.9), (0.1, 0.3) around c_r + c_b = 0.19, and below 0.001) reach the other cases:
-    a piece where u falls, one holding Ω_c, one from Ω = 0 entirely below T_s."""
+    a piece where u falls, one holding Ω_c, one from Ω = 0 entirely below T_s. (They have no
+    fold, so the public functions refuse them as another string's: that check is lifted.)"""
     p = pydrill.preset("reduced-scale", dof=2)
+    monkeypatch.setattr(pydrill.operating, "_check_crossings", lambda params, c: list(c))
     made_up = [
         Crossing("hopf", d, 1.0, s, 2)
         for d, s in [(0.001, 1), (0.1, -1), (0.3, 1), (0.6, -1), (0.9, 1), (0.95, -1)]
@@ -238,3 +240,19 @@ def test_hopf_curve_keeps_exactly_the_velocities_with_wob_up_to_1e300(v_f):
     assert u[0] == pytest.approx(pydrill.equilibrium_torque(p, w[0], 1e-9), rel=1e-8)
     for wi, ui, om in zip(w[1:3], u[1:3], kept[1:3], strict=True):
         assert ui == pytest.approx(_torque(p, wi, om), rel=1e-12)
+
+
+def test_another_strings_crossings_are_refused_as_stability_refuses_them():
+    """Crossings of a string with other end damping (its fold elsewhere than c_r + c_b) gave
+    a map of neither string; stability() refused them, the map and intervals did not."""
+    p = pydrill.preset("reduced-scale", dof=2)
+    other = st.critical_deltas(p.replace(bit_damping=2 * p.bit_damping))
+    for call in (
+        lambda: stable_torques(p, 50.0, other),
+        lambda: operating_map(p, [50.0], [5.0], crossings=other),
+        lambda: st.stability(p, 50.0, torque=5.0, crossings=other),
+    ):
+        with pytest.raises(ValueError, match="not this string's"):
+            call()
+    own = st.critical_deltas(p)  # and its own still pass, as a list or any iterable
+    assert stable_torques(p, 50.0, iter(own)) == stable_torques(p, 50.0, own)
