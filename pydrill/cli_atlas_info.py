@@ -67,8 +67,8 @@ def cmd_info(args: argparse.Namespace) -> int:
         print_json(json_document(inputs, results, units))
         return 0
     print(
-        f"{s['path']}: {s['points']} points, pydrill {s['pydrill_version']}, "
-        f"spec {s['spec_digest']}"
+        f"{s['path']}: {s['points']} point{'' if s['points'] == 1 else 's'}, "
+        f"pydrill {s['pydrill_version']}, spec {s['spec_digest']}"
     )
     if s["spec_digest_here"] != s["spec_digest"]:
         note = (
