@@ -31,9 +31,12 @@ def dealing_order(indices: np.ndarray) -> np.ndarray:
 
 class Batcher:
     """Deals the points ``indices`` out in batches of decreasing size ("guided" scheduling):
-    each takes 1/(2 x workers) of what is left, between ``smallest`` and ``largest`` points —
-    and, once ``timed`` has been told what batches took, between ``LEAST_SECONDS`` and
-    ``BATCH_SECONDS`` of work (down to one point). Big early batches hide Dask's per-task
+    each takes 1/(2 x workers) of what is left, between ``smallest`` and ``largest`` points.
+    Once ``timed`` has been told what batches took, at most ``BATCH_SECONDS`` of work (down to
+    one point), and the least is ``smallest`` points or ``LEAST_SECONDS`` of work, whichever
+    is fewer points: slow points make batches of fewer than ``smallest``, cheap ones do not
+    make them bigger (16 points of 1 ms are a 16 ms batch: only the last few batches are so
+    small, and a big last batch would leave a worker idle). Big early batches hide Dask's per-task
     overhead (measured: 8 batches of 250 points ran a 2000-point sweep 15 % faster than 125
     of 16); small last ones let every worker finish within a few points of the others. The
     points are dealt in ``dealing_order``, so every batch samples the whole grid and costs
