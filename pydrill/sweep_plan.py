@@ -116,7 +116,9 @@ def plan_sweep(
     gone or ``most`` are timed. Computes in this process; writes nothing.
 
     ``spec``: a :class:`SweepSpec` (``pydrill.load_spec(path)``); ``budget``: seconds,
-    finite and > 0; ``most``: an integer >= 1; ``least``: an integer >= 0."""
+    finite and > 0; ``most``: an integer >= 1; ``least``: an integer >= 0. The 95 % range
+    needs two points timed: with one of several, it is 0 ... inf (the command line times at
+    least three)."""
     from .sweep import dealing_order, evaluate_point
     from .sweep_points import encode_batch
 
@@ -165,6 +167,8 @@ def plan_sweep(
     if 1 < k < n:  # the sample's spread; none when every point to compute was timed
         finite = math.sqrt((n - k) / (n - 1))  # sampling without replacement
         half = Z95 * float(np.std(times, ddof=1)) / math.sqrt(k) * finite
+    elif k == 1 < n:  # one point says nothing of the spread: no range, not a sure one
+        half = math.inf
     row = fmt.AtlasTable(spec, points=1).columns()
     return SweepPlan(
         points=spec.size,

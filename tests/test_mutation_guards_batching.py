@@ -153,6 +153,18 @@ def test_the_sample_stops_once_the_budget_is_spent(monkeypatch, small, least, bu
     assert plan_sweep(spec, least=least, budget=budget).sampled == sampled
 
 
+def test_one_point_timed_of_several_has_no_range_rather_than_a_sure_one(monkeypatch, small):
+    """A range from one point had zero width, as if the estimate were exact; the spread is
+    unknown (one point of six, the budget spent by it), and every point timed has none."""
+    spec = virtual(monkeypatch, small, lambda i: 1.0)
+    plan = plan_sweep(spec, least=1, budget=0.5)
+    assert plan.sampled == 1 and plan.todo == 6
+    assert (plan.point_seconds_low, plan.point_seconds_high) == (0.0, math.inf)
+    assert plan.point_seconds == pytest.approx(1.0)
+    whole = plan_sweep(spec, least=6, budget=0.5)
+    assert whole.point_seconds_low == whole.point_seconds_high == whole.point_seconds
+
+
 def test_failures_are_counted_and_the_first_ones_message_kept(monkeypatch, small):
     spec = virtual(monkeypatch, small, lambda i: 1e-3, fail={ORDER[1], ORDER[2], ORDER[4]})
     plan = plan_sweep(spec, most=5, budget=1e9)
