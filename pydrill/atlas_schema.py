@@ -54,7 +54,7 @@ N_EQ = 2  # a (W_ob, u) has at most two steady states
 # while someone ran `pydrill atlas info` on the growing atlas.
 WRITER_LOCKING = False
 
-# name -> (dtype, fill, dims beyond the axes, units, description)
+# name -> (dtype, fill, units, description); a run field has the axes and "initial" as dims
 RUN_FIELDS = {
     "bit_min": ("f8", math.nan, "rad/s", "least bit velocity in the judged window"),
     "bit_max": ("f8", math.nan, "rad/s", "largest bit velocity in the judged window"),

@@ -13,6 +13,10 @@ import tomllib
 from typing import Any
 
 _BARE = re.compile(r"^[A-Za-z0-9_-]+$")
+# What TOML refuses in a comment: the control characters but tab (textwrap has made the
+# whitespace ones blanks already). A part's file name holding one (an escape sequence, a DEL)
+# made the merged spec text that tomllib refused.
+_NOT_IN_COMMENT = re.compile(r"[\x00-\x08\x0a-\x1f\x7f]")
 
 
 def key(name: str) -> str:
@@ -49,7 +53,10 @@ def with_axis(text: str, axis: str, values: list[Any], header: str = "") -> str:
     the comments are not kept), after ``header`` as a comment."""
     doc = tomllib.loads(text)
     doc["axes"][axis] = values
-    lines = [f"# {line}" for line in textwrap.wrap(header, 88)]
+    lines = [
+        "# " + _NOT_IN_COMMENT.sub(lambda m: f"\\x{ord(m[0]):02x}", line)
+        for line in textwrap.wrap(header, 88)
+    ]
     for section, table in doc.items():
         if lines:
             lines.append("")
