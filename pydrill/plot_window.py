@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -129,7 +130,8 @@ def window_figure(
     tq = np.where(
         gw <= np.minimum(limits.wob_max_stable(gr), limits.wob_max_unstuck(gr)) / 1e3, tq, np.nan
     )
-    if np.isfinite(tq).any():
+    contoured = np.isfinite(tq).any() and np.nanmax(tq) > 0
+    if contoured:
         cs = ax.contour(
             gw,
             gr,
@@ -188,9 +190,10 @@ def window_figure(
         "stall: torque at this rpm cannot break a stopped bit free",
         *labels,
     ]
-    ax.plot([], [], color="#1e8449", lw=0.7, label="steady surface torque")
-    handles.append(ax.get_lines()[-1])
-    labels.append("steady surface torque (kN·m)")
+    if contoured:  # (named only when drawn)
+        ax.plot([], [], color="#1e8449", lw=0.7, label="steady surface torque")
+        handles.append(ax.get_lines()[-1])
+        labels.append("steady surface torque (kN·m)")
     ax.legend(
         handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8.5, framealpha=0.95
     )
@@ -266,10 +269,16 @@ def _label_regions(ax, limits, x_max: float, rpm_max: float) -> None:
 
 
 def _nice_levels(top: float) -> list[float]:
-    for step in (0.5, 1, 2, 5, 10, 20, 50):
+    """Up to 12 round levels (1, 2 or 5 times a power of ten apart) below ``top`` > 0: a
+    field string's kN·m and a laboratory string's thousandths of one alike (steps from 0.5
+    up drew no contour below 0.5 kN·m, and the legend named the missing lines)."""
+    base = 10.0 ** math.floor(math.log10(top))
+    for m in (0.1, 0.2, 0.5, 1.0):
+        step = m * base
         if top / step <= 12:
-            return list(np.arange(step, top, step))
-    return list(np.linspace(0, top, 10)[1:])
+            # rounded: 3 x 0.05 is 0.15000000000000002, a label of many digits
+            return [float(f"{v:.12g}") for v in np.arange(step, top, step)]
+    return []  # (not reached: top / base < 10)
 
 
 def window_depth_figure(
