@@ -13,11 +13,13 @@ EXIT_USAGE = 2
 
 
 def wants_json(argv: Sequence[str]) -> bool:
-    """Whether the command line asked for --json (before a "--", which ends the options)."""
+    """Whether the command line asked for --json (before a "--", which ends the options),
+    abbreviated too: argparse takes --js (no other option starts --j) for --json, and an error
+    then left stdout empty where a script expects the JSON error object."""
     for token in argv:
         if token == "--":
             return False
-        if token == "--json":
+        if len(token) >= 3 and "--json".startswith(token):
             return True
     return False
 

@@ -278,8 +278,10 @@ def run_notes(args: argparse.Namespace) -> list[str]:
     t_end = getattr(args, "t_end", None)
     if t_end is None or t_end <= LONG_RUN:
         return []
+    days = f"{t_end / LONG_RUN:.3g}"
+    days += " day" if days == "1" else " days"  # 86401 s was "(1 days)"
     return [
-        f"--t-end is {t_end:g} s ({t_end / LONG_RUN:.3g} days) of drilling: a run that long "
+        f"--t-end is {t_end:g} s ({days}) of drilling: a run that long "
         "takes minutes and may end at its step limit; stick-slip repeats within seconds"
     ]
 

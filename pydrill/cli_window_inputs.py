@@ -166,8 +166,13 @@ def _with_sets(tally, args: argparse.Namespace):
             )
     if not sets:
         return tally
+    from .model import _check_friction
+
     changed = dataclasses.replace(tally, **sets)
+    mu = [name for name in ("mu_coulomb", "mu_static") if name in sets]
     try:
+        if len(mu) == 1:  # blame the coefficient --set changed, not the tally's one it kept
+            _check_friction(changed.mu_coulomb, changed.mu_static, changed=mu[0])
         changed.to_params()
     except ValueError as exc:
         raise _set_refused(exc, sets) from None
