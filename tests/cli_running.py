@@ -1,5 +1,7 @@
 """Running ``pydrill`` in the test's own process, for tests of what it prints."""
 
+import json
+
 from pydrill import cli
 
 
@@ -16,3 +18,15 @@ def run(capsys, *args):
 def notes(err: str) -> list[str]:
     """The notes among a command's stderr lines."""
     return [line for line in err.splitlines() if line.startswith("pydrill: note: ")]
+
+
+def ok_text(capsys, *args) -> str:
+    """What ``pydrill ARGS`` prints on stdout; its exit status must be 0."""
+    code, out, err = run(capsys, *args)
+    assert code == 0, err
+    return out
+
+
+def ok_json(capsys, *args):
+    """The document ``pydrill ARGS --json`` prints; its exit status must be 0."""
+    return json.loads(ok_text(capsys, *args, "--json"))

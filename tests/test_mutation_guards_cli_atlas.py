@@ -8,13 +8,12 @@ points, unstable steady states, caveats); each document is compared with the fil
 and with counts and units worked out here by hand.
 """
 
-import json
 import math
 
 import h5py
 import numpy as np
 import pytest
-from cli_running import run
+from cli_running import ok_json, ok_text
 
 from pydrill import atlas_format as fmt
 from pydrill.spec import parse_spec
@@ -103,19 +102,6 @@ def _safe(raw):
     return np.all(raw["regime"] == S, axis=-1) & (raw["unstable"][..., 0] == 0)
 
 
-def _text(capsys, *args):
-    """A command's text output; its exit status 0."""
-    code, out, err = run(capsys, *args)
-    assert code == 0, err
-    return out
-
-
-def _json(capsys, *args):
-    code, out, err = run(capsys, *args, "--json")
-    assert code == 0, err
-    return json.loads(out)
-
-
 def _number(x):
     return None if not np.isfinite(x) else float(x)
 
@@ -127,7 +113,7 @@ def test_query_json_holds_the_first_starts_values_and_every_unit(atlas, capsys):
     regimes = {c: n for n, c in fmt.REGIMES.items()}
     for (i, j), _ in np.ndenumerate(raw["status"]):
         w, u = float(raw["wob"][i]), float(raw["torque"][j])
-        d = _json(capsys, "atlas", "query", atlas, "--wob", w, "--torque", u)
+        d = ok_json(capsys, "atlas", "query", atlas, "--wob", w, "--torque", u)
         assert d["asked"] == {"wob": w, "torque": u} == d["coords"]
         # the flat keys are the first start's (rest), by_initial each start's
         assert d["regime"] == regimes[raw["regime"][i, j, 0]]
@@ -147,13 +133,13 @@ def test_query_json_holds_the_first_starts_values_and_every_unit(atlas, capsys):
 
 
 def test_query_json_of_a_held_torque_a_count_axis_and_no_stability(held, capsys):
-    d = _json(capsys, "atlas", "query", held, "--pipes", "2", "--wob", "100", "--torque", "8.3")
+    d = ok_json(capsys, "atlas", "query", held, "--pipes", "2", "--wob", "100", "--torque", "8.3")
     # asked: all that was given (the held torque too), the count as an int; coords the grid's
     assert d["asked"] == {"pipes": 2, "wob": 100.0, "torque": 8.3}
     assert type(d["asked"]["pipes"]) is int
     assert d["units"]["coords"] == {"pipes": "1", "wob": "N"}
     assert d["safe"] is None  # stability not recorded: nothing called safe, or not
-    out = _text(capsys, "atlas", "query", held, "--pipes", "2", "--wob", "100")
+    out = ok_text(capsys, "atlas", "query", held, "--pipes", "2", "--wob", "100")
     assert "safe:" not in out
 
 
@@ -166,7 +152,7 @@ def test_query_text_says_the_files_numbers_in_their_units(atlas, capsys):
     raw = _raw(atlas)
     for i, j, safe in [(1, 0, "yes"), (2, 0, "no (the fastest steady state is unstable)")]:
         w, u = raw["wob"][i], raw["torque"][j]
-        out = _text(capsys, "atlas", "query", atlas, "--wob", w, "--torque", u, "--nearest")
+        out = ok_text(capsys, "atlas", "query", atlas, "--wob", w, "--torque", u, "--nearest")
         # the whole axis reads in kN (it reaches 6 kN): 100 N is 0.1 kN; no 'nearest' line
         assert out.splitlines()[0] == f"wob = {w / 1e3:g} kN, torque = {u:g} N·m: done"
         assert "nearest" not in out
@@ -185,23 +171,23 @@ def test_query_text_says_the_files_numbers_in_their_units(atlas, capsys):
             else "yes (steady from rest and from equilibrium, the fastest steady state stable)"
         )
     # steady from both, the fastest stable, a slower one unstable in its singular: safe
-    out = _text(capsys, "atlas", "query", atlas, "--wob", 100, "--torque", 8.3)
+    out = ok_text(capsys, "atlas", "query", atlas, "--wob", 100, "--torque", 8.3)
     assert "unstable (1 eigenvalue with Re > 0)" in out and "safe: yes" in out
-    out = _text(capsys, "atlas", "query", atlas, "--wob", 6000, "--torque", 7)
+    out = ok_text(capsys, "atlas", "query", atlas, "--wob", 6000, "--torque", 7)
     assert "safe: no (the point is missing" in out
-    out = _text(capsys, "atlas", "query", atlas, "--wob", 95, "--torque", 7, "--nearest")
+    out = ok_text(capsys, "atlas", "query", atlas, "--wob", 95, "--torque", 7, "--nearest")
     assert "(the grid point nearest wob = 0.095 kN)" in out
 
 
 def test_info_counts_and_units_are_the_files(atlas, held, capsys):
     raw = _raw(atlas)
-    d = _json(capsys, "atlas", "info", atlas)
+    d = ok_json(capsys, "atlas", "info", atlas)
     assert d["units"]["axes"] == {"wob": "N", "torque": "N·m"}
     assert d["points"] == raw["status"].size
     assert d["safe_points"] == int(_safe(raw).sum())
     for name, code in fmt.STATUS.items():
         assert d["status"][name] == int(np.sum(raw["status"] == code))
-    out = _text(capsys, "atlas", "info", atlas)
+    out = ok_text(capsys, "atlas", "info", atlas)
     assert "  axis wob               4 values, 0.04 kN ... 6 kN" in out
     assert "  axis torque            3 values, 6 N·m ... 8.3 N·m" in out
     assert "safe points 6, rest/equilibrium disagree at " in out
@@ -214,9 +200,9 @@ def test_info_counts_and_units_are_the_files(atlas, held, capsys):
         notes = ", ".join(f"{n} {v}" for n, v in counts.items())
         assert f"  caveats from {init}: {notes} (points to simulate" in out
     # the held torque in the model's units (N·m), one start: no disagreement counted
-    d = _json(capsys, "atlas", "info", held)
+    d = ok_json(capsys, "atlas", "info", held)
     assert d["units"]["model"]["held"]["torque"] == "N·m"
-    out = _text(capsys, "atlas", "info", held)
+    out = ok_text(capsys, "atlas", "info", held)
     assert "  model   preset reduced-scale, torque 8.3 N·m; 5 s from each start" in out
     assert (
         "  axis pipes             2 values, 1 ... 2\n  axis wob               1 value,  100 N"
@@ -243,7 +229,7 @@ def _runs(mask, values):
 def test_safe_json_windows_neighbours_and_counts_are_the_files(atlas, capsys):
     raw = _raw(atlas)
     safe, wob = _safe(raw), [float(w) for w in raw["wob"]]
-    d = _json(capsys, "atlas", "safe", atlas)
+    d = ok_json(capsys, "atlas", "safe", atlas)
     assert [r["at"] for r in d["rows"]] == [{"torque": float(t)} for t in raw["torque"]]
     for j, row in enumerate(d["rows"]):
         windows = _runs(safe[:, j], wob)
@@ -259,14 +245,14 @@ def test_safe_json_windows_neighbours_and_counts_are_the_files(atlas, capsys):
         assert row["safe_points"] == int(safe[:, j].sum()) and row["points"] == len(wob)
         assert row["not_done"] == int(np.sum(raw["status"][:, j] != fmt.STATUS["done"]))
     assert d["units"] == {"along": "N", "at": {"torque": "N·m"}, "fixed": {}}
-    out = _text(capsys, "atlas", "safe", atlas)
+    out = ok_text(capsys, "atlas", "safe", atlas)
     lines = out.splitlines()
     assert lines[2] == "  torque = 6 N·m:    wob 0.04 kN ... 0.1 kN (2 of 4 points)"
     assert lines[3] == "  torque = 7 N·m:    wob 0.1 kN (1 of 4 points; 2 not computed)"
     assert lines[5] == "  3 of 3 have a safe window"
     # windows from the grid's first value and to its last: both ends named
     assert "one from 0.04 kN or to 6 kN, the grid's ends" in out
-    out = _text(capsys, "atlas", "safe", atlas, "--along", "torque", "--set", "wob=2.5kN")
+    out = ok_text(capsys, "atlas", "safe", atlas, "--along", "torque", "--set", "wob=2.5kN")
     assert out.splitlines()[0].endswith("safe windows along torque, at wob = 2.5 kN")
     assert "one to 8.3 N·m, the grid's last value, may go on above it)" in out
 
@@ -275,6 +261,6 @@ def test_safe_json_of_a_held_torque_names_its_unit(held, tmp_path, capsys):
     spec = HELD.replace("[record]\nstability = false", "")
     path = tmp_path / "held.h5"
     run_sweep(parse_spec(spec), path, serial=True)
-    d = _json(capsys, "atlas", "safe", path)
+    d = ok_json(capsys, "atlas", "safe", path)
     assert d["fixed"] == {"torque": 8.3}
     assert d["units"] == {"along": "N", "at": {"pipes": "1"}, "fixed": {"torque": "N·m"}}

@@ -16,7 +16,7 @@ from types import SimpleNamespace
 import h5py
 import numpy as np
 import pytest
-from cli_running import run
+from cli_running import ok_text, run
 from sweeping import ROOT
 
 from pydrill import atlas_format as fmt
@@ -80,17 +80,11 @@ def atlas(tmp_path_factory):
     return path
 
 
-def _ok(capsys, *args):
-    code, out, err = run(capsys, *args)
-    assert code == 0, err
-    return out
-
-
 def test_a_value_the_spec_holds_is_left_out_to_six_digits_and_its_dof_too(atlas, capsys):
     base = ["atlas", "query", atlas, "--set", "mu_static=0.8", "--wob", 100]
-    plain = _ok(capsys, *base)
+    plain = ok_text(capsys, *base)
     # the held torque and dof asked as the spec holds them: the same point, said the same
-    assert _ok(capsys, *base, "--torque", 8.3 * (1 + 1e-8), "--dof", 4) == plain
+    assert ok_text(capsys, *base, "--torque", 8.3 * (1 + 1e-8), "--dof", 4) == plain
     # 0.6 % off the held 8.3 N·m (8.35 prints as another number): refused, named
     code, _, err = run(capsys, *base, "--torque", 8.35)
     assert code == 2 and "its spec holds torque = 8.3 N·m at every point, not 8.35 N·m" in err
@@ -103,21 +97,21 @@ def test_safe_counts_the_rows_with_a_window_and_query_says_why_not(atlas, capsys
         safe = np.all(f["regime"][...] == S, axis=-1) & (f["unstable"][..., 0] == 0)
     rows = int(np.sum(safe.any(axis=1)))
     assert rows == 1
-    out = _ok(capsys, "atlas", "safe", atlas)
+    out = ok_text(capsys, "atlas", "safe", atlas)
     assert f"  {rows} of 2 have a safe window" in out.splitlines()
     # steady from both starts, not safe: the fastest steady state (not the slowest) is why
-    out = _ok(capsys, "atlas", "query", atlas, "--set", "mu_static=0.9", "--wob", 200)
+    out = ok_text(capsys, "atlas", "query", atlas, "--set", "mu_static=0.9", "--wob", 200)
     assert "  safe: no (the fastest steady state is unstable)" in out.splitlines()
 
 
 def test_info_shows_four_per_element_values_and_a_depth_in_metres(atlas, tmp_path, capsys):
-    out = _ok(capsys, "atlas", "info", atlas)
+    out = ok_text(capsys, "atlas", "info", atlas)
     assert "inertias [0.5, 0.4, 0.3, 0.2] kg·m²" in out  # four: each shown, not "as given"
     path = tmp_path / "depth.h5"
     run_sweep(parse_spec(DEPTH.replace("ROOT", str(ROOT))), path, serial=True)
-    d = json.loads(_ok(capsys, "atlas", "info", path, "--json"))
+    d = json.loads(ok_text(capsys, "atlas", "info", path, "--json"))
     assert d["units"]["model"]["held"] == {"torque": "N·m", "depth": "m"}
-    text = _ok(capsys, "atlas", "info", path)
+    text = ok_text(capsys, "atlas", "info", path)
     assert "depth 3000 m;" in text
     assert f"{path}: 1 point, pydrill" in text  # one grid point ("1 points" once)
     assert f"{atlas}: 6 points, pydrill" in out
@@ -132,7 +126,7 @@ def test_kilo_units_go_by_the_size_of_a_force_not_its_sign(capsys):
     # T_s = mu_s W_ob R_b by hand
     p = preset("reduced-scale")
     t_s = p.mu_static * 4000.0 * p.bit_radius
-    out = _ok(capsys, "simulate", "--wob", 4000, "--torque", -6000, "--t-end", 1)
+    out = ok_text(capsys, "simulate", "--wob", 4000, "--torque", -6000, "--t-end", 1)
     assert f"static torque   T_s = {t_s / 1e3:.4g} kN m (surface torque -6 kN m)" in out
 
 
@@ -183,7 +177,9 @@ def test_bifurcation_in_kn_when_the_points_weights_are_big_though_the_torque_is_
     at W_ob near 36 kN: a real string's numbers, so all in kN and kN m (as the API's / 1e3)."""
     b = branch(preset("real-string"), vary="wob", torque=4000.0)
     assert b.points and all(pt.wob > 5e3 for pt in b.points)
-    out = _ok(capsys, "bifurcation", "--preset", "real-string", "--vary", "wob", "--torque", 4000)
+    out = ok_text(
+        capsys, "bifurcation", "--preset", "real-string", "--vary", "wob", "--torque", 4000
+    )
     lines = out.splitlines()
     assert lines[0].endswith("steady states as wob varies at u = 4 kN m")
     assert "wob (kN) torque (kN m)" in lines[1]

@@ -6,13 +6,12 @@ numbers converted to rpm and kN by factors worked out here (30/pi, 1e3); the swe
 give durations, exit statuses and counts a script or a batch job relies on.
 """
 
-import json
 import math
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from cli_running import run
+from cli_running import ok_json, ok_text
 from sweeping import ROOT
 
 from pydrill import cli_sweep_report as report
@@ -28,31 +27,18 @@ TALLY = ROOT / "examples" / "tallies" / "paper-eq53.toml"
 RPM = 30 / math.pi  # rad/s to rev/min
 
 
-def _text(capsys, *args):
-    """A command's text output; its exit status 0."""
-    code, out, err = run(capsys, *args)
-    assert code == 0, err
-    return out
-
-
-def _json(capsys, *args):
-    code, out, err = run(capsys, *args, "--json")
-    assert code == 0, err
-    return json.loads(out)
-
-
 def test_stability_json_and_text_are_the_apis_steady_state(capsys):
     params = preset("reduced-scale", dof=3)
     (pt,) = stability(params, 100.0, torque=8.3)
-    d = _json(capsys, "stability", "--dof", 3, "--wob", 100, "--torque", 8.3)
+    d = ok_json(capsys, "stability", "--dof", 3, "--wob", 100, "--torque", 8.3)
     (eq,) = d["equilibria"]
     assert (d["torque"], d["omega"], d["wob"]) == (8.3, None, 100.0)  # the one given, echoed
     assert eq["omega"] == pytest.approx(pt.omega, rel=1e-12)
     assert eq["delta"] == pytest.approx(pt.delta, rel=1e-12)
     assert eq["eigenvalue_count"] == len(pt.eigenvalues) == 5
-    d = _json(capsys, "stability", "--dof", 3, "--wob", 100, "--omega", 5)
+    d = ok_json(capsys, "stability", "--dof", 3, "--wob", 100, "--omega", 5)
     assert (d["omega"], d["torque"]) == (5.0, None)
-    out = _text(capsys, "stability", "--dof", 3, "--wob", 100, "--torque", 8.3)
+    out = ok_text(capsys, "stability", "--dof", 3, "--wob", 100, "--torque", 8.3)
     assert f"Omega = {pt.omega:.6g} rad/s ({pt.omega * RPM:.4g} rpm)" in out
     assert pt.spectral_abscissa < 0 and "the slowest-decaying mode" in out
     assert out.count("i, ") == 4 and out.rstrip().endswith(", ...")  # 4 of 5 eigenvalues
@@ -61,13 +47,13 @@ def test_stability_json_and_text_are_the_apis_steady_state(capsys):
 def test_hopf_json_is_the_apis_crossings_and_the_text_counts_them(capsys):
     params = preset("reduced-scale", dof=6)
     crossings = critical_deltas(params)
-    d = _json(capsys, "hopf", "--dof", 6)
+    d = ok_json(capsys, "hopf", "--dof", 6)
     assert [c["delta"] for c in d["crossings"]] == pytest.approx([c.delta for c in crossings])
     assert [c["frequency"] for c in d["crossings"]] == [c.frequency for c in crossings]
     hopf = sum(c.type == "hopf" for c in crossings)
     folds = len(crossings) - hopf
     assert hopf > 4 and folds == 1  # more rows than 4, and the singular
-    out = _text(capsys, "hopf", "--dof", 6)
+    out = ok_text(capsys, "hopf", "--dof", 6)
     assert out.splitlines()[0] == f"reduced-scale, dof 6: {hopf} Hopf crossings, 1 fold"
     rows = [line for line in out.splitlines() if line.startswith(("hopf ", "fold "))]
     assert len(rows) == len(crossings)
@@ -86,9 +72,11 @@ def test_slow_and_fast_notes_are_where_their_numbers_put_them(capsys):
 def test_bifurcation_of_a_real_string_in_kn_and_rpm(capsys):
     params = preset("real-string")
     b = branch(params, vary="wob", torque=9000.0)
-    d = _json(capsys, "bifurcation", "--preset", "real-string", "--vary", "wob", "--torque", 9000)
+    d = ok_json(capsys, "bifurcation", "--preset", "real-string", "--vary", "wob", "--torque", 9000)
     assert d["fixed"] == 9000.0 and d["units"]["fixed"] == "N·m" and d["units"]["wob"] == "N"
-    out = _text(capsys, "bifurcation", "--preset", "real-string", "--vary", "wob", "--torque", 9000)
+    out = ok_text(
+        capsys, "bifurcation", "--preset", "real-string", "--vary", "wob", "--torque", 9000
+    )
     rows = out.splitlines()[2:]
     assert len(rows) == len(b.points) > 0
     for row, pt in zip(rows, b.points, strict=True):
@@ -100,7 +88,7 @@ def test_bifurcation_of_a_real_string_in_kn_and_rpm(capsys):
 
 
 def test_map_json_grid_checks_and_text_table(capsys):
-    d = _json(capsys, "map", "--dof", 2, "--check", 2)
+    d = ok_json(capsys, "map", "--dof", 2, "--check", 2)
     assert d["wob"] == pytest.approx(np.linspace(250 / 200, 250, 200).tolist(), rel=1e-12)
     assert (d["wob_max"], d["torque_max"], d["t_end"]) == (250.0, 25.0, 300.0)  # the defaults
     assert [(c["wob"], c["torque"]) for c in d["checks"]] == [
@@ -110,13 +98,13 @@ def test_map_json_grid_checks_and_text_table(capsys):
         (250.0, 25.0),
     ]
     assert d["failed_checks"] == sum(c["message"] is not None for c in d["checks"]) == 0
-    out = _text(capsys, "map", "--dof", 2)
+    out = ok_text(capsys, "map", "--dof", 2)
     for name, frac in d["fractions"].items():
         assert f"  {100 * frac:5.1f} %  {name}" in out
     # the safe-u table of a real string, in kN: T_s = mu_s W_ob R_b by hand at 40 ... 200 kN,
     # and safe u from T_s where steady drilling is stable below it
     real = preset("real-string")
-    out = _text(capsys, "map", "--preset", "real-string")
+    out = ok_text(capsys, "map", "--preset", "real-string")
     rows = out.splitlines()[-5:]
     for row, w in zip(rows, np.linspace(40e3, 200e3, 5), strict=True):
         ts = real.mu_static * w * real.bit_radius
@@ -129,7 +117,7 @@ def test_map_json_grid_checks_and_text_table(capsys):
 
 def test_string_json_and_text_are_the_tallys(capsys):
     tally = load_tally(TALLY)
-    d = _json(capsys, "string", TALLY, "--dof", 13)
+    d = ok_json(capsys, "string", TALLY, "--dof", 13)
     assert d["length"] == pytest.approx(tally.length) and d["bha_length"] == pytest.approx(
         tally.bha_length
     )
@@ -139,12 +127,12 @@ def test_string_json_and_text_are_the_tallys(capsys):
     # friction coefficients are plain numbers, as every other document writes them
     assert d["units"]["friction"]["mu_static"] == d["units"]["friction"]["mu_coulomb"] == "1"
     assert d["units"]["friction"]["stribeck_velocity"] == "rad/s"
-    out = _text(capsys, "string", TALLY, "--dof", 13)
+    out = ok_text(capsys, "string", TALLY, "--dof", 13)
     series = 1 / np.sum(1 / np.array(d["stiffnesses"]))
     assert f"12 elements; total inertia {sum(d['inertias'][1:]):.6g} kg m^2" in out
     assert f"series stiffness {series:.6g} N m/rad" in out
     assert f"(2122 + {d['inertias'][0] - 2122:.4g} of the string)" in out
-    out = _text(capsys, "string", TALLY, "--dof", 12)
+    out = ok_text(capsys, "string", TALLY, "--dof", 12)
     assert sum(line.startswith("  element") for line in out.splitlines()) == 11
 
 
