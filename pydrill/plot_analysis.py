@@ -4,7 +4,6 @@ steady state, bifurcation diagrams. The (W_ob, u) operating map is drawn by
 
 from __future__ import annotations
 
-import itertools
 import math
 from typing import TYPE_CHECKING
 
@@ -12,7 +11,6 @@ from .plot import clear_inset, place_legend, plt, quantity, scale_ticks, unit_sc
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-    from numpy.typing import NDArray
 
 
 def hopf_figure(params, crossings, omega_max: float | None = None, n: int = 400) -> Figure:
@@ -349,23 +347,34 @@ def _place_labels(fig, labels, right: bool = True) -> None:
         dx = max(box.x0 - xy[0], 0, xy[0] - box.x1)
         return float(np.hypot(dx, max(box.y0 - xy[1], 0, xy[1] - box.y1)))
 
-    for ax, text, xy, color in labels:
+    seen: dict = {}  # each axes' markers and curve points: the labels add neither
+
+    def scan(ax):
         markers, centres = [], []
-        along: list[NDArray[np.float64]] = []  # points on the curves, in pixels
+        along = [np.empty((0, 2))]  # points on the curves, in pixels
         for line in ax.get_lines():
             xyd = np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float)
             xyd = ax.transData.transform(xyd[np.isfinite(xyd).all(axis=1)])
             if line.get_marker() in ("None", "", None, " "):
-                # The curve's vertices and points between them, every few pixels.
-                for a, b in itertools.pairwise(xyd):
-                    n = int(np.hypot(*(b - a)) // (2 * points)) + 1
-                    along.extend(a + (b - a) * t for t in np.arange(n) / n)
+                # The curve's vertices and points between them, every few pixels: segment
+                # (a, b) gives a + (b - a) t at t = 0, 1/n, ..., (n - 1)/n. At once, not
+                # point by point (a figure of long branches spent seconds here).
+                a, step = xyd[:-1], np.diff(xyd, axis=0)
+                n = (np.hypot(step[:, 0], step[:, 1]) // (2 * points)).astype(np.int64) + 1
+                seg = np.repeat(np.arange(len(a)), n)
+                t = (np.arange(seg.size) - np.repeat(np.cumsum(n) - n, n)) / n[seg]
+                along.append(a[seg] + step[seg] * t[:, None])
                 continue
             half = (line.get_markersize() / 2 + line.get_markeredgewidth()) * points
             for px, py in xyd:
                 markers.append(Bbox.from_extents(px - half, py - half, px + half, py + half))
                 centres.append((px, py))
-        curves = np.array(along).reshape(-1, 2)
+        return markers, centres, np.concatenate(along)
+
+    for ax, text, xy, color in labels:
+        if ax not in seen:
+            seen[ax] = scan(ax)
+        markers, centres, curves = seen[ax]
         own = ax.transData.transform(xy)
         others = [c for c in centres if np.hypot(*np.subtract(c, own)) > 0.5]
         frame = ax.get_window_extent(renderer)
