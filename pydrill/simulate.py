@@ -81,8 +81,9 @@ def simulate(
     ``2·dof − 1``. ``friction="exact"`` locates every stick/slip switch by rootfinding;
     ``"karnopp"`` is the paper's Eq. (9) with its zero-velocity band. ``method`` is ``"auto"``
     (chosen from a stiffness estimate; ``stats.method_reason`` says why), ``"dop853"``
-    (explicit Runge–Kutta 8(5,3), non-stiff strings), ``"bdf"`` (CVODES, banded Newton, for
-    stiff strings), ``"adams"`` (CVODES) or ``"erk"`` (ARKODE Runge–Kutta 7(8)).
+    (explicit Runge–Kutta 8(5,3), non-stiff strings), ``"bdf"`` (CVODES, each Newton solve a
+    tridiagonal one by pydrill's chain solver, for stiff strings), ``"adams"`` (CVODES) or
+    ``"erk"`` (ARKODE Runge–Kutta 7(8)).
 
     Parameters:
 
