@@ -13,7 +13,7 @@ SUB, SUPER, FOLD = "#c0392b", "#27ae60", "#1f618d"
 
 def _draw_branch(ax, b: dict[str, Any], labels: bool) -> list[tuple]:
     """Steady states (stable thick, unstable thin dashed) with their HB and LP points; with
-    ``labels``, the (axes, text, point, colour) of their names, for ``_place_labels``."""
+    ``labels``, the (axes, text, point, colour) of their names, for ``place_labels``."""
     x = np.array(b["branch"]["x"])
     omega = np.array(b["branch"]["omega"])
     stable = np.array(b["branch"]["unstable"]) == 0
@@ -137,8 +137,8 @@ def name_points(fig, panels: list) -> None:
     """Write the names of each panel's points (``_branch_panel``'s) where they clear the
     markers and one another: HB2 and LP, 0.1 N apart, were written over one another at fixed
     offsets. Last, once the legend is in: the layout moves the insets until then."""
-    from .plot_analysis import _place_labels
+    from .plot_labels import place_labels
 
     for names, wob in panels:
         if names:  # W_ob varying, the stable branch leaves HB1 to the upper left: names right
-            _place_labels(fig, names, right=wob)
+            place_labels(fig, names, right=wob)

@@ -1,4 +1,4 @@
-"""Point names placed clear of the curves (plot_analysis._place_labels), checked against the
+"""Point names placed clear of the curves (plot_labels.place_labels), checked against the
 curves sampled densely here: a name is never written over a curve when some offset is clear
 (the placement samples the curves every two points, all segments at once)."""
 
@@ -10,7 +10,7 @@ import numpy as np
 matplotlib.use("Agg")
 
 from pydrill.plot import plt
-from pydrill.plot_analysis import _place_labels
+from pydrill.plot_labels import place_labels
 
 
 def _crossed(ax, box, lines):
@@ -44,7 +44,7 @@ def test_a_name_is_not_written_over_a_curve_when_an_offset_is_clear():
         ax.plot([5.0], [0.0], "s")
         ax.set_xlim(0, 10)
         ax.set_ylim(-1, 1)
-        _place_labels(fig, [(ax, "HB1", (5.0, 0.0), "red")])
+        place_labels(fig, [(ax, "HB1", (5.0, 0.0), "red")])
         (note,) = ax.texts
         renderer = fig.canvas.get_renderer()
         box = note.get_window_extent(renderer)
