@@ -14,6 +14,7 @@ import h5py
 import numpy as np
 import pytest
 from cli_running import ok_json, ok_text
+from test_mutation_guards_query import _runs as runs_of
 
 from pydrill import atlas_format as fmt
 from pydrill.spec import parse_spec
@@ -211,28 +212,13 @@ def test_info_counts_and_units_are_the_files(atlas, held, capsys):
     assert "safe points unknown (stability not recorded)\n" in out
 
 
-def _runs(mask, values):
-    """(first, last) of each run of True, as test_mutation_guards_query counts them."""
-    runs, k = [], 0
-    while k < len(mask):
-        if mask[k]:
-            end = k
-            while end + 1 < len(mask) and mask[end + 1]:
-                end += 1
-            runs.append([float(values[k]), float(values[end])])
-            k = end + 1
-        else:
-            k += 1
-    return runs
-
-
 def test_safe_json_windows_neighbours_and_counts_are_the_files(atlas, capsys):
     raw = _raw(atlas)
     safe, wob = _safe(raw), [float(w) for w in raw["wob"]]
     d = ok_json(capsys, "atlas", "safe", atlas)
     assert [r["at"] for r in d["rows"]] == [{"torque": float(t)} for t in raw["torque"]]
     for j, row in enumerate(d["rows"]):
-        windows = _runs(safe[:, j], wob)
+        windows = [list(r) for r in runs_of(safe[:, j], wob)]  # JSON's lists
         assert row["windows"] == windows
         # the grid values just outside each window (None past the grid's ends)
         assert row["beyond"] == [
