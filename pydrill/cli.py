@@ -22,9 +22,9 @@ from .cli_options import (
     figure_path,
     json_document,
     kilo,
-    os_error_message,
     print_json,
 )
+from .cli_os_errors import os_error_message
 from .cli_parser import EXIT_USAGE, _Parser, error_json, say_error
 from .cli_set import say_changed
 from .cli_string import (

@@ -9,7 +9,6 @@ import json
 import math
 import os
 import sys
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -296,37 +295,6 @@ def writable_place(text: str) -> None:
             if not os.access(parent, os.W_OK | os.X_OK):
                 raise argparse.ArgumentTypeError(f"{text!r}: cannot write in {parent}")
             return
-
-
-def os_error_message(exc: OSError, argv: Sequence[str]) -> str:
-    """A one-line message for a file that could not be read or written: the option that named
-    it (``--plot /proc/x.png: No such file or directory``), not ``[Errno 2] ...``."""
-    path = exc.filename
-    if path is None or not exc.strerror:
-        return str(exc)
-    path = os.fsdecode(path)
-    reason = exc.strerror
-    if isinstance(exc, FileExistsError) and Path(path).exists() and not Path(path).is_dir():
-        reason = "a file of that name exists; give a folder"
-    named = None
-    for k, token in enumerate(argv):
-        option, eq, value = token.partition("=")
-        if eq and option.startswith("--") and _same_path(value, path):
-            named = option
-        elif k and argv[k - 1].startswith("--") and _same_path(token, path):
-            named = argv[k - 1]
-        if named:
-            return f"{named} {path}: {reason}"
-    return f"{path}: {reason}"
-
-
-def _same_path(given: str, path: str) -> bool:
-    """Whether the command line's ``given`` is ``path`` or a folder it lies in."""
-    try:
-        a, b = Path(given).absolute(), Path(path).absolute()
-    except (OSError, ValueError):
-        return False
-    return a == b or a in b.parents
 
 
 def _list(name: str):

@@ -264,3 +264,23 @@ def test_no_command_has_another_option_starting_with_j():
     found = set(options(build_parser()))
     assert "--json" in found
     assert {o for o in found if o.startswith("--j")} == {"--json"}
+
+
+@pytest.mark.parametrize("spelling", ["separate", "equals", "trailing slash"])
+def test_a_file_in_the_way_inside_reproduce_out_names_the_option_and_the_file(
+    capsys, tmp_path, spelling
+):
+    # reproduce keeps its cache in DIR/cache; a file of that name stops it before any work. The
+    # error comes from inside the folder given, so the option is found by the folder the path
+    # lies in, not by the path itself (the surviving mutant compared paths for equality only).
+    (tmp_path / "cache").write_text("not a folder")
+    given = f"{tmp_path}/" if spelling == "trailing slash" else str(tmp_path)
+    args = ["--out", given] if spelling != "equals" else [f"--out={given}"]
+    code, out, err = run(capsys, "reproduce", *args, "--quick")
+    assert code == USAGE and out == ""
+    assert err.strip() == (
+        f"pydrill reproduce: error: --out {given}: {tmp_path / 'cache'} is a file where pydrill "
+        "keeps a folder; move it away or give another --out"
+    )
+    assert (tmp_path / "cache").read_text() == "not a folder"  # nothing lost
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cache"]  # nothing written
