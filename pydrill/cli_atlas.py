@@ -230,8 +230,12 @@ def _para(text: str) -> str:
 
 
 def _atlas_usage(parser) -> int:
+    """``pydrill atlas`` alone: its actions, then the one-line error ``pydrill`` alone gives."""
+    from .cli_parser import EXIT_USAGE, say_error
+
     parser.print_help(sys.stderr)
-    return 2
+    say_error(parser.prog, "error", f"say which action: {parser.prog} ACTION ...", EXIT_USAGE)
+    return EXIT_USAGE
 
 
 def held_first(atlas: Any, x: Any, y: Any, at: dict[str, float], profile: bool) -> list[str]:

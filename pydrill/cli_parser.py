@@ -46,6 +46,11 @@ def error_json(kind: str, message: str, status: int, **extra: Any) -> None:
         print(json.dumps({"error": error}, indent=2, allow_nan=False))
 
 
+# The metavar of the sub-command argument (pydrill COMMAND; 'pydrill atlas' alone is
+# answered by its own handler, cli_atlas._atlas_usage).
+_WHAT = {"COMMAND": "command"}
+
+
 class _Wrapped(argparse.RawDescriptionHelpFormatter):
     """Descriptions and epilogs keep their layout where it matters (an example stays one
     command a line, to copy; a table under a header ending in ":" its columns), and every
@@ -123,7 +128,13 @@ class _Parser(argparse.ArgumentParser):
                 parser, name = found
                 message = option_hint(parser, name)
         message = choice_hint(message)
-        if not message.startswith("argument ") or "invalid choice" in message:
+        missing = message.rpartition(": ")[2]
+        if parser is self and message.startswith("the following") and missing in _WHAT:
+            # Only 'pydrill' or 'pydrill atlas' typed: the list of what it does is the answer
+            # (the usage line alone named no command).
+            parser.print_help(sys.stderr)
+            message = f"say which {_WHAT[missing]}: {parser.prog} {missing} ..."
+        elif not message.startswith("argument ") or "invalid choice" in message:
             parser.print_usage(sys.stderr)
         say_error(parser.prog, "error", message, EXIT_USAGE)
         raise SystemExit(EXIT_USAGE)

@@ -284,3 +284,26 @@ def test_a_file_in_the_way_inside_reproduce_out_names_the_option_and_the_file(
     )
     assert (tmp_path / "cache").read_text() == "not a folder"  # nothing lost
     assert sorted(p.name for p in tmp_path.iterdir()) == ["cache"]  # nothing written
+
+
+@pytest.mark.parametrize("words", [[], ["atlas"]])
+def test_a_command_without_its_sub_command_lists_them_and_says_which_is_missing(capsys, words):
+    # 'pydrill' alone said only "the following arguments are required: COMMAND" under a usage
+    # line naming no command. Expected: the help listing every sub-command argparse knows of
+    # (read from the parser itself), then one error line; exit status 2, stdout empty.
+    from pydrill.cli import build_parser
+
+    parser = build_parser()
+    if words:
+        parser = next(a.choices[words[0]] for a in parser._actions if isinstance(a.choices, dict))
+    names = next(a.choices for a in parser._actions if isinstance(a.choices, dict))
+    code, out, err = run(capsys, *words)
+    assert code == USAGE and out == ""
+    lines = err.splitlines()
+    assert lines[0].startswith(f"usage: {parser.prog} ")
+    listed = {line.split()[0] for line in lines if line.startswith("    ")}
+    assert set(names) <= listed
+    what, meta = ("action", "ACTION") if words else ("command", "COMMAND")
+    assert lines[-1] == f"{parser.prog}: error: say which {what}: {parser.prog} {meta} ..."
+    code, out, _ = run(capsys, *words, "--json")
+    assert code == USAGE and json.loads(out)["error"]["exit_status"] == USAGE
