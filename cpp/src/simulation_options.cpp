@@ -78,6 +78,11 @@ Initial parse_initial(const std::string& s) {
 void SimulationOptions::validate(int dof) const {
   auto refuse = [](const std::string& what) { throw std::invalid_argument(what); };
   const auto num = detail::shortest;
+  // validate is public: a program may check its options before it builds its strings. The
+  // dof is the string's (Params::dof()), and a string has at least 2; a dof of 0 passed, and
+  // Initial::State's 2·dof − 1 (int) came out as 18446744073709551615, or overflowed (undefined)
+  // from INT_MAX / 2 + 1 on. Counted in std::size_t below, it cannot.
+  if (dof < 2) refuse("dof = " + std::to_string(dof) + " is not allowed: options are checked for a string of dof >= 2 inertias (Params::dof())");
   if (!std::isfinite(t_end) || !(t_end > 0)) refuse("t_end = " + num(t_end) + " is not allowed: must be a finite time > 0 s");
   if (t_end > kMaxTEnd) refuse("t_end = " + num(t_end) + " is not allowed: need 0 < t_end <= " + num(kMaxTEnd) + " s (317 years; beyond, a run's times overflow)");
   // Below kMinRtol a step's error is rounding: CVODES and ARKODE stop with "too much
@@ -132,7 +137,7 @@ void SimulationOptions::validate(int dof) const {
     }
   }
   if (initial == Initial::State) {
-    const std::size_t n = static_cast<std::size_t>(2 * dof - 1);
+    const std::size_t n = 2 * static_cast<std::size_t>(dof) - 1;
     if (state.size() != n) refuse("state has " + std::to_string(state.size()) + " entries: dof = " + std::to_string(dof) + " needs 2*dof-1 = " + std::to_string(n) + " (w_0, theta_0, ..., theta_{N-2}, w_bit)");
     for (std::size_t i = 0; i < n; ++i) {
       if (!std::isfinite(state[i])) refuse("state[" + std::to_string(i) + "] = " + num(state[i]) + " is not allowed: must be finite");

@@ -68,7 +68,7 @@ struct PYDRILL_API SimulationOptions {
   std::vector<double> t_out;         // s, strictly increasing in [0, t_end], each 0 or normal
                                      // (>= 2.2e-308: a run flushes subnormals); empty: n_out
                                      // uniform, at least 2.2e-308 s apart
-  int n_out = 3001;                  // used when t_out is empty; 2 .. 1e8 (each keeps 2·dof + 4 doubles)
+  int n_out = 3001;                  // used when t_out is empty; 2 .. 1e8 (each keeps 2·dof + 5 doubles and an int)
   Method method = Method::Auto;
   FrictionLaw friction = FrictionLaw::Exact;
   // Rest: every velocity and twist 0. Equilibrium: the fastest steady state Ω of (wob, |torque|)
@@ -95,6 +95,7 @@ struct PYDRILL_API SimulationOptions {
   // Interrupted (a Ctrl-C from Python, a cancel button in a program that embeds pydrill).
   // Empty: never asked.
   std::function<bool()> interrupt;
+  // `dof`: the string's, Params::dof() (>= 2; what `state` is sized for).
   void validate(int dof) const;
 };
 

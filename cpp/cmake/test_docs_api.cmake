@@ -1,0 +1,48 @@
+# ctest driver: docs/guide/cpp.md's table of the public headers names every declaration the
+# library exports (PYDRILL_API: functions, classes and structs), so that an embedder reading
+# the page meets every call there is. check_bit_friction, exported and called by the
+# documented BitFriction and stribeck_slope, was missing from it.
+foreach(var HEADERS DOC)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "${var} not set")
+  endif()
+endforeach()
+file(READ ${DOC} doc)
+set(names)
+foreach(header ${HEADERS})
+  get_filename_component(file ${header} NAME)
+  if(file STREQUAL "export.hpp")  # defines the macro: __attribute__(...), no declaration
+    continue()
+  endif()
+  file(READ ${header} text)
+  # A function: PYDRILL_API <return type> name(
+  string(REGEX MATCHALL "PYDRILL_API[^;{()#]*[(]" declarations "${text}")
+  foreach(declaration ${declarations})
+    if(declaration MATCHES "([A-Za-z_][A-Za-z0-9_]*)[ \t\r\n]*[(]$")
+      list(APPEND names ${CMAKE_MATCH_1})
+    endif()
+  endforeach()
+  # A class or struct: class PYDRILL_API Name
+  string(REGEX MATCHALL "(class|struct)[ \t]+PYDRILL_API[ \t]+[A-Za-z_][A-Za-z0-9_]*" types "${text}")
+  foreach(type ${types})
+    string(REGEX REPLACE ".*[ \t]" "" name "${type}")
+    list(APPEND names ${name})
+  endforeach()
+endforeach()
+list(REMOVE_DUPLICATES names)
+list(LENGTH names count)
+# The count guards the parsing itself: a regex that matched nothing would pass every page.
+if(count LESS 40)
+  message(FATAL_ERROR "found only ${count} exported declarations in the headers (${names}): the parsing broke")
+endif()
+set(missing)
+foreach(name ${names})
+  string(FIND "${doc}" "`${name}" at)
+  if(at EQUAL -1)
+    list(APPEND missing ${name})
+  endif()
+endforeach()
+if(missing)
+  message(FATAL_ERROR "${DOC} does not name these exported declarations: ${missing}")
+endif()
+message(STATUS "${DOC} names all ${count} exported declarations")
