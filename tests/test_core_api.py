@@ -90,8 +90,11 @@ def test_long_simulations_release_the_gil():
     worker.join()
     # A held GIL also shows here: this thread runs again only once the call is over.
     assert wall > 0.05, "this thread ran only after the simulation: the core held the GIL"
-    # Two cores: one counts, one simulates (~100 %). Held GIL: ~0 (only the call's edges).
-    assert cpu > 0.25 * wall, (cpu, wall, n)
+    # Two cores: one counts, one simulates (~100 %). Held GIL: ~0 (only the call's edges); a
+    # GIL taken back between short releases: a switch interval (5 ms) now and then, a few %.
+    # A machine loaded three times over (helpers' builds beside the suite) gave this thread
+    # 20-30 %, which the bound once at 25 % called a held GIL.
+    assert cpu > 0.1 * wall, (cpu, wall, n)
 
 
 def test_core_version_matches_package():
