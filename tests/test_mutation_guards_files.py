@@ -11,6 +11,7 @@ import socket
 import struct
 import subprocess
 import sys
+import threading
 from types import SimpleNamespace
 
 import h5py
@@ -73,9 +74,24 @@ def test_a_reader_waits_for_a_whole_write_and_a_second_writer_is_refused(held, m
     # the file holds one line, the holder's (not left over from an older, longer one)
     assert text == f"{proc.pid} {socket.gethostname()} {since}\n"
     monkeypatch.setattr(lock_module, "BUSY_PATIENCE", 0.1)
+    # In a thread with a deadline: a lock that waited for the holder (a blocking flock) would
+    # hang the suite until the holder lets go, which it does only after this test.
+    outcome: list[BaseException | None] = []
+
+    def second_writer() -> None:
+        try:
+            with writer_lock(atlas):
+                outcome.append(None)
+        except BaseException as exc:  # handed to the test's thread
+            outcome.append(exc)
+
+    thread = threading.Thread(target=second_writer, daemon=True)
+    thread.start()
+    thread.join(timeout=20)
+    assert outcome, "a second writer_lock waited for the holder instead of being refused"
     with pytest.raises(AtlasBusy, match=rf"another sweep \(process {proc.pid} on host "):
-        with writer_lock(atlas):
-            pass
+        if outcome[0] is not None:
+            raise outcome[0]
 
 
 def test_the_lock_file_is_one_line_and_gone_after(tmp_path):
