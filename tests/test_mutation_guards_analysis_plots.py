@@ -15,6 +15,8 @@ from matplotlib.colors import to_rgba
 
 matplotlib.use("Agg")
 
+from test_undamped import UNDAMPED
+
 import pydrill
 from pydrill.plot import plt
 
@@ -266,17 +268,7 @@ def test_hopf_title_counts_the_crossings_at_zero_damping_too(damping):
     # Six equal masses and springs, no damping at the ends (the fold's eigenvalue crosses at
     # δ = 0) and a little between them, or none at all (every Hopf crossing at δ = 0 too,
     # drawn on no curve): the title counts them all.
-    p = pydrill.Params(
-        inertias=[3e-5] * 6,
-        stiffnesses=[7.3e-5] * 5,
-        dampings=[damping] * 5,
-        top_damping=0.0,
-        bit_damping=0.0,
-        bit_radius=1.0,
-        mu_coulomb=5e-4,
-        mu_static=8e-4,
-        stribeck_decay=9e-4,
-    )
+    p = UNDAMPED.replace(dampings=[damping] * 5)  # test_undamped's fuzzer reproducer
     crossings = critical_deltas(p)
     at_zero = [c for c in crossings if c.delta == 0 and c.direction > 0]
     assert at_zero
