@@ -71,3 +71,49 @@ def option_hint(parser: argparse.ArgumentParser, name: str) -> str:
     """ "unrecognized argument --torqe (did you mean --torque?)"."""
     options = [o for o in parser._option_string_actions if o.startswith("--")]
     return f"unrecognized argument {name}{did_you_mean(name, options)}"
+
+
+def _takers(parser: argparse.ArgumentParser, name: str | None, prog: str) -> list[str]:
+    """The commands under ``parser`` (``prog``), nested ones as "atlas query", that take
+    the long option ``name`` (every command for None)."""
+    found: list[str] = []
+    for command, sub in _subcommands(parser).items():
+        if _subcommands(sub):
+            found += _takers(sub, name, f"{prog} {command}")
+        elif name is None or _known(sub, name):
+            found.append(f"{prog} {command}")
+    return found
+
+
+def misplaced_option(
+    parser: argparse.ArgumentParser, argv: Sequence[str]
+) -> tuple[argparse.ArgumentParser, str] | None:
+    """An option of a command given before the command ("pydrill --wob 100 simulate"): the
+    parser it was given to and a message naming the commands that take it. argparse read the
+    option's value as the command ("invalid choice: '100'"), or said the option is unknown
+    although pydrill has it. None if no option comes before its command."""
+    prog = parser.prog
+    for token in argv:
+        if token == "--":
+            break
+        if token.startswith("--"):
+            name = token.split("=", 1)[0]
+            if _known(parser, name):
+                continue
+            takers = _takers(parser, name, prog)
+            if not takers:  # pydrill has no such option: argparse took its value for a command
+                return parser, option_hint(parser, name)
+            if len(takers) == len(_takers(parser, None, prog)):
+                which = f"every command takes {name}"
+            else:
+                shown = ", ".join(t.removeprefix("pydrill ") for t in takers)
+                which = f"commands that take {name}: {shown}"
+            return parser, (
+                f"{name} is an option of a command and goes after it: {takers[0]} {name} ... "
+                f"({which})"
+            )
+        sub = _subcommands(parser).get(token)
+        if sub is None or not _subcommands(sub):
+            return None  # a command's own line (or a bad command): not this case
+        parser, prog = sub, f"{prog} {token}"
+    return None

@@ -3,6 +3,8 @@
 argparse by itself reported ``--torqe 8`` as "the following arguments are required: --torque"
 (the misspelt option is never mentioned) and a misspelt command by listing every command."""
 
+import json
+
 import pytest
 
 from pydrill.cli import main
@@ -57,3 +59,45 @@ def test_abbreviations_and_values_that_look_like_options_are_not_typos(capsys):
     capsys.readouterr()
     message = refused(["simulate", "--dof", "4", "--wob", "-100", "--torque", "8.3"], capsys)
     assert "unrecognized" not in message and "--wob" in message
+
+
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        # argparse took the value for the command: "invalid choice: '100'"
+        (["--wob", "100", "simulate", "--torque", "8.3"],
+         "pydrill: error: --wob is an option of a command and goes after it: pydrill simulate "
+         "--wob ... (commands that take --wob: simulate, stability, bifurcation, window, map, "
+         "atlas query)"),
+        (["--torque=3"], "pydrill: error: --torque is an option of a command and goes after "
+         "it: pydrill simulate --torque ... (commands that take --torque: simulate, stability, "
+         "bifurcation, map, atlas query)"),
+        (["atlas", "--wob", "3", "query", "a.h5"], "pydrill atlas: error: --wob is an option "
+         "of a command and goes after it: pydrill atlas query --wob ... (commands that take "
+         "--wob: atlas query)"),
+        (["--plot", "a.png"], "pydrill: error: --plot is an option of a command and goes "
+         "after it: pydrill simulate --plot ... (commands that take --plot: simulate, hopf, "
+         "stability, bifurcation, window, map, sweep)"),
+        # no command has it: unknown, not "invalid choice: '3'"
+        (["--frobnicate", "3"], "pydrill: error: unrecognized argument --frobnicate"),
+    ],
+)  # fmt: skip
+def test_an_option_before_its_command_names_the_commands_that_take_it(argv, said, capsys):
+    assert refused(argv, capsys) == said
+
+
+def test_an_option_every_command_takes_is_said_so_in_json_too(capsys):
+    with pytest.raises(SystemExit):
+        main(["--json"])
+    out, err = capsys.readouterr()
+    said = "--json is an option of a command and goes after it: pydrill simulate --json ... "
+    said += "(every command takes --json)"
+    assert err.strip().splitlines()[-1] == f"pydrill: error: {said}"
+    assert json.loads(out) == {"error": {"kind": "error", "message": said, "exit_status": 2}}
+
+
+def test_an_option_after_its_command_is_not_sent_to_another_command(capsys):
+    """Once the command is given, an option it lacks is a typo as before, not another
+    command's option ("--omega" is stability's, not simulate's)."""
+    said = refused(["simulate", *OP, "--omega", "3"], capsys)
+    assert said.startswith("pydrill simulate: error: unrecognized argument --omega")
