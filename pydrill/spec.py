@@ -24,7 +24,7 @@ from __future__ import annotations
 import hashlib
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +32,7 @@ import numpy as np
 
 from .file_kinds import misplaced
 from .model import PRESETS, Params, preset
+from .model_values import _integer
 from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's API too
     DEPTH_AXES,
     MAX_DOF,
@@ -66,6 +67,10 @@ _NONE = object()  # a key one spec has and the other does not
 _PARAMS_KEPT = 16  # strings a spec keeps built (params_at)
 
 
+def _writable(values: Any) -> bool:
+    return not isinstance(values, np.ndarray) or values.flags.writeable
+
+
 @dataclass(frozen=True, eq=False)  # (the fields' ==, of arrays, raised "truth value of an array")
 class SweepSpec:
     """A validated sweep specification (from :func:`load_spec` or :func:`parse_spec`): the
@@ -87,8 +92,18 @@ class SweepSpec:
     def __post_init__(self) -> None:
         # frozen=True stops `spec.axes = ...` but not `spec.axes["wob"] = ...`: a spec changed
         # after parsing would no longer be its ``text``, which the workers and the atlas read.
+        # The axes too, however the spec was made (numpy's pickle, so deepcopy and a Dask
+        # worker's copy, dropped parse_spec's flag); a caller's writable array is copied.
+        axes = {k: np.array(v) if _writable(v) else v for k, v in self.axes.items()}
+        for values in axes.values():
+            values.flags.writeable = False
+        object.__setattr__(self, "axes", axes)
         for name in ("overrides", "axes", "simulation", "record", "fixed"):
             object.__setattr__(self, name, ReadOnlyDict(getattr(self, name)))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # through __init__, so __post_init__ freezes the copy (the default restored __dict__)
+        return (type(self), tuple(getattr(self, f.name) for f in fields(self)))
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, SweepSpec) and other.digest == self.digest
@@ -206,8 +221,9 @@ class SweepSpec:
         return hashlib.sha256(repr(parts).encode()).hexdigest()[:16]
 
     def coords(self, flat_index: int) -> dict[str, float | int]:
-        """The axis values of point number ``flat_index``."""
-        idx = np.unravel_index(flat_index, self.shape)
+        """The axis values of point number ``flat_index`` (an integer 0 ... ``size`` − 1)."""
+        # numpy's own refusal named neither the argument nor its range, and took True as 1
+        idx = np.unravel_index(_integer("flat_index", flat_index, 0, self.size - 1), self.shape)
         # .item(): a plain float, or an int on a size axis (dof, pipes).
         return {k: v[i].item() for (k, v), i in zip(self.axes.items(), idx, strict=True)}
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import signal
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 
 class SchedulerError(ConnectionError):
@@ -56,6 +57,12 @@ class SweepInterrupted(KeyboardInterrupt):
             f"sweep interrupted: {done} of {points} points are saved in {atlas}; resuming "
             f"(resume=True) computes the other {points - done}"
         )
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # An exception pickles as type(self)(*self.args), here the message alone, which this
+        # __init__ does not take: unpickling (a sweep run in a worker process, copy.copy) failed
+        # with a TypeError. Rebuild it from the positional fields, the rest as its state.
+        return (type(self), (self.atlas, self.points, self.done, self.signum), self.__dict__)
 
 
 @dataclass

@@ -113,6 +113,15 @@ class Tally:
     #: 31, read as m): the command line says these as notes
     notes: tuple[str, ...] = field(default=(), compare=False, repr=False)
 
+    def __repr__(self) -> str:
+        # One line, as Params's: the dataclass's own listed every section, field by field.
+        joints = sum(s.count for s in self.sections)
+        return (
+            f"<Tally {self.name!r}: {len(self.sections)} sections, {joints} joints, "
+            f"{self.length:.6g} m (BHA {self.bha_length:.6g} m), bit_radius "
+            f"{self.bit_radius:.4g} m, top_inertia {self.top_inertia:.4g} kg·m²>"
+        )
+
     @property
     def length(self) -> float:
         """Measured length of the whole string, m (the depth it reaches)."""
