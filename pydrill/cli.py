@@ -286,7 +286,10 @@ def _describe(result: Any, plot: str | None, tally: bool = False) -> str:
         + (f", period {s.period:.4g} s" if s.period else ""),
         "steady states   "
         + (
-            ", ".join(f"{w:.6g} rad/s ({rpm(w):.4g} rpm)" for w in s.omega_equilibrium)
+            ", ".join(
+                f"{w:.6g} rad/s ({rpm(w):.4g} rpm{', unstable: past the fold' if past else ''})"
+                for w, past in zip(s.omega_equilibrium, result.past_fold(), strict=True)
+            )
             if s.omega_equilibrium
             else "none (the torque cannot balance the bit friction)"
         ),

@@ -100,14 +100,19 @@ def simulation_figure(result: SimulationResult) -> Figure:
 
     ax_v.plot(t, result.top_velocity, color=TOP, lw=1.3, label="top drive $\\omega_0$")
     ax_v.plot(t, result.bit_velocity, color=BIT, lw=1.3, label="bit $\\omega_b$")
-    for k, omega in enumerate(s.omega_equilibrium):
+    # A steady state past the fold is unstable on any string (the bit cannot stay there): not
+    # drawn as the one it may settle at (both were "steady state Ω", 4.7 rpm beside 64.5 rpm).
+    said = set()
+    for omega, past in zip(s.omega_equilibrium, result.past_fold(), strict=True):
+        label = "unstable steady state (past the fold)" if past else "steady state $\\Omega$"
         ax_v.axhline(
             omega,
-            color=EQUILIBRIUM,
-            ls="--",
+            color="0.45" if past else EQUILIBRIUM,
+            ls=":" if past else "--",
             lw=1,
-            label="steady state $\\Omega$" if k == 0 else None,
+            label=None if label in said else label,
         )
+        said.add(label)
     ax_v.set_ylabel("angular velocity (rad/s)")
     # Zero in view, as on the atlas profiles: from equilibrium, autoscaled to the data alone,
     # a decaying wobble of 0.02 rad/s about 33.16 rad/s filled the panel as if the bit shook.

@@ -214,6 +214,20 @@ class SimulationResult:
         ``"band"`` (Karnopp); ``mode_index`` holds the same as codes into ``pydrill.MODES``."""
         return [MODES[i] for i in self.mode_index]
 
+    def past_fold(self) -> tuple[bool, ...]:
+        """For each of ``summary.omega_equilibrium``, whether it lies past the fold: its
+        Stribeck slope δ(|Ω|) above c_r + c_b, where the characteristic polynomial's constant
+        term has changed sign (DESIGN.md §3), so a real eigenvalue is positive and the bit
+        cannot stay there, whatever the string. The slower of two steady states always is. One
+        not past the fold may still be unstable by a Hopf crossing: ``pydrill.stability``."""
+        from .stability import stribeck_slope
+
+        p, ends = self.params, self.params.top_damping + self.params.bit_damping
+        return tuple(
+            bool(stribeck_slope(p, abs(self.wob), abs(w)) > ends)
+            for w in self.summary.omega_equilibrium
+        )
+
     def stick_intervals(self) -> list[tuple[float, float]]:
         """Time intervals in which the rock holds the bit (stick, or the Karnopp band), within
         the output span ``[t[0], t[-1]]`` (an interval under way at ``t[0]`` starts there, one

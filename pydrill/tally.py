@@ -61,6 +61,11 @@ _DEEPEST = " (the Earth's radius; the deepest borehole ever drilled is some 12.3
 # longer than this was most likely feet ("length = 31" for 31 ft made a 10 km string). Such a
 # length is said in a note, not refused: a section may list stands, or a long tool as one item.
 LONGEST_JOINT = 15.0  # m
+# The widest pipe or bit a bare number may mean: 36 in conductor bits are 0.91 m across. A
+# diameter is written in inches on every tally sheet; a bare one is m, so "od = 5.0" for 5 in
+# pipe made a 5 m pipe (its inertia 4.7e8 kg·m², a window and simulations of nothing real)
+# and said nothing. Such a diameter is noted, not refused: a hole opener may be wider.
+WIDEST_BARE_DIAMETER = 1.0  # m
 
 
 class TallyError(ValueError):

@@ -21,6 +21,7 @@ from .tally import (
     MAX_DIAMETER,
     STEEL_G,
     STEEL_RHO,
+    WIDEST_BARE_DIAMETER,
     Section,
     Tally,
     TallyError,
@@ -131,6 +132,8 @@ def _section(n: int, sec: Any, g: float, rho: float, notes: list[str]) -> Sectio
         _get(sec, "density", where, "density", rho),
     )
     notes.extend(_length_note(where, sec["length"], s.length))
+    notes.extend(_diameter_note(f"{where}.od", sec["od"], od))
+    notes.extend(_diameter_note(f"{where}.id", sec.get("id"), inner))
     k, j = s.joint_stiffness(), s.joint_inertia()
     # Normal floats (not subnormal): springs in series add 1/k, which a subnormal k overflows.
     if not (sys.float_info.min <= k < math.inf and sys.float_info.min <= j < math.inf):
@@ -145,16 +148,32 @@ def _section(n: int, sec: Any, g: float, rho: float, notes: list[str]) -> Sectio
 def _length_note(where: str, value: Any, length: float) -> list[str]:
     """A note on a joint length written without a unit and longer than any joint: read as m,
     it was most likely feet (or a stand); one written with its unit is taken as meant."""
-    try:
-        bare = not isinstance(value, bool) and math.isfinite(float(value))  # "31 ft" is not
-    except (TypeError, ValueError, OverflowError):
-        bare = False
-    if not bare or length <= LONGEST_JOINT:
+    if not _bare(value) or length <= LONGEST_JOINT:  # "31 ft" is not bare
         return []
     return [
         f"{where}.length = {_show(value)} is read as {length:g} m per joint (a bare number is "
         f"m): longer than any joint of pipe (at most some {LONGEST_JOINT:g} m); for feet write "
         f'length = "{str(value).strip()} ft"'
+    ]
+
+
+def _bare(value: Any) -> bool:
+    """Whether ``value`` is a number written without a unit (31, 31.0, '31'; not "31 ft")."""
+    try:
+        return not isinstance(value, bool) and math.isfinite(float(value))
+    except (TypeError, ValueError, OverflowError):
+        return False
+
+
+def _diameter_note(key: str, value: Any, diameter: float) -> list[str]:
+    """A note on a diameter written without a unit and wider than any pipe or bit: read as m,
+    it was most likely inches; one written with its unit is taken as meant."""
+    if not _bare(value) or diameter <= WIDEST_BARE_DIAMETER:
+        return []
+    return [
+        f"{key} = {_show(value)} is read as {diameter:g} m (a bare number is m): wider than "
+        f"any drill pipe, collar or bit (at most some {WIDEST_BARE_DIAMETER:g} m); for inches "
+        f'write {key.rsplit(".", 1)[1]} = "{str(value).strip()} in"'
     ]
 
 
@@ -232,6 +251,8 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
     decay = _number(bit, "stribeck_decay", "bit", 0.9, "a finite number > 0")
     if not decay > 0:
         raise _refuse("bit.stribeck_decay", bit["stribeck_decay"], "a finite number > 0")
+    bit_diameter = _get(bit, "diameter", "bit", "length", high=MAX_DIAMETER)
+    notes.extend(_diameter_note("bit.diameter", bit.get("diameter"), bit_diameter))
     label = doc.get("name", name)
     if not isinstance(label, str):
         raise _refuse("name", label, "a string (the string's name)")
@@ -241,7 +262,7 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
             top, "inertia", "top_drive", "inertia", note=" (inertias[0] of the chain)"
         ),
         top_damping=_get(top, "damping", "top_drive", "damping", 0.0, zero=True),
-        bit_radius=_get(bit, "diameter", "bit", "length", high=MAX_DIAMETER) / 2,
+        bit_radius=bit_diameter / 2,
         bit_damping=_get(bit, "damping", "bit", "damping", 0.0, zero=True),
         beta=beta,
         mu_coulomb=mu_coulomb,
