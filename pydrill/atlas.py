@@ -214,7 +214,8 @@ class Atlas:
         exact one. Keys: ``coords``, ``status``
         (``"done"``, ``"failed"`` with ``message``, ``"missing"``), ``regime`` and ``metrics``
         (each by start), ``stability`` (lists over the steady states: ``omega_eq``, ``delta``,
-        ``spectral_abscissa``, ``hopf_margin``, ``unstable``, ``eigenvalues``) and
+        ``spectral_abscissa``, ``hopf_margin``, ``unstable``, ``eigenvalues``; ``None`` in an
+        atlas swept without stability) and
         ``coexistence`` (the starts disagree; ``None`` with one start) and ``caveat`` (what
         each start's judgement notes, by kind — ``"growing"``, ``"short-window"``, … — or
         ``None``; see ``SimulationResult.summary.note`` for what each means).

@@ -60,6 +60,7 @@ def merge_atlases(
     from . import __version__
     from .atlas import Atlas
     from .atlas_lock import writer_lock
+    from .spec_parts import part_option
     from .sweep import model_json
 
     if isinstance(parts, str | bytes | os.PathLike):  # each of its characters taken for a file
@@ -95,10 +96,14 @@ def merge_atlases(
     versions: list[str] = []
     for p in paths:
         if journal_path(p).exists():
+            option = ""  # a part (what is merged) resumes only with its --part
+            with contextlib.suppress(AtlasError, OSError, ValueError):
+                with Atlas(p) as stopped:
+                    option = part_option(stopped.spec.text)
             raise AtlasError(
                 f"{p}: its sweep is running or was stopped (its journal "
                 f"{journal_path(p).name} is beside it); finish it first: 'pydrill sweep "
-                f"SPEC.toml --out {p} --resume'"
+                f"SPEC.toml{option} --out {p} --resume'"
             )
         with Atlas(p) as atlas:
             atlas.check()  # codes read whole: nothing that is no regime passes into the merge

@@ -49,14 +49,17 @@ def point_value(atlas: Any, f: Any, idx: tuple[int, ...]) -> dict[str, Any]:
         vals = f[name][idx] if name in f else [math.nan] * len(atlas.initials)
         metrics[name] = {init: _clean(v) for init, v in zip(atlas.initials, vals, strict=True)}
     out["metrics"] = metrics
-    eq = {name: [_clean(v) for v in f[name][idx]] for name in fmt.EQ_FIELDS}
-    re, im = f["eigenvalues_real"][idx], f["eigenvalues_imag"][idx]
-    eq["eigenvalues"] = [
-        [[float(a), float(b)] for a, b in zip(r, i, strict=True) if math.isfinite(a)]
-        for r, i in zip(re, im, strict=True)
-    ]
-    n = sum(1 for w in eq["omega_eq"] if w is not None)
-    out["stability"] = {k: v[:n] for k, v in eq.items()}
+    if atlas.spec.record["stability"]:
+        eq = {name: [_clean(v) for v in f[name][idx]] for name in fmt.EQ_FIELDS}
+        re, im = f["eigenvalues_real"][idx], f["eigenvalues_imag"][idx]
+        eq["eigenvalues"] = [
+            [[float(a), float(b)] for a, b in zip(r, i, strict=True) if math.isfinite(a)]
+            for r, i in zip(re, im, strict=True)
+        ]
+        n = sum(1 for w in eq["omega_eq"] if w is not None)
+        out["stability"] = {k: v[:n] for k, v in eq.items()}
+    else:  # not recorded: None, not empty lists, which say "no steady state" at this point
+        out["stability"] = None
     co = atlas._name(_COEXISTENCE, "coexistence", f["coexistence"][idx])
     out["coexistence"] = None if co == "unknown" else co == "yes"
     # Older atlases have no caveats: None, as for a run without one.

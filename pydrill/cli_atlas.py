@@ -80,9 +80,10 @@ def register_atlas(sub) -> None:
         "  severity, stuck_fraction, period, stick_events, wall_time, top_min, top_max,\n"
         "  bit_top_ratio) from the first initial\n"
         "  condition; coords, status, by_initial {regime, metrics, caveat}, stability\n"
-        "  {omega_eq, delta, spectral_abscissa, hopf_margin, unstable, eigenvalues},\n"
-        "  coexistence, safe (what 'atlas safe' lists: every start steady and the fastest\n"
-        "  steady state stable; null without stability recorded), units;\n"
+        "  {omega_eq, delta, spectral_abscissa, hopf_margin, unstable, eigenvalues} (null\n"
+        "  without stability recorded), coexistence, safe (what 'atlas safe' lists: every\n"
+        "  start steady and the fastest steady state stable; null without stability\n"
+        "  recorded), units;\n"
         "  message for a failed point; with --nearest, asked (the values given: coords are\n"
         "  the grid point's)",
     )

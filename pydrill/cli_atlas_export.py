@@ -39,6 +39,7 @@ def cmd_export(args: argparse.Namespace) -> int:
 
     from . import atlas_format as fmt
     from .atlas import Atlas
+    from .spec_parts import part_option
 
     out = Path(args.out)
     if out.resolve() == Path(args.atlas).resolve():
@@ -46,6 +47,7 @@ def cmd_export(args: argparse.Namespace) -> int:
     with Atlas(args.atlas) as atlas:
         atlas.check()  # it is read whole: no code that is none may pass into the export
         missing = int(np.sum(atlas._file()["status"][...] == fmt.STATUS["missing"]))
+        part = part_option(atlas.spec.text)  # a part's atlas resumes with its --part
         first, *others = atlas.axes
         per_row = math.prod(len(atlas.axes[name]) for name in others)
         rows = max(1, BLOCK_POINTS // per_row)
@@ -71,7 +73,7 @@ def cmd_export(args: argparse.Namespace) -> int:
             ds.close()
     if missing:  # exported as missing: say so, and how to compute them
         print(
-            f"pydrill atlas export: note: {missing_note(args.atlas, missing, points)}",
+            f"pydrill atlas export: note: {missing_note(args.atlas, missing, points, part)}",
             file=sys.stderr,
         )
     if not args.json:
@@ -86,10 +88,11 @@ def cmd_export(args: argparse.Namespace) -> int:
     return 0
 
 
-def missing_note(atlas: str, missing: int, points: int) -> str:
+def missing_note(atlas: str, missing: int, points: int, part: str = "") -> str:
     """Why ``missing`` of the ``points`` of ``atlas`` are missing and what completes them, in
     the words of ``pydrill atlas info``: a sweep writing it now, or one stopped (its journal
-    beside it, or not: a journal removed, parts merged before they were complete)."""
+    beside it, or not: a journal removed, parts merged before they were complete). ``part``:
+    ``" --part K/N"`` for a part's atlas (``spec_parts.part_option``)."""
     from .atlas_lock import writer
     from .journal import journal_path
 
@@ -99,7 +102,7 @@ def missing_note(atlas: str, missing: int, points: int) -> str:
         return f"{count}: a sweep is writing this atlas now ({holder}); export it once done"
     journal = journal_path(Path(atlas)).exists()
     stopped = "a sweep into this atlas was stopped;" if journal else "a stopped sweep?"
-    resume = f"pydrill sweep SPEC.toml --out {shlex.quote(atlas)} --resume"
+    resume = f"pydrill sweep SPEC.toml{part} --out {shlex.quote(atlas)} --resume"
     return f"{count}: {stopped} '{resume}' completes it (SPEC.toml: the spec it was swept from)"
 
 

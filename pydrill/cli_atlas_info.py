@@ -122,7 +122,8 @@ def cmd_info(args: argparse.Namespace) -> int:
         more = s["journal_points"]
         held = f"holds {more} more points, not yet in the atlas" if more else "is there"
         holder = writer(Path(args.atlas))  # the sweep writing it now, if one is
-        resume = f"pydrill sweep SPEC.toml --out {shlex.quote(args.atlas)} --resume"
+        part = "" if s["part"] is None else f" --part {s['part']['k']}/{s['part']['n']}"
+        resume = f"pydrill sweep SPEC.toml{part} --out {shlex.quote(args.atlas)} --resume"
         why = (
             f"a sweep is writing this atlas now ({holder})"
             if holder is not None

@@ -175,7 +175,10 @@ def cmd_query(args: argparse.Namespace) -> int:
         if caveat:
             print(f"    caveat: {caveat} ({fmt.CAVEAT_TEXT[caveat]})")
     st = v["stability"]
-    for k, (w, unstable) in enumerate(zip(st["omega_eq"], st["unstable"], strict=True)):
+    if st is None:  # not recorded: say so, rather than nothing (as for no steady state)
+        print("  steady states: not recorded ([record] stability = false)")
+    rows = [] if st is None else zip(st["omega_eq"], st["unstable"], strict=True)
+    for k, (w, unstable) in enumerate(rows):
         print(
             f"  steady state Omega = {w:.5g} rad/s ({w * 30 / math.pi:.4g} rpm): "
             + (

@@ -185,8 +185,10 @@ def interrupted(args: argparse.Namespace, exc: Any, cluster: dict[str, object] |
         if args.serial
         else []
     )
+    # and as the same part (a part's atlas is refused to the whole spec)
+    part = ["--part", args.part] if getattr(args, "part", None) else []
     again = " ".join(
-        shlex.quote(a) for a in ("pydrill", "sweep", args.spec, "--out", args.out, *where)
+        shlex.quote(a) for a in ("pydrill", "sweep", args.spec, *part, "--out", args.out, *where)
     )
     if args.json:
         results = results_of(exc, cluster, interrupted=True)

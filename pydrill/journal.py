@@ -26,6 +26,7 @@ from .atlas_heap import heap_problem
 from .journal_lines import RUN_KEYS, STABILITY_KEYS, Layout, header, line
 from .journal_records import is_int, quick_problem, record_problem
 from .spec import SweepSpec
+from .spec_parts import part_hint
 
 JOURNAL_SUFFIX = ".journal"
 
@@ -162,7 +163,8 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
                     raise AtlasError(
                         f"{out} holds a different sweep "
                         f"({_what_differs(spec, *theirs, digest, f.attrs.get('pydrill_version'))})"
-                        "; choose another out=PATH or remove it"
+                        f"{part_hint(spec, theirs[0], digest)}; choose another out=PATH or "
+                        "remove it"
                     )
                 problem = damage(f, spec)
                 if problem:

@@ -74,3 +74,31 @@ def spec_part(spec: SweepSpec, k: int, n: int, name: str = "the spec") -> SweepS
     )
     text = with_axis(spec.text, axis, [v.item() for v in kept], header)
     return parse_spec(text, spec.tally_text)
+
+
+def part_hint(spec: SweepSpec, text: Any, digest: Any) -> str:
+    """``"; it is part K of N of this spec: ..."`` when an atlas whose spec is ``text`` (with
+    ``digest``, as stored) is that part of ``spec``: a part's atlas resumed without its
+    ``--part`` read as another sweep's. ``""`` otherwise."""
+    part = part_of(str(text))
+    if part is None:
+        return ""
+    k, n = part["k"], part["n"]
+    try:
+        theirs = digest.decode() if isinstance(digest, bytes) else str(digest)
+        if theirs != spec.part(k, n).digest:
+            return ""
+    except (ValueError, UnicodeDecodeError):  # this first axis has under n values: not it
+        return ""
+    return (
+        f"; it is part {k} of {n} of this spec: resume it as that part (--part {k}/{n}; from "
+        f"Python, spec.part({k}, {n}))"
+    )
+
+
+def part_option(text: str) -> str:
+    """``" --part K/N"`` for an atlas swept as a part (its spec ``text`` says so, see
+    ``part_of``), else ``""``: what a command that resumes it must add (without it, --resume
+    is refused: the whole spec is another sweep)."""
+    part = part_of(text)
+    return "" if part is None else f" --part {part['k']}/{part['n']}"

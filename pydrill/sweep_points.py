@@ -101,7 +101,13 @@ def evaluate_point(spec: SweepSpec, index: int) -> dict[str, Any]:
             rec["coexistence"] = len(regimes) > 1
         if spec.record["stability"]:
             crossings = _string_crossings(spec, coords, params)
-            pts = stability(params, wob, torque=torque, crossings=crossings)[::-1]  # fastest first
+            # Fastest first, by |Ω|: stability() gives increasing Ω, so under a negative torque
+            # (the string turned backwards) reversing it put the slow steady state first, and
+            # 'the fastest steady state' (safe, maps) was the slow, usually unstable, one.
+            pts = sorted(
+                stability(params, wob, torque=torque, crossings=crossings),
+                key=lambda p: -abs(p.omega),
+            )
             k = spec.record["eigenvalues"]
             rec["stability"] = {
                 "omega_eq": [p.omega for p in pts],
