@@ -41,7 +41,9 @@ def register_map(sub, PRESETS: Sequence[str]) -> None:
         "u > T_s. With --check K, simulations from rest on a K x K grid show where stick-slip "
         "actually happens (it coexists with the stable steady state near the sliding boundary).",
         epilog="examples:\n  pydrill map --dof 4 --plot map.png\n"
-        "  pydrill map --dof 2 --check 10 --json\n\nunits: wob N, torque N*m.",
+        "  pydrill map --dof 2 --check 10 --json\n\nunits: wob N, torque N*m.\n\n"
+        "--json: category[i][j] is the category (an index into categories) at torque[i] and "
+        'wob[j],\nas category_axes says: ["torque", "wob"]; safe_torque_min[j] is at wob[j].',
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _string_options(omap, PRESETS)
@@ -117,6 +119,8 @@ def _cmd_map(args: argparse.Namespace) -> int:
             "wob": omap.wob.tolist(),
             "torque": omap.torque.tolist(),
             "category": omap.category.tolist(),
+            # its indices, outer first: the array alone did not say which was which
+            "category_axes": ["torque", "wob"],
             "safe_torque_min": [None if not np.isfinite(v) else v for v in omap.safe_torque_min],
             # a failed check's regime is "failed", its message why (null for the others)
             "checks": [{"wob": w, "torque": u, "regime": r, "message": m} for w, u, r, m in checks],

@@ -203,6 +203,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
                 args.rpm_max,
                 [c[:3] for c in checks.get(depths[0], [])],
                 args.check_from,
+                float(dw.length[0]),
             )
         else:  # the checks' points are off these curves: the figure says how they came out
             fig = window_depth_figure(

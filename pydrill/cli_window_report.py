@@ -40,6 +40,8 @@ def window_json(tally, dw, grid, checks, args) -> dict:
         "windows": [
             {
                 "depth": float(d),
+                # the string built for it, of whole joints: up to one longer than the depth
+                "string_length": float(dw.length[i]),
                 "dof": int(dw.dof[i]),
                 "delta_limit": float(dw.delta_limit[i]),
                 "safe_fraction": float(windows[i].safe.mean()),
@@ -85,6 +87,7 @@ def window_json(tally, dw, grid, checks, args) -> dict:
         "rpm_min_stable": "rpm",
         "rpm_min_unstuck": "rpm",
         "depth": "m",
+        "string_length": "m",
         "bit_rpm": "rpm",
         "delta_limit": "N·m·s/rad",
         **string_units(argparse.Namespace(tally=None, set_params=args.set_params)),
@@ -152,8 +155,11 @@ def checks_note(checks: dict, args) -> str | None:
 
 
 def print_window(tally, dw, checks, args) -> None:
+    import textwrap
+
     from .cli_checks import failure_lines
     from .units import FT, LBF
+    from .window import longer
 
     print(
         f"{tally.name}: heaviest safe weight on bit, kN (klbf), at surface speed; "
@@ -177,6 +183,19 @@ def print_window(tally, dw, checks, args) -> None:
             star = "*" if dw.rpm_min_stable[i, k] > dw.rpm_min_unstuck[k] else " "
             cells.append(f"{dw.rpm_min[i, k]:9.0f}{star}")
         print((f"{d:8.0f} " + " ".join(cells)).rstrip())
+    # Each string is whole joints long: the depth asked (the tables' rows) is not its length.
+    pairs = zip(dw.depth, dw.length, strict=True)
+    built = [f"{d:g} m (string {n:.6g} m)" for d, n in pairs if longer(d, n)]
+    if len(built) > NOTE_DEPTHS:  # a line of 46 depths said little more than this
+        most = float((dw.length - dw.depth).max())
+        print(
+            f"strings of whole joints: up to {most:.3g} m longer than the depths "
+            "(--json gives each: string_length)"
+        )
+    elif built:  # (wrapped between depths, not inside one)
+        no_break = [b.replace(" ", "\0") for b in built]
+        text = textwrap.fill("strings of whole joints: " + ", ".join(no_break), 120)
+        print(text.replace("\0", " "))
     failures = []
     for d, every in checks.items():
         counts: dict[str, int] = {}

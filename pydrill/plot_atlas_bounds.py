@@ -99,7 +99,9 @@ def _stuck_margin(atlas, xname, yname, x, y, held) -> Any:
     import numpy as np
 
     spec = atlas.spec
-    params = spec.params_at(held)
+    # params_at needs every axis: x's and y's at any grid value (they are drawn, not read here;
+    # what is read, μ_sb and R_b, is the string's own only where no axis sets it)
+    params = spec.params_at(spec.coords(0) | held)
     own = {"mu_static": params.mu_static, "bit_radius": params.bit_radius}
 
     def value(name: str):

@@ -95,11 +95,12 @@ def window_figure(
     rpm_max: float,
     checks=None,
     check_initial: str = "equilibrium",
+    length: float | None = None,
 ) -> Figure:
     """The safe (W_ob, surface rpm) window of one string: exact edges, regions named in driller
     terms, steady surface torque contours inside the window, simulated sample points: ``checks``
     are (W_ob N, rpm, outcome), an outcome "failed" where the simulation failed (drawn as a
-    grey question mark)."""
+    grey question mark). ``length``: the string's (m, whole joints), said where not ``depth``."""
     p = limits.params
     rpm = np.linspace(0.0, rpm_max, 600)
     w_hopf = limits.wob_max_stable(rpm) / 1e3
@@ -122,7 +123,10 @@ def window_figure(
         lw=0,
         zorder=0,
     )
-    ax.plot(w_hopf, rpm, color=HOPF_EDGE, lw=2.2, label="stick-slip edge (first Hopf)")
+    # What sets δ_c: the first Hopf, or on a short string the fold, which comes first there
+    # (the legend said "first Hopf" at 300 m, where the fold is the edge).
+    what = {"hopf": " (first Hopf)", "fold": " (fold)"}.get(limits.limit_type or "", "")
+    ax.plot(w_hopf, rpm, color=HOPF_EDGE, lw=2.2, label=f"stick-slip edge{what}")
     ax.plot(w_stall, rpm, color=STALL_EDGE, lw=2.2, ls="--", label="stall edge (torque = $T_s$)")
     # Steady surface torque inside the window: what the torque gauge should read there.
     gw, gr = np.meshgrid(np.linspace(x_max / 300, x_max, 300), np.linspace(1.0, rpm_max, 300))
@@ -213,8 +217,12 @@ def window_figure(
         ha="left",
         color="#333333",
     )
+    from .window import longer
+
+    # the string is whole joints long: 4000 m asked, 4000.8 m built (said, not hidden)
+    built = f"; string {length:,.6g} m" if length is not None and longer(depth, length) else ""
     ax.set_title(
-        f"{name} at {depth:,.0f} m ({depth / FT:,.0f} ft): operating window\n"
+        f"{name} at {depth:,.0f} m ({depth / FT:,.0f} ft{built}): operating window\n"
         f"lumped model {p.dof} inertias, bit {2 * p.bit_radius / 0.0254:.4g} in, "
         f"first destabilising slope $\\delta_c$ = {limits.delta_limit:.4g} N·m·s/rad",
         fontsize=10.5,

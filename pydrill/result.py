@@ -143,7 +143,8 @@ class SimulationResult:
     @property
     def settings(self) -> Mapping[str, Any]:
         """The simulation settings as given to :func:`simulate` (``t_end``, ``method``, …),
-        read-only (lists as tuples): :meth:`inputs` gives them as a new, plain dict."""
+        read-only (lists as tuples; ``max_switch_rate`` inf for None, no limit): :meth:`inputs`
+        gives them as a new, plain dict, JSON-ready (None there)."""
         return MappingProxyType(self._settings)
 
     @functools.cached_property

@@ -57,6 +57,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     in_si,
     printable,
     read_text,
+    require_coords,
 )
 from .spec_sections import record as _record
 from .spec_sections import simulation as _simulation
@@ -228,7 +229,11 @@ class SweepSpec:
         return {k: v[i].item() for (k, v), i in zip(self.axes.items(), idx, strict=True)}
 
     def params_at(self, coords: dict[str, float]) -> Params:
-        """The string at one grid point (size, depth and parameter axes applied)."""
+        """The string at one grid point (size, depth and parameter axes applied): ``coords``
+        gives every axis of the spec but W_ob and torque (ValueError naming those missing)."""
+        # A point without its dof, depth or parameter value was built silently from the
+        # preset's default instead (dof 4): another string than the grid's.
+        require_coords(coords, [k for k in self.axes if k not in OPERATING_AXES], self)
         # The string is the same at every point of a (W_ob, u) grid, and of any grid along its
         # operating axes: built (a preset scaled, validated) once, not at each point (measured:
         # 5 % of a dof-4 point's time). Params are frozen, so one may serve many points. The
@@ -265,7 +270,10 @@ class SweepSpec:
         return preset(self.preset, dof=dof, **over)
 
     def operating_point(self, coords: dict[str, float]) -> tuple[float, float]:
-        """(W_ob in N, surface torque in N·m) at a point: swept, or held fixed."""
+        """(W_ob in N, surface torque in N·m) at a point: swept, or held fixed (ValueError
+        when ``coords`` lacks a swept one)."""
+        # (a bare KeyError: 'torque' said nothing)
+        require_coords(coords, [k for k in ("wob", "torque") if k not in self.fixed], self)
         get = {**self.fixed, **coords}
         return float(get["wob"]), float(get["torque"])
 

@@ -350,3 +350,15 @@ def _check_axes(
             if abs(v) > MAX_LOAD:
                 raise _fail(f"model.{key}", _too_large(key, abs(v)))
     _check_friction_pair(axes)
+
+
+def require_coords(coords: dict[str, float], needed: list[str], spec: Any) -> None:
+    """ValueError unless ``coords`` (a point of ``spec``, as ``SweepSpec.coords`` gives one)
+    has every name in ``needed``: its missing ones, the spec's axes and values held fixed."""
+    missing = [k for k in needed if k not in coords]
+    if missing:
+        held = f"; held in [model]: {', '.join(spec.fixed)}" if spec.fixed else ""
+        raise ValueError(
+            f"coords = {coords!r} lacks {', '.join(missing)}: give a value of every axis of the "
+            f"spec ({', '.join(spec.axes)}{held}), e.g. spec.coords(i)"
+        )

@@ -122,7 +122,12 @@ _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s
 
 
 def parse(value: float | int | str, kind: str) -> float:
-    """``value`` in SI units; strings carry their unit. Raises ValueError naming the problem."""
+    """``value`` in SI units; strings carry their unit. Raises ValueError naming the problem.
+
+    ``kind`` is the quantity, one of ``"length"`` (m), ``"force"`` (N), ``"torque"`` (N·m),
+    ``"velocity"`` (rad/s), ``"modulus"`` (Pa), ``"density"`` (kg/m3), ``"inertia"`` (kg·m2),
+    ``"damping"`` (N·m·s/rad) or ``"rate"`` (m/s, of penetration); ``UNITS[kind]`` holds the
+    units it reads for each (and their factors to SI)."""
     _check_kind(kind)
     a = _article(kind)
     if isinstance(value, bool):
@@ -154,8 +159,9 @@ def parse(value: float | int | str, kind: str) -> float:
 
 
 def convert(si_value: float, kind: str, unit: str) -> float:
-    """An SI value expressed in ``unit``: any unit :func:`parse` reads for ``kind`` (e.g.
-    ``"rpm"``, ``"RPM"``, ``"kft-lbf"``). Raises ValueError for an unknown kind or unit,
+    """An SI value expressed in ``unit``: any unit :func:`parse` reads for ``kind`` (one of
+    the kinds it lists, ``"length"`` ... ``"rate"``; e.g. ``"rpm"``, ``"RPM"``, ``"kft-lbf"``
+    for ``"velocity"`` and ``"torque"``). Raises ValueError for an unknown kind or unit,
     listing the allowed ones, and TypeError for a value that is not a number (or array)."""
     _check_kind(kind)
     if (

@@ -9,8 +9,9 @@ of no-Hopf and no-stuck, on the axes a driller sets.
 Both edges have closed forms (:class:`Limits`). With g = γ_b/v_f, Δμ = μ_sb − μ_cb,
 c = c_r + c_b and δ_c the first destabilising critical slope of the string:
 
-- stick-slip edge (first Hopf): stable iff W_ob R_b g Δμ e^{−gΩ} < δ_c, i.e.
-  W_ob < δ_c e^{gΩ} / (R_b g Δμ), or Ω > ln(W_ob R_b g Δμ / δ_c) / g;
+- stick-slip edge (the first Hopf, or the fold where that comes first: a short string's):
+  stable iff W_ob R_b g Δμ e^{−gΩ} < δ_c, i.e. W_ob < δ_c e^{gΩ} / (R_b g Δμ), or
+  Ω > ln(W_ob R_b g Δμ / δ_c) / g;
 - stall edge: u > T_s iff c Ω > W_ob R_b Δμ (1 − e^{−gΩ}), i.e. W_ob < cΩ / (R_b Δμ (1 − e^{−gΩ})),
   or, with s = W_ob R_b Δμ g / c > 1, Ω > (s + W₀(−s e^{−s})) / g (W₀: Lambert's principal branch;
   for s ≤ 1 the bit can never stay stuck).
@@ -87,11 +88,16 @@ def operating_window(
 def stable_delta_limit(crossings: Iterable[Crossing]) -> float:
     """δ_c: the least Stribeck slope at which the steady state has an unstable eigenvalue
     (inf if it never has). Below it, every slope is stable (the count starts at 0)."""
-    crossings = _crossing_list(crossings)
+    first = _limiting(_crossing_list(crossings))
+    return float("inf") if first is None else float(first.delta)
+
+
+def _limiting(crossings: list[Crossing]) -> Crossing | None:
+    """The crossing at δ_c (None if none makes the steady state unstable)."""
     for c in crossings:
         if unstable_count(crossings, c.delta * (1 + 1e-12) + 1e-300) > 0:
-            return float(c.delta)
-    return float("inf")
+            return c
+    return None
 
 
 @dataclass(frozen=True)
@@ -103,6 +109,9 @@ class Limits:
 
     params: Params
     delta_limit: float  #: δ_c, N·m·s/rad
+    #: what happens at δ_c: "hopf" (an oscillation is born) or "fold" (a real eigenvalue: a
+    #: short string's, whose first Hopf comes later); None if unknown or if δ_c is inf
+    limit_type: str | None = None
 
     @classmethod
     def of(cls, params: Params, crossings: Iterable[Crossing] | None = None) -> Limits:
@@ -111,7 +120,10 @@ class Limits:
             crossings = critical_deltas(params)
         else:
             crossings = _check_crossings(params, crossings)
-        return cls(params, stable_delta_limit(crossings))
+        first = _limiting(_crossing_list(crossings))
+        if first is None:
+            return cls(params, float("inf"))
+        return cls(params, float(first.delta), first.type)
 
     @property
     def _g(self) -> float:
@@ -189,6 +201,8 @@ class DepthWindow:
     rpm_min: NDArray[np.float64]  #: (nd, nw) slowest safe rpm
     rpm_min_stable: NDArray[np.float64]  #: (nd, nw) the stick-slip edge alone
     rpm_min_unstuck: NDArray[np.float64]  #: (nw,) the stall edge
+    #: m, the string built for each depth: of whole joints, so up to one joint longer
+    length: NDArray[np.float64]
 
 
 def window_against_depth(
@@ -202,10 +216,12 @@ def window_against_depth(
     wob = _checked("wob", wob, 0.0, strict=True)
     if depths.ndim != 1 or depths.size == 0:
         raise ValueError("depths must be a non-empty list of finite depths > 0 (m)")
-    rows = []
+    rows, lengths = [], []
     for d in depths:
-        p = tally.at_depth(float(d)).to_params(lump=lump)
+        string = tally.at_depth(float(d))
+        p = string.to_params(lump=lump)
         rows.append((p.dof, Limits.of(p)))
+        lengths.append(string.length)
     lims = [lim for _, lim in rows]
     return DepthWindow(
         name=tally.name,
@@ -220,7 +236,14 @@ def window_against_depth(
         rpm_min=np.array([lim.rpm_min(wob) for lim in lims]),
         rpm_min_stable=np.array([lim.rpm_min_stable(wob) for lim in lims]),
         rpm_min_unstuck=lims[0].rpm_min_unstuck(wob),
+        length=np.array(lengths),
     )
+
+
+def longer(depth: float, length: float) -> bool:
+    """Whether the string built for ``depth`` (``length`` m, whole joints) is longer than it
+    by more than rounding: then the output says both ("4000 m (string 4000.8 m)")."""
+    return length - depth > 1e-6 * max(1.0, depth)
 
 
 def parse_depths(text: str) -> list[float]:

@@ -102,3 +102,34 @@ def test_a_branch_without_special_points_says_its_stability(argv, stable, capsys
         assert f"{b.omega[i]:.4g}" == m.group(1 if i == b.omega.argmin() else 2)
         (pt,) = stability(p, b.wob[i], omega=b.omega[i])
         assert pt.stable == stable, (b.omega[i], pt)
+
+
+def test_map_json_says_the_order_of_its_category_axes(capsys):
+    """--json's category array is indexed [torque][wob], which the JSON did not say. Read by
+    its category_axes, two points come out as the eigenvalues and T_s = μ_sb W_ob R_b say:
+    read the other way round, each would be another category."""
+    import json
+
+    import numpy as np
+
+    assert main(["map", "--dof", "4", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["category_axes"] == ["torque", "wob"]
+    p = pydrill.preset("reduced-scale", dof=4)
+    for w, u in ((200.0, 5.0), (100.0, 20.0)):  # below T_s and unstable; above T_s and stable
+        at = {
+            name: int(np.abs(np.array(doc[name]) - v).argmin())
+            for name, v in (("wob", w), ("torque", u))
+        }
+        w, u = doc["wob"][at["wob"]], doc["torque"][at["torque"]]
+        outer, inner = doc["category_axes"]
+        got = doc["categories"][doc["category"][at[outer]][at[inner]]]
+        stable = any(pt.stable for pt in stability(p, w, torque=u))
+        stuck = u <= p.mu_static * w * p.bit_radius
+        can = "can" if stuck else "cannot"
+        want = f"{'' if stable else 'no '}stable steady state, {can} stay stuck"
+        assert got == want, (w, u)
+        assert (stable, stuck) == ((False, True) if w > 150 else (True, False))  # both kinds
+    with pytest.raises(SystemExit):  # and --help says so
+        main(["map", "--help"])
+    assert 'as category_axes says: ["torque", "wob"]' in " ".join(capsys.readouterr().out.split())
