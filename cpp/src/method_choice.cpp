@@ -72,7 +72,8 @@ Method choose_method(const Params& p, std::string* reason) {
     std::ostringstream o;
     o.precision(3);
     o << why << " (fastest decay " << e.fastest_decay << "/s = " << ratio
-      << "x the fundamental " << e.fundamental << " rad/s; damping ratio of the fastest modes "
+      << "x the fundamental with the bit held " << e.fundamental
+      << " rad/s; damping ratio of the fastest modes "
       << zeta << ")";
     *reason = o.str();
   }
