@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from .plot import clear_inset, place_legend, plt, quantity, scale_ticks, unit_scale
+from .plot import clear_inset, place_legend, plt, quantity, rpm_axis, scale_ticks, unit_scale
 from .plot_labels import place_labels
 
 if TYPE_CHECKING:
@@ -86,11 +86,7 @@ def hopf_figure(params, crossings, omega_max: float | None = None, n: int = 400)
     scale_ticks(ax.yaxis, scale)
     ax.set_xlabel("steady bit velocity $\\Omega$ (rad/s)")
     ax.set_ylabel(f"weight on bit $W_{{ob}}$ ({unit})")
-    per_rpm = math.pi / 30  # rad/s
-    rpm = ax.secondary_xaxis(
-        "top", functions=(lambda w: np.divide(w, per_rpm), lambda r: np.multiply(r, per_rpm))
-    )
-    rpm.set_xlabel("steady bit speed (rpm)", fontsize=9)  # what a driller sets and reads
+    rpm_axis(ax, "steady bit speed (rpm)", "top")
     cbar = fig.colorbar(mesh, ax=ax, ticks=range(0, top + 1, max(1, top // 10)))
     cbar.set_label("unstable eigenvalues of the steady state")
     legend = (
@@ -273,6 +269,7 @@ def bifurcation_figure(params, branch) -> Figure:
         fixed = f"$W_{{ob}}$ = {quantity(branch.fixed, 'N', scale)}"
     ax.set_ylabel("steady bit velocity $\\Omega$ (rad/s)")
     ax.set_ylim(bottom=0)
+    rpm_axis(ax, "steady bit speed (rpm)", "right")  # the same Ω as the text gives it
     ax.grid(alpha=0.3)
     ax.set_title(f"{params.name}, dof {params.dof}, {fixed}", fontsize=10)
     if zoom:

@@ -6,6 +6,7 @@ import sys
 
 import numpy as np
 import pytest
+from matplotlib.axes._secondary_axes import SecondaryAxis
 
 import pydrill
 from pydrill import _core
@@ -190,7 +191,8 @@ def test_a_long_strings_diagram_zooms_in_on_its_hopf_points():
     assert len(hb) == 101 and 0 < sub < 101
     fig = bifurcation_figure(p, b)
     (main,) = fig.axes
-    (inset,) = main.child_axes
+    # (the other child: the rpm axis on the right)
+    (inset,) = [a for a in main.child_axes if not isinstance(a, SecondaryAxis)]
     legend = [t.get_text() for t in main.get_legend().get_texts()]
     assert f"Hopf point, subcritical ({sub})" in legend
     assert f"Hopf point, supercritical ({101 - sub})" in legend

@@ -8,6 +8,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 import pytest
+from matplotlib.axes._secondary_axes import SecondaryAxis
 
 matplotlib.use("Agg")
 
@@ -114,7 +115,7 @@ def test_bifurcation_inset_names_the_hopf_velocity_and_its_labels_clear_markers_
     b = branch(p, vary="wob", torque=8.1)
     hb1 = max((pt for pt in b.points if pt.type == "HB"), key=lambda pt: pt.omega)
     fig = bifurcation_figure(p, b)
-    (inset,) = fig.axes[0].child_axes
+    (inset,) = [a for a in fig.axes[0].child_axes if not isinstance(a, SecondaryAxis)]
     title = inset.get_title()
     assert f"Ω = {hb1.omega:.3g} rad/s" in title  # where it is on the axis: 6.49 rad/s
     assert f"frequency {hb1.frequency:.3g} rad/s" in title  # and how fast it oscillates

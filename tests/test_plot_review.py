@@ -10,6 +10,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 import pytest
+from matplotlib.axes._secondary_axes import SecondaryAxis
 
 matplotlib.use("Agg")
 
@@ -181,7 +182,7 @@ def test_bifurcation_figure_legend_and_inset_hide_none_of_the_branch():
         # Upper left, the legend hid where the stable branch starts (W_ob = 0, Ω = 43 rad/s);
         # at (0.5, 0.4), the inset hid the stable branch's middle.
         assert hidden_by(ax.get_legend().get_window_extent(), points) == 0, (dof, vary)
-        (inset,) = ax.child_axes
+        (inset,) = [a for a in ax.child_axes if not isinstance(a, SecondaryAxis)]  # not rpm
         assert hidden_by(inset.get_tightbbox(renderer), points) == 0, (dof, vary)
         labels = [t.get_text() for t in ax.get_legend().get_texts()]
         assert not [t for t in labels if t.endswith("(0)")], labels  # no kind it has not
