@@ -22,6 +22,7 @@ import numpy as np
 from . import atlas_format as fmt
 from .atlas_check import code_problem, layout_problem
 from .atlas_grid import CoordinateError, coordinate, grid_index, not_an_axis, selection
+from .atlas_grid import without_held as _without_held
 from .atlas_heap import OPENING_BYTES, refuse_damaged_heap
 from .atlas_lock import snapshot
 from .atlas_objects import DATASETS as _DATASETS
@@ -189,7 +190,10 @@ class Atlas:
         ``wob="80 N"``): every axis must be given, but for an axis of one value (a depth swept
         as ``["3000 m"]``), which may be left out. A ``CoordinateError`` (both a KeyError and a
         ValueError) names an axis the atlas has not, one left out, or a value off the grid
-        (exact), NaN, or more than half a grid step past either end (whatever the method)."""
+        (exact), NaN, or more than half a grid step past either end (whatever the method).
+        What the spec holds at every point (a torque in [model]) may be given too, at its
+        value (as ``pydrill atlas query --torque`` takes it); another value is refused."""
+        coords = _without_held(self, coords)
         extra = sorted(set(coords) - set(self.axes))
         if extra:
             raise not_an_axis(extra[0], self.axes)
@@ -291,13 +295,14 @@ class Atlas:
         """The safe operating windows along axis ``along`` (default: ``wob`` if swept, else
         the first axis): for every value of the other axes, or the grid value nearest each
         given in ``at`` (numbers, or strings with a unit: ``torque="9 kN·m"``), the runs of
-        consecutive grid points of :meth:`safe_region` as (first, last) grid values, in SI.
-        The true edges lie within one grid step beyond them. Points not computed (missing,
-        failed) are not safe; each row counts them (``not_done``). An axis the atlas has not,
-        or a value of ``at`` past the grid, is a ``CoordinateError``."""
+        consecutive grid points of :meth:`safe_region` as (first, last) grid values, in SI
+        (split where the grid jumps over 0: u = 0 is stuck). The true edges lie within one
+        grid step beyond them. Points not computed (missing, failed) are not safe; each row
+        counts them (``not_done``). An axis the atlas has not, or a value of ``at`` past the
+        grid, is a ``CoordinateError``; what the spec holds may be given at its value."""
         from .atlas_safe import safe_windows
 
-        coords = {name: coordinate(name, v) for name, v in at.items()}
+        coords = {name: coordinate(name, v) for name, v in _without_held(self, at).items()}
         return safe_windows(self, along, coords)
 
     def summary(self) -> dict[str, Any]:
@@ -317,7 +322,7 @@ class Atlas:
         the nearest grid value (not with a slice). A value off the grid, or more than half a
         step beyond it, an axis or a start the atlas has not, is a ``CoordinateError`` (a
         KeyError and a ValueError) saying why; an empty list or slice is a ValueError."""
-        chosen = selection(self.axes, self.initials, method, coords)
+        chosen = selection(self.axes, self.initials, method, _without_held(self, coords))
         method = None if method == "exact" else method
         # Selected before it is read: a row of an atlas of 10^6 points, not all of it (5 s
         # and 750 MB); and the file let go of at once, not whenever the view is collected.
@@ -361,6 +366,7 @@ class Atlas:
                 f"{self.path}: metric = {metric!r} is not in this atlas: the pydrill that wrote "
                 "it did not record it; sweep the spec again into a new atlas to map it"
             )
+        at = None if at is None else _without_held(self, dict(at))
         return atlas_figure(self, initial=initial, x=x, y=y, at=at, metric=metric, profile=profile)
 
     def to_xarray(self, chunks: Chunks = None) -> xarray.Dataset:

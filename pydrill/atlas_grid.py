@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import numbers
 import reprlib
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -32,6 +32,53 @@ def not_an_axis(name: str, names: Any) -> CoordinateError:
     return CoordinateError(
         f"{name} is not an axis of this atlas{did_you_mean(name, names)}; axes: {', '.join(names)}"
     )
+
+
+def spec_holds(spec: Any) -> dict[str, float]:
+    """What an atlas's spec holds at every point without sweeping it (SI): a W_ob, torque or
+    depth in [model], a string parameter it sets there (mu_static = 0.9), its dof."""
+    held = {**spec.fixed}
+    for name, value in spec.overrides.items():  # not the lists (inertias), tally or lump
+        if isinstance(value, int | float) and not isinstance(value, bool) and name != "lump":
+            held[name] = float(value)
+    if spec.dof is not None:
+        held["dof"] = float(spec.dof)
+    return held
+
+
+def leave_out_held(
+    values: dict[str, float], axes: Any, held: dict[str, float], option: Callable[[str], str]
+) -> dict[str, float]:
+    """``values`` asked of an atlas (NAME: SI value) without those of what its spec holds at
+    every point (``held``, no axis): torque = 9 kN·m asked of a sweep at 9 kN·m adds nothing
+    and is left out (equal to 6 digits, as printed, so that 6638 ft·lbf is the same as 9 kN·m);
+    another value is refused (a CoordinateError), ``option(name)`` naming the option that gave
+    it (it said "torque is not an axis of this atlas", as if the atlas knew nothing of the
+    torque)."""
+    out = {}
+    for name, value in values.items():
+        if name in axes or name not in held:
+            out[name] = value  # an axis's value, or one the atlas refuses as no axis
+        elif not math.isclose(value, held[name], rel_tol=1e-6):
+            shown, given = with_unit(name, held[name]), with_unit(name, value)
+            if shown == given:  # 9 kN·m against 9.000001 kN·m: in full
+                given, shown = distinct(value, held[name], name)
+            raise CoordinateError(
+                f"{option(name)}: its spec holds {name} = {shown} at every point, not {given}; "
+                "leave it out"
+            )
+    return out
+
+
+def without_held(atlas: Any, coords: dict[str, Any]) -> dict[str, Any]:
+    """``coords`` given to ``atlas`` without what the spec holds at every point, at
+    its value: torque = 8.3 of a sweep at 8.3 N·m was "not an axis" to ``Atlas.value``, though
+    ``atlas query --torque 8.3`` took it; another value is a CoordinateError naming the one
+    held (``leave_out_held``)."""
+    held = spec_holds(atlas.spec)
+    given = {n: coordinate(n, v) for n, v in coords.items() if n in held and n not in atlas.axes}
+    leave_out_held(given, atlas.axes, held, lambda n: f"{n} is not an axis of this atlas")
+    return {n: v for n, v in coords.items() if n not in given}
 
 
 def on_grid(values: np.ndarray, i: int, v: float) -> bool:

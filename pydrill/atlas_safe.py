@@ -5,7 +5,9 @@ weights on bit are safe?"), answered from the grid without drawing it.
 
 A window is given by its first and last safe grid points: the true edges lie between those
 and their unsafe neighbours, within one grid step. A point not computed (missing, failed) is
-not safe, so it ends a window; each row counts them, so that a gap is not taken for danger."""
+not safe, so it ends a window; each row counts them, so that a gap is not taken for danger.
+Nor does a window run over 0 (a torque axis of both signs): u = 0 is stuck, between the
+grid points either side of it."""
 
 from __future__ import annotations
 
@@ -70,6 +72,10 @@ def safe_windows(
             choices.append(list(range(len(atlas.axes[name]))))
     values = atlas.axes[along]
     order = np.argsort(values, kind="stable")  # windows run over increasing values
+    # Where the grid jumps over 0 (torque -8.3 to 8.3: the string turned the other way), two
+    # windows, not one: u = 0 between them is stuck, whatever the grid points either side say.
+    ends = np.sign(values[order])
+    across = {k for k in range(1, len(order)) if ends[k - 1] * ends[k] < 0}
     axis = names.index(along)
     rows = []
     for pick in itertools.product(*choices):
@@ -78,11 +84,11 @@ def safe_windows(
         runs = []
         start = None
         for k, good in enumerate([*ok.tolist(), False]):  # a sentinel closes the last run
-            if good and start is None:
-                start = k
-            elif not good and start is not None:
+            if start is not None and (not good or k in across):
                 runs.append((values[order[start]].item(), values[order[k - 1]].item()))
                 start = None
+            if good and start is None:
+                start = k
         held = {n: atlas.axes[n][i].item() for n, i in zip(names, pick, strict=True) if i >= 0}
         rows.append(
             SafeRow(

@@ -8,11 +8,11 @@ import textwrap
 from pathlib import Path
 from typing import Any
 
-from .atlas_grid import axis_unit, grid_unit, with_unit
+from .atlas_grid import axis_unit, grid_unit, leave_out_held, spec_holds, with_unit
 from .cli_atlas_export import cmd_export, export_path
 from .cli_atlas_info import cmd_info
 from .cli_atlas_merge import register_merge
-from .cli_atlas_query import axis_values, cmd_query, leave_out_held, set_texts, spec_holds
+from .cli_atlas_query import axis_values, cmd_query, set_texts, snap_notes
 from .cli_atlas_safe import register_safe
 from .cli_options import figure_path, json_document, print_json
 
@@ -263,9 +263,8 @@ def held_first(atlas: Any, x: Any, y: Any, at: dict[str, float], profile: bool) 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .atlas import Atlas
     from .atlas_format import EQ_FIELDS
-    from .atlas_grid import not_an_axis, on_grid
     from .plot import save
-    from .plot_atlas import NO_STABILITY, atlas_figure, nearest_index
+    from .plot_atlas import NO_STABILITY, atlas_figure
 
     if Path(args.out).resolve() == Path(args.atlas).resolve():  # (an atlas named f.png)
         raise ValueError(f"--out {args.out} is the atlas itself; give another file")
@@ -277,21 +276,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         at = leave_out_held(
             at, atlas.axes, spec_holds(atlas.spec), lambda n: f"--set {n}={given[n]}"
         )
-        for name, value in at.items():
-            if name not in atlas.axes:  # as 'atlas safe' says it (was "a held axis = 'x' ...")
-                raise ValueError(f"--set {name}={given[name]}: {not_an_axis(name, atlas.axes)}")
-            try:
-                k = nearest_index(atlas, name, value)
-            except ValueError as exc:
-                raise ValueError(f"--set {name}={given[name]}: {exc}") from None
-            grid = float(atlas.axes[name][k])
-            if not on_grid(atlas.axes[name], k, value):  # say so: the title shows the grid's
-                print(
-                    f"pydrill atlas plot: note: --set {name}={given[name]} is not a grid value; "
-                    f"drawn at the nearest, {name} = "
-                    f"{with_unit(name, grid, grid_unit(name, atlas.axes[name]))}",
-                    file=sys.stderr,
-                )
+        snap_notes(atlas, at, given, "atlas plot", "drawn")
         for line in held_first(atlas, args.x, args.y, at, args.profile):
             name = line.split(" ")[0]
             print(

@@ -5,10 +5,9 @@ from __future__ import annotations
 
 import argparse
 import math
-from collections.abc import Callable
 from typing import Any
 
-from .atlas_grid import axis_unit, distinct, grid_unit, with_unit
+from .atlas_grid import axis_unit, grid_unit, leave_out_held, spec_holds, with_unit
 from .cli_options import json_document, print_json
 
 
@@ -46,44 +45,35 @@ def axis_values(items: list[str]) -> dict[str, float]:
     return out
 
 
-def spec_holds(spec: Any) -> dict[str, float]:
-    """What an atlas's spec holds at every point without sweeping it (SI): a W_ob, torque or
-    depth in [model], a string parameter it sets there (mu_static = 0.9), its dof."""
-    held = {**spec.fixed}
-    for name, value in spec.overrides.items():  # not the lists (inertias), tally or lump
-        if isinstance(value, int | float) and not isinstance(value, bool) and name != "lump":
-            held[name] = float(value)
-    if spec.dof is not None:
-        held["dof"] = float(spec.dof)
-    return held
-
-
-def leave_out_held(
-    values: dict[str, float], axes: Any, held: dict[str, float], option: Callable[[str], str]
-) -> dict[str, float]:
-    """``values`` asked of an atlas (NAME: SI value) without those of what its spec holds at
-    every point (``held``, no axis): torque = 9 kN·m asked of a sweep at 9 kN·m adds nothing
-    and is left out (equal to 6 digits, as printed, so that 6638 ft·lbf is the same as 9 kN·m);
-    another value is refused, ``option(name)`` naming the option that gave it (it said "torque is
-    not an axis of this atlas", which read as if the atlas knew nothing of the torque)."""
-    out = {}
-    for name, value in values.items():
-        if name in axes or name not in held:
-            out[name] = value  # an axis's value, or one the atlas refuses as no axis
-        elif not math.isclose(value, held[name], rel_tol=1e-6):
-            shown, given = with_unit(name, held[name]), with_unit(name, value)
-            if shown == given:  # 9 kN·m against 9.000001 kN·m: in full
-                given, shown = distinct(value, held[name], name)
-            raise ValueError(
-                f"{option(name)}: its spec holds {name} = {shown} at every point, not {given}; "
-                "leave it out"
-            )
-    return out
-
-
 def set_texts(items: list[str]) -> dict[str, str]:
     """What each ``--set AXIS=VALUE`` gave, as typed (``3000ft``): for its messages."""
     return {name.strip(): value.strip() for name, _, value in (i.partition("=") for i in items)}
+
+
+def snap_notes(atlas: Any, at: dict[str, float], given: dict[str, str], command: str, how: str):
+    """Refuse a ``--set`` value ``at`` of no axis of ``atlas``, or past its grid (its option
+    ``given`` named), and note on stderr each that is not a grid value: the nearest is taken,
+    and said (``atlas safe --set torque=8.4`` answered for 8.3 N·m without a word)."""
+    import sys
+
+    from .atlas_grid import not_an_axis, on_grid
+    from .plot_atlas import nearest_index
+
+    for name, value in at.items():
+        if name not in atlas.axes:  # as 'atlas safe' says it (was "a held axis = 'x' ...")
+            raise ValueError(f"--set {name}={given[name]}: {not_an_axis(name, atlas.axes)}")
+        try:
+            k = nearest_index(atlas, name, value)
+        except ValueError as exc:
+            raise ValueError(f"--set {name}={given[name]}: {exc}") from None
+        grid = float(atlas.axes[name][k])
+        if not on_grid(atlas.axes[name], k, value):  # say so: what is shown is the grid's
+            print(
+                f"pydrill {command}: note: --set {name}={given[name]} is not a grid value; "
+                f"{how} at the nearest, {name} = "
+                f"{with_unit(name, grid, grid_unit(name, atlas.axes[name]))}",
+                file=sys.stderr,
+            )
 
 
 def cmd_query(args: argparse.Namespace) -> int:

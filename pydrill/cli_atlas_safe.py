@@ -7,8 +7,8 @@ import argparse
 import textwrap
 from typing import Any
 
-from .atlas_grid import axis_unit, grid_unit, with_unit
-from .cli_atlas_query import axis_values, leave_out_held, set_texts, spec_holds
+from .atlas_grid import axis_unit, grid_unit, leave_out_held, spec_holds, with_unit
+from .cli_atlas_query import axis_values, set_texts, snap_notes
 from .cli_options import json_document, print_json
 
 DESCRIPTION = (
@@ -75,6 +75,7 @@ def cmd_safe(args: argparse.Namespace) -> int:
                 f"--set {along}={given[along]}: {along} is the axis the windows run along "
                 f"({how}); hold another axis, or give another with --along"
             )
+        snap_notes(atlas, at, given, "atlas safe", "answered")
         try:
             rows = atlas.safe_windows(along, **at)
         except KeyError as exc:  # worded for the Python API: name the option

@@ -343,10 +343,11 @@ def spec_notes(spec: SweepSpec) -> None:
     """The notes the single-run commands give on implausible values (cli_string), on a
     spec's: a depth beyond the longest well (depth = "30 km" swept a 3334-inertia string
     quietly), a real string's W_ob or torque beyond what any bit or top drive takes, a friction
-    coefficient above any bit's. Said on stderr, before anything runs; the sweep goes on (the
-    values may be meant)."""
+    coefficient above any bit's, a Karnopp band with the exact law. Said on stderr, before
+    anything runs; the sweep goes on (the values may be meant)."""
     from .cli_options import HEAVIEST_WOB, LONGEST_WELL, TOP_DRIVE_TORQUE
     from .cli_set import friction_notes
+    from .spec_sections import held_in_vain
 
     def largest(name: str) -> float | None:
         values = spec.axes.get(name, [spec.fixed[name]] if name in spec.fixed else [])
@@ -380,7 +381,7 @@ def spec_notes(spec: SweepSpec) -> None:
         n: float(max(spec.axes[n])) for n in ("mu_static", "mu_coulomb") if n in spec.axes
     }
     notes += friction_notes("axes.", swept, "reaches")
-    notes += friction_notes("model.", dict(spec.overrides))
+    notes += friction_notes("model.", dict(spec.overrides)) + held_in_vain(spec)
     for note in notes:
         print(f"pydrill: note: {note}", file=sys.stderr)
 

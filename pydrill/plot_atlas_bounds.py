@@ -7,6 +7,10 @@ there is no such closed form to draw; there the stuck boundary is the zero of u 
 R_b evaluated at every grid point (exact where it is linear along the axes, as it is in each
 of W_ob, u, μ_sb and R_b), and the stability boundary of the fastest steady state is the zero
 of the spectral abscissa the atlas recorded, interpolated between grid points.
+
+A negative torque turns the string the other way: the map is its mirror image (Ω → −Ω), so
+on a torque axis below zero the curves are drawn mirrored too, the stuck one as |u| = μ_sb
+W_ob R_b and the legend's side of the Hopf curve said in |u|.
 """
 
 from __future__ import annotations
@@ -20,6 +24,8 @@ STUCK = {"color": "black", "linestyles": "-", "linewidths": 2}
 #: its label: the static balance; a start from rest winds the string up past u, and can free
 #: the bit a little beyond it (the stick-slip or steady cells on its stuck side)
 STUCK_LABEL = "stuck boundary $u = \\mu_{sb} W_{ob} R_b$\n(static: a start-up can overshoot it)"
+#: ... on a torque axis below zero (turned backwards: the mirror image)
+STUCK_LABEL_ABS = STUCK_LABEL.replace("$u =", "$|u| =")
 UNSTABLE: dict[str, Any] = {"colors": "#922b21", "linestyles": "--", "linewidths": 2}
 
 
@@ -41,10 +47,20 @@ def _analytic(atlas, ax, xname: str, yname: str, held: dict[str, float]) -> list
     wob = np.linspace(
         x.min() if xname == "wob" else y.min(), x.max() if xname == "wob" else y.max(), 200
     )
+    torques = np.asarray(y if xname == "wob" else x, dtype=float)
+    # Each half of the torque axis its curves: u > 0's, and u < 0's mirrored (Ω → −Ω, u → −u)
+    signs = [s for s, there in ((1.0, torques.max() > 0), (-1.0, torques.min() < 0)) if there]
+    signs = signs or [1.0]  # (u = 0 alone: stuck everywhere, the curves out of view)
+
+    def halves(w, u):  # both halves one line (a NaN between): one legend entry
+        return np.concatenate([np.append(w, np.nan) for _ in signs])[:-1], np.concatenate(
+            [np.append(s * u, np.nan) for s in signs]
+        )[:-1]
+
     ts = params.static_torque(wob)
     crossings = critical_deltas(params)
     first = next((c for c in crossings if c.type == "hopf" and c.direction > 0), None)
-    curves = [(wob, ts, "black", "-", STUCK_LABEL)]
+    curves = [(*halves(wob, ts), "black", "-", STUCK_LABEL if signs == [1.0] else STUCK_LABEL_ABS)]
     # A stability boundary only where nothing is unstable before it: a string without damping
     # at its ends has its fold at δ = 0 (on the axis W_ob = 0), and its steady states are
     # stable on neither side of its first Hopf curve (the legend would say "stable below").
@@ -52,8 +68,18 @@ def _analytic(atlas, ax, xname: str, yname: str, held: dict[str, float]) -> list
         from .operating import hopf_curve_wu
 
         w, u = hopf_curve_wu(params, first.delta, np.linspace(1e-3, 80, 3000))
-        side = _stable_side(params, crossings, w, u, xname, _extent(x), _extent(y))
-        curves.append((w, u, "#922b21", "--", f"first Hopf curve (steady state stable {side})"))
+        # which side in the u > 0 half (in the other, mirrored: the same side in |u|)
+        magnitude = np.abs(torques)
+        seen = (0.0 if len(signs) == 2 else magnitude.min(), magnitude.max())
+        lims = (_extent(x), seen) if xname == "wob" else (seen, _extent(y))
+        side = _stable_side(params, crossings, w, u, xname, *lims)
+        if signs == [-1.0]:  # the mirror image alone: above is below
+            side = _MIRRORED[side]
+        elif len(signs) == 2:  # both halves: one side in words true for either
+            side = "at larger |u|" if side in ("above", "to the right") else "at smaller |u|"
+        curves.append(
+            (*halves(w, u), "#922b21", "--", f"first Hopf curve (steady state stable {side})")
+        )
     handles = []
     for cw, cu, color, style, lab in curves:
         px, py = (cw, cu) if xname == "wob" else (cu, cw)
@@ -77,10 +103,18 @@ def _from_grid(atlas, ax, xname: str, yname: str, held: dict[str, float], index:
     # side of a map whose cells are drawn whole (a (depth, W_ob) map's line ran 1000-5000 m
     # across cells from 750 to 5250 m).
     xe, ye = (np.concatenate([e[:1], v, e[-1:]]) for v, e in ((x, _edges(x)), (y, _edges(y))))
+    # A torque axis of both signs: u = 0 a grid line too, where |u| turns (exact there as well)
+    xe, ye = (
+        np.union1d(v, [0.0]) if n == "torque" and v.min() < 0 < v.max() else v
+        for n, v in ((xname, xe), (yname, ye))
+    )
     margin = _stuck_margin(atlas, xname, yname, xe, ye, held)
     if _crosses(margin):
         ax.contour(xe, ye, margin.T, levels=[0.0], colors=STUCK["color"], linewidths=2)
-        handles.append(Line2D([], [], color="black", lw=2, label=STUCK_LABEL))
+        drawn = "torque" in (xname, yname)
+        u = atlas.axes["torque"] if drawn else held.get("torque", atlas.spec.fixed.get("torque"))
+        label = STUCK_LABEL_ABS if np.min(u) < 0 else STUCK_LABEL
+        handles.append(Line2D([], [], color="black", lw=2, label=label))
     if atlas.spec.record["stability"]:
         order = list(atlas.axes)
         abscissa = np.asarray(atlas._f["spectral_abscissa"][..., 0][tuple(index)], dtype=float)
@@ -94,8 +128,9 @@ def _from_grid(atlas, ax, xname: str, yname: str, held: dict[str, float], index:
 
 
 def _stuck_margin(atlas, xname, yname, x, y, held) -> Any:
-    """u − μ_sb W_ob R_b at every grid point (x, y): negative where the rock can hold the bit.
-    Each of the four is swept on x or y, held, fixed by the spec, or the string's own."""
+    """|u| − μ_sb W_ob R_b at every grid point (x, y): negative where the rock can hold the bit
+    (either way round: u < 0 turns the string backwards). Each of the four is swept on x or y,
+    held, fixed by the spec, or the string's own."""
     import numpy as np
 
     spec = atlas.spec
@@ -113,8 +148,17 @@ def _stuck_margin(atlas, xname, yname, x, y, held) -> Any:
             return held[name]
         return spec.fixed[name] if name in spec.fixed else own[name]
 
-    margin = value("torque") - value("mu_static") * value("wob") * value("bit_radius")
+    margin = np.abs(value("torque")) - value("mu_static") * value("wob") * value("bit_radius")
     return np.broadcast_to(margin, (len(x), len(y)))
+
+
+#: a side of a curve in the legend's words, and that side in the mirror image (u → −u)
+_MIRRORED = {
+    "above": "below",
+    "below": "above",
+    "to the right": "to the left",
+    "to the left": "to the right",
+}
 
 
 def _crosses(values) -> bool:

@@ -61,6 +61,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
 )
 from .spec_sections import record as _record
 from .spec_sections import simulation as _simulation
+from .spec_sections import swept_in_vain as _swept_in_vain
 from .spec_tally import _check_tally, _check_tally_size, _fixed_depth, _read_tally
 from .suggest import did_you_mean
 
@@ -328,13 +329,15 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
         # A frozen spec, frozen grid: an axis changed in place would make an atlas whose
         # coordinates disagree with what its points computed (workers parse ``text``).
         values.flags.writeable = False
+    simulation = _simulation(sim_doc)
+    _swept_in_vain(axes, simulation)
     spec = SweepSpec(
         text,
         name,
         dof,
         model,
         axes,
-        _simulation(sim_doc),
+        simulation,
         _record(rec_doc),
         {k: float(v) for k, v in fixed.items()},
         tally_text,

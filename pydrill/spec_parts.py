@@ -84,8 +84,11 @@ def part_hint(spec: SweepSpec, text: Any, digest: Any) -> str:
     if part is None:
         return ""
     k, n = part["k"], part["n"]
+    ours = part_of(spec.text)  # resumed as another part of the same spec (--part 2/2 for 1/2)?
     try:
         theirs = digest.decode() if isinstance(digest, bytes) else str(digest)
+        if ours is not None:
+            return _other_part(spec, ours, part, str(text), theirs)
         if theirs != spec.part(k, n).digest:
             return ""
     except (ValueError, UnicodeDecodeError):  # this first axis has under n values: not it
@@ -93,6 +96,31 @@ def part_hint(spec: SweepSpec, text: Any, digest: Any) -> str:
     return (
         f"; it is part {k} of {n} of this spec: resume it as that part (--part {k}/{n}; from "
         f"Python, spec.part({k}, {n}))"
+    )
+
+
+def _other_part(spec: SweepSpec, ours: dict, part: dict, text: str, digest: str) -> str:
+    """``part_hint`` for ``spec``, part ``ours`` of a spec, and an atlas of its part ``part``
+    (its spec ``text``, ``digest``): another part of the same spec when both say they are
+    parts of as many and the atlas's spec is ``spec`` but for its share of the first axis."""
+    import tomllib
+
+    from .spec import SpecError, parse_spec
+    from .spec_toml import with_axis
+
+    k, n = part["k"], part["n"]
+    if ours["n"] != n or ours["k"] == k:  # (the file's name may differ: the content is checked)
+        return ""
+    axis = next(iter(spec.axes))
+    try:
+        values = tomllib.loads(text)["axes"][axis]
+        if parse_spec(with_axis(spec.text, axis, values), spec.tally_text).digest != digest:
+            return ""
+    except (tomllib.TOMLDecodeError, KeyError, TypeError, SpecError):
+        return ""
+    return (
+        f"; it is part {k} of {n} of {part['of']}, not part {ours['k']}: resume it as that "
+        f"part (--part {k}/{n}; from Python, the whole spec's .part({k}, {n}))"
     )
 
 

@@ -92,6 +92,32 @@ def simulation(doc: dict[str, Any]) -> dict[str, Any]:
     return sim
 
 
+def swept_in_vain(axes: dict[str, Any], sim: dict[str, Any]) -> None:
+    """Refuse an axis that changes nothing with these [simulation] settings: every value of it
+    computes the same points (karnopp_band swept with the exact friction law, which has no
+    band, made an atlas of identical rows). Held in [model], it is only noted (cli_sweep)."""
+    if "karnopp_band" in axes and sim["friction"] != "karnopp":
+        raise _fail(
+            "axes.karnopp_band",
+            f"has no effect with [simulation] friction = {sim['friction']!r} (the band is the "
+            "Karnopp law's): every value computes the same points; sweep it with friction = "
+            "'karnopp', or remove the axis",
+        )
+
+
+def held_in_vain(spec: Any) -> list[str]:
+    """Notes on what ``spec`` holds in [model] to no effect with its [simulation] settings:
+    karnopp_band with the exact friction law (one value: nothing computed in vain, but the
+    value set is not the one the runs use; ``swept_in_vain`` refuses it as an axis)."""
+    law = spec.simulation["friction"]
+    if "karnopp_band" in spec.overrides and law != "karnopp":
+        return [
+            f"model.karnopp_band has no effect with [simulation] friction = {law!r} (the band "
+            "is the Karnopp law's); set friction = 'karnopp' to use it"
+        ]
+    return []
+
+
 def _plain_number(key: str, value: Any) -> str:
     """For a string where a number belongs: that it takes a bare number (no unit parser
     reads these keys; "200 s" was refused as if out of range), ``""`` for anything else."""
