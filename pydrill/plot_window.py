@@ -233,47 +233,18 @@ def window_figure(
 def _label_regions(ax, limits, x_max: float, rpm_max: float) -> None:
     """Name the regions on the chart itself, where each is widest."""
     box = {"boxstyle": "round,pad=0.3", "fc": "white", "ec": "none", "alpha": 0.75}
+    style = {"ha": "center", "va": "center", "weight": "bold", "bbox": box}
     r = 0.8 * rpm_max
     w_edge = min(float(limits.wob_max(r)) / 1e3, x_max)
-    ax.text(
-        0.45 * w_edge,
-        r,
-        "SAFE",
-        ha="center",
-        va="center",
-        fontsize=16,
-        weight="bold",
-        color="#145a32",
-        bbox=box,
-    )
+    ax.text(0.45 * w_edge, r, "SAFE", fontsize=16, color="#145a32", **style)
     x = 0.8 * x_max
     r_stall = float(limits.rpm_min_unstuck(x * 1e3))
     r_hopf = float(limits.rpm_min_stable(x * 1e3))
     if r_stall > r_hopf + 0.12 * rpm_max:
         y = min(0.5 * (r_stall + r_hopf), 0.9 * rpm_max)
-        ax.text(
-            x,
-            y,
-            "STALL\nbit can stay stuck",
-            ha="center",
-            va="center",
-            fontsize=11,
-            weight="bold",
-            color="#1c2833",
-            bbox=box,
-        )
+        ax.text(x, y, "STALL\nbit can stay stuck", fontsize=11, color="#1c2833", **style)
     if r_hopf > 0.08 * rpm_max:
-        ax.text(
-            x,
-            0.45 * r_hopf,
-            "STICK-SLIP",
-            ha="center",
-            va="center",
-            fontsize=11,
-            weight="bold",
-            color="#7e5109",
-            bbox=box,
-        )
+        ax.text(x, 0.45 * r_hopf, "STICK-SLIP", fontsize=11, color="#7e5109", **style)
 
 
 def _nice_levels(top: float) -> list[float]:

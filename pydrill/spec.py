@@ -30,7 +30,6 @@ from typing import Any
 
 import numpy as np
 
-from .file_kinds import misplaced
 from .model import PRESETS, Params, preset
 from .model_values import _integer
 from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's API too
@@ -45,7 +44,6 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     SIZE_AXES,
     ReadOnlyDict,
     SpecError,
-    TextTooLong,
     _axis,
     _check_axes,
     _check_grid,
@@ -55,8 +53,8 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
     _is_number,
     _table,
     in_si,
+    load_toml,
     printable,
-    read_text,
     require_coords,
 )
 from .spec_sections import record as _record
@@ -383,17 +381,4 @@ def load_spec(path: str | Path) -> SweepSpec:
     resolved next to it. Raises :class:`SpecError` naming the key at fault, before anything
     runs."""
     path = Path(path)
-    shown = printable(path)
-    try:
-        text = read_text(path)
-    except UnicodeDecodeError:
-        message = misplaced(path, "spec", shown) or f"cannot read the spec {shown}: not UTF-8 text"
-        raise SpecError(message) from None
-    except OSError as exc:
-        raise SpecError(f"cannot read the spec {shown}: {exc.strerror}") from None
-    except TextTooLong as exc:
-        raise SpecError(f"cannot read the spec {shown}: {exc}") from None
-    try:
-        return parse_spec(text, base=path.parent)
-    except SpecError as exc:  # a tally given for the spec: say so, not its first odd key
-        raise SpecError(misplaced(path, "spec", shown) or str(exc)) from None
+    return load_toml(path, "spec", SpecError, lambda text: parse_spec(text, base=path.parent))

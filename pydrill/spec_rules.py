@@ -6,11 +6,13 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
+from .file_kinds import misplaced
 from .model import (
     _LISTS,
     _SCALARS,
@@ -18,6 +20,8 @@ from .model import (
     MAX_LOAD,
 )  # MAX_DOF: the largest string, explained there
 from .suggest import did_you_mean
+
+T = TypeVar("T")
 
 OPERATING_AXES = ("wob", "torque")
 SIZE_AXES = ("dof", "pipes")
@@ -248,6 +252,26 @@ def read_text(path: Path) -> str:
     if len(text) > MAX_TEXT:
         raise TextTooLong()
     return text
+
+
+def load_toml(path: Path, kind: str, error: type[ValueError], parse: Callable[[str], T]) -> T:
+    """``parse`` of the text of the ``kind`` (``"spec"`` or ``"tally"``) file ``path``, for
+    ``spec.load_spec`` and ``tally.load_tally``; a file that cannot be read, or that ``parse``
+    refuses, is an ``error`` saying why, or what kind of file it is when it is another's."""
+    shown = printable(path)
+    try:
+        text = read_text(path)
+    except UnicodeDecodeError:
+        message = misplaced(path, kind, shown) or f"cannot read the {kind} {shown}: not UTF-8 text"
+        raise error(message) from None
+    except OSError as exc:
+        raise error(f"cannot read the {kind} {shown}: {exc.strerror}") from None
+    except TextTooLong as exc:
+        raise error(f"cannot read the {kind} {shown}: {exc}") from None
+    try:
+        return parse(text)
+    except error as exc:  # another kind of file given: say so, not its first odd key
+        raise error(misplaced(path, kind, shown) or str(exc)) from None
 
 
 def _check_size(dof: Any, pipes: Any) -> int | None:

@@ -10,8 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from . import units
-from .file_kinds import misplaced
-from .spec_rules import TextTooLong, printable, read_text
+from .spec_rules import load_toml, printable
 from .suggest import did_you_mean
 from .tally import (
     _DEEPEST,
@@ -288,17 +287,4 @@ def load_tally(path: str | Path) -> Tally:
     Raises :class:`TallyError` (a ``ValueError``) naming the key at fault.
     """
     path = Path(path)
-    shown = printable(path)
-    try:
-        text = read_text(path)
-    except UnicodeDecodeError:
-        message = misplaced(path, "tally", shown)
-        raise TallyError(message or f"cannot read the tally {shown}: not UTF-8 text") from None
-    except OSError as exc:
-        raise TallyError(f"cannot read the tally {shown}: {exc.strerror}") from None
-    except TextTooLong as exc:
-        raise TallyError(f"cannot read the tally {shown}: {exc}") from None
-    try:
-        return parse_tally(text, name=path.stem)
-    except TallyError as exc:  # a spec given for the tally: say so, not its first odd key
-        raise TallyError(misplaced(path, "tally", shown) or str(exc)) from None
+    return load_toml(path, "tally", TallyError, lambda text: parse_tally(text, name=path.stem))
