@@ -38,8 +38,9 @@ from .reproduce_atlases import (
 
 #: Raised whenever an analysis computes something new, so that a cache from before is not
 #: reused: 2, every Hopf crossing of a long string is located on the branches and gets its
-#: Lyapunov coefficient.
-CACHE_SCHEMA = 2
+#: Lyapunov coefficient; 3, the Hurwitz check counts the Hopf crossings meeting all of
+#: Theorem 5's Eq. (48), and Fig. 11's u-branches reach the atlases' largest u.
+CACHE_SCHEMA = 3
 
 
 class Cache:

@@ -17,6 +17,7 @@ from . import _core
 from .bifurcation import branch
 from .model import Params, preset
 from .operating import hopf_curve_wu
+from .reproduce_atlases import TORQUE_MAX
 from .stability import (
     Crossing,
     boundary_wob,
@@ -102,8 +103,20 @@ def fig11_branch(
     params: Params, vary: Literal["wob", "torque"], fixed: float, crossings: list[Crossing]
 ) -> dict[str, Any]:
     """One bifurcation diagram: the branch of steady states with its HB and LP points."""
-    kw = {"torque": fixed} if vary == "wob" else {"wob": fixed}
-    b = branch(params, vary=vary, crossings=crossings, samples=1500, **kw)
+    # Up to the Fig. 11 atlases' largest u and no further: the branch's default Ω ≤ 40 rad/s
+    # stopped the stable branch short of it (u = 11.6 N·m at W_ob = 80 N), as if no steady
+    # drilling lay beyond, and a branch past it stretches the figure's Ω axis. At large Ω,
+    # u(Ω) = (c_r + c_b)Ω + W_ob R_b μ_cb + W_ob R_b (μ_sb − μ_cb) e^{−γ_b Ω/v_f}, the last term
+    # negligible there (e^{−38} at W_ob = 80 N).
+    top = (TORQUE_MAX - fixed * params.bit_radius * params.mu_coulomb) / (
+        params.top_damping + params.bit_damping
+    )
+    if vary == "wob":
+        b = branch(params, vary=vary, torque=fixed, crossings=crossings, samples=1500)
+    elif top > 0:
+        b = branch(params, vary=vary, wob=fixed, omega_max=top, crossings=crossings, samples=1500)
+    else:  # every steady state needs more than TORQUE_MAX
+        b = branch(params, vary=vary, wob=fixed, crossings=crossings, samples=1500)
     delta = stribeck_slope(params, b.wob, b.omega)
     unstable = unstable_count(crossings, delta)
     x = b.wob if vary == "wob" else b.torque
@@ -183,9 +196,10 @@ def verify_crossings(params: Params, crossings: list[Crossing], limit: int | Non
 
 def hurwitz_check(params: Params, crossings: list[Crossing]) -> dict[str, Any]:
     """For n' ≤ 23: the paper's Theorem 5 criterion — the Hurwitz determinant Δ_{n'−1} changes
-    sign at every Hopf δ_k — and its Eq. (55) relations a_l − a_{n'−1} a_k = 0 (each quadratic in
-    δ), evaluated at the δ_k and solved for δ, with how far the eigenvalues there are from the
-    imaginary axis."""
+    sign at every Hopf δ_k; the rest of its Eq. (48), Δ_1 … Δ_{n'−2} > 0 and a_0 > 0, holds only
+    at the δ_k where no other eigenvalue is unstable (``theorem5_deltas``) — and its Eq. (55)
+    relations a_l − a_{n'−1} a_k = 0 (each quadratic in δ), evaluated at the δ_k and solved for
+    δ, with how far the eigenvalues there are from the imaginary axis."""
     a, b = _affine_coefficients(params)
     n = len(a) - 1  # n'
 
@@ -194,10 +208,17 @@ def hurwitz_check(params: Params, crossings: list[Crossing]) -> dict[str, Any]:
 
     hopf = [c for c in crossings if c.type == "hopf"]
     sign_changes = 0
+    full: list[float] = []
     for c in hopf:
         lo = hurwitz_determinants(coeffs(c.delta * (1 - 1e-7)))[-1]
         hi = hurwitz_determinants(coeffs(c.delta * (1 + 1e-7)))[-1]
         sign_changes += bool(np.sign(lo) != np.sign(hi))
+        # The rest of Eq. (48): Δ_1 … Δ_{n'−2} > 0 and a_0 > 0 at δ_k, i.e. every eigenvalue
+        # but the pair on the axis stable (Definition 4). Past the first crossing the steady
+        # state is already unstable, so Δ_{n'−1} changing sign alone is not Theorem 5.
+        at = coeffs(c.delta)
+        if at[0] > 0 and bool(np.all(hurwitz_determinants(at)[:-1] > 0)):
+            full.append(c.delta)
     relations = []
     P = np.polynomial.Polynomial
     for j in range(1, (n - 1) // 2 + 1):
@@ -217,7 +238,13 @@ def hurwitz_check(params: Params, crossings: list[Crossing]) -> dict[str, Any]:
                 "min_relative_residual_at_hopf": float(min(at_hopf)) if at_hopf else None,
             }
         )
-    return {"n_prime": n, "hopf": len(hopf), "sign_changes": sign_changes, "eq55": relations}
+    return {
+        "n_prime": n,
+        "hopf": len(hopf),
+        "sign_changes": sign_changes,
+        "theorem5_deltas": full,
+        "eq55": relations,
+    }
 
 
 def string_summary(params: Params, crossings: list[Crossing]) -> dict[str, Any]:

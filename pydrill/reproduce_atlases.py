@@ -48,12 +48,16 @@ def atlas_plan(quick: bool = False) -> dict[str, dict[str, Any]]:
     return plan
 
 
+#: N·m, the largest u of the Fig. 11 atlases varying u (the branch drawn over them reaches it).
+TORQUE_MAX = 12.0
+
+
 def _fig11_atlas(model, vary, panel, step, t_end, parallel=False) -> dict[str, Any]:
     if vary == "wob":
         fixed, axes = {"torque": 8.1}, {"wob": _range(40.0, 160.0, 2.0 * step)}
     else:
         w = 80.0 if panel == "b" else 60.0
-        fixed, axes = {"wob": w}, {"torque": _range(2.0, 12.0, 0.2 * step)}
+        fixed, axes = {"wob": w}, {"torque": _range(2.0, TORQUE_MAX, 0.2 * step)}
     return {
         "model": {**model, **fixed},
         "axes": axes,

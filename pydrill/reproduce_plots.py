@@ -99,6 +99,16 @@ def fig6b(out: Path, numbers: dict[str, Any]) -> Path:
     return save(fig, out / "fig06b_regime_map.png")
 
 
+def fig10_title(typo_roots: list[float]) -> str:
+    """Fig. 10's title, with what the paper's printed Δ₂ = a₁ − a₂ − a₀ gives for Eq. (14):
+    its root in δ (linear) is negative, so no positive root (the title once said "no root")."""
+    typo = "has no positive root" if not typo_roots else f"has its root at δ = {typo_roots[0]:.4g}"
+    return (
+        "Fig. 10 — (Ω, $W_{ob}$) where steady drilling is stable, n' = 3: below $\\mathcal{H}_2$ "
+        f"(Δ₂ = a₂a₁ − a₀ = 0; the paper's printed Δ₂ = a₁ − a₂ − a₀ {typo})"
+    )
+
+
 def fig10(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> Path:
     fig, axes = plt.subplots(1, 2, figsize=(14, 6), layout="constrained")
     for ax, key, name, w_max in (
@@ -166,8 +176,7 @@ def fig10(out: Path, numbers: dict[str, Any], pipes: tuple[int, ...]) -> Path:
             fontsize=10,
         )
     fig.suptitle(
-        "Fig. 10 — (Ω, $W_{ob}$) where steady drilling is stable, n' = 3: below $\\mathcal{H}_2$ "
-        "(Δ₂ = a₂a₁ − a₀ = 0; the paper's printed Δ₂ = a₁ − a₂ − a₀ has no root)",
+        fig10_title(numbers["fig10a"]["typo_roots"]),
         fontweight="bold",
         fontsize=11,
     )

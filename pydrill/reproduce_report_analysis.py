@@ -22,14 +22,15 @@ def head(n: dict[str, Any], summary: dict[str, Any]) -> list[str]:
         "stuck above |",
         f"| 6b | stick-slip band along u = μ_sb R_b W_ob | band confirmed by {b['points']} "
         f"simulations; at 8.3 N·m: {g(b['wob_lo'])}–{g(b['wob_hi'])} N |",
-        f"| 7 | stuck at W_ob = 160 N | {n['fig07']['loaded']['regime']}, one entry into Σ̃ |",
+        f"| 7 | stuck at W_ob = 160 N | {n['fig07']['loaded']['regime']}, "
+        f"{_entries(n['fig07']['entries'])} into Σ̃ |",
         "| 8 | x_out near ∂Σ̃⁺, Σ̃_i moves with φ̄_b | x_out on ∂Σ̃⁺: max abs(T_e − T_s) = "
         + g(
             max(abs(v["torque_out"] - n["fig08"]["static_torque"]) for v in n["fig08"]["visits"]), 2
         )
         + " N·m |",
         f"| 9 | steady at W_ob = 40 N | {n['fig09']['run']['regime']}, Ω = "
-        f"{g(n['fig09']['omega'])} rad/s, stable |",
+        f"{g(n['fig09']['omega'])} rad/s, {'stable' if n['fig09']['stable'] else 'UNSTABLE'} |",
         f"| 10 | Hopf locus H₂ from Δ₂ = 0 (Eq. 51) | δ = {g(f10['h2_delta'], 6)} (Eq. 14), "
         f"{g(n['fig10b']['h2_delta'], 6)} N·m·s/rad (Eq. 53) |",
         f"| 11 | HB and LP points, n' = 3 and 7 | HB1 at W_ob = {g(c['wob'], 6)} N (n' = 7, "
@@ -60,6 +61,12 @@ def head(n: dict[str, Any], summary: dict[str, Any]) -> list[str]:
         *table,
         "",
     ]
+
+
+def _entries(k: int) -> str:
+    """How many times the trajectory entered Σ̃ (the table once said "one entry" whatever the
+    simulation found)."""
+    return {0: "no entry", 1: "one entry"}.get(k, f"{k} entries")
 
 
 def _hb_verdict(n: dict[str, Any]) -> str:

@@ -42,10 +42,12 @@ def _beyond(n: dict[str, Any]) -> list[str]:
         "",
         *rows,
         "",
-        f"For n' = {h['n_prime']} the paper's own criterion of Theorem 5 "
+        f"For n' = {h['n_prime']} the Hurwitz part of the paper's own criterion of Theorem 5 "
         + ("holds at each" if h["sign_changes"] == h["hopf"] else "FAILS at some")
         + f" of the {h['hopf']} crossings: the Hurwitz determinant Δ_{h['n_prime'] - 1} changes "
-        f"sign at {h['sign_changes']} of them. Its Eq. (55) does not locate them: the relations "
+        f"sign at {h['sign_changes']} of them. "
+        + _theorem5_rest(h)
+        + " Its Eq. (55) does not locate them: the relations "
         "a_l − a_{n'−1} a_k = 0 are the conditions for the polynomial to factor as "
         "(λ + a_{n'−1})·q(λ²) — all roots but one in ± pairs at once — not for one pair on the "
         "axis. Solved for δ, they give "
@@ -101,6 +103,20 @@ def _beyond(n: dict[str, Any]) -> list[str]:
         "",
     ]
     return lines
+
+
+def _theorem5_rest(h: dict[str, Any]) -> str:
+    """The rest of Theorem 5's Eq. (48) — Δ_1 … Δ_{n'−2} > 0 and a_0 > 0, every other
+    eigenvalue stable — counted from the analysis (the report once said the whole criterion
+    held at every crossing, when only the sign change of Δ_{n'−1} did)."""
+    full, n = h["theorem5_deltas"], h["n_prime"]
+    where = f" (δ = {', '.join(g(d, 4) for d in full)})" if full else ""
+    return (
+        f"The rest of its Eq. (48), Δ_1 … Δ_{n - 2} > 0 and a_0 > 0 (every other eigenvalue "
+        f"stable), holds at {len(full)} of them{where}: only there is the crossing a Hopf "
+        "bifurcation in the sense of Definition 4; at the others the steady state is already "
+        "unstable."
+    )
 
 
 def _eq55_verdict(h: dict[str, Any]) -> str:
