@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import sys
 from collections.abc import Iterator
 from typing import Any
 
@@ -23,6 +22,7 @@ from .result import (  # re-exported: pydrill.simulate.SimulationResult and kin 
     Summary,
     Switch,
 )
+from .simulate_checks import _check_normal_times, _check_output_size
 from .suggest import did_you_mean
 
 #: The longest run, s: 317 years, beyond the life of any bit or rig. Beyond it a run cannot be
@@ -176,6 +176,50 @@ def simulate(
         params = params.replace(**overrides) if overrides else params
     wob = _number("wob", wob, "N")
     torque = _number("torque", torque, "N·m")
+    settings, opts = _options(
+        params.dof,
+        t_end=t_end,
+        initial=initial,
+        friction=friction,
+        method=method,
+        t_out=t_out,
+        n_out=n_out,
+        rtol=rtol,
+        atol=atol,
+        max_step=max_step,
+        max_order=max_order,
+        max_steps=max_steps,
+        perturbation=perturbation,
+        window_fraction=window_fraction,
+        max_switch_rate=max_switch_rate,
+    )
+    core = _core.simulate(params._core_params(), wob, torque, opts)
+    return SimulationResult(core, params, settings)
+
+
+def _options(
+    dof: int,
+    *,
+    t_end: float,
+    initial: str | ArrayLike,
+    friction: str,
+    method: str,
+    t_out: ArrayLike | None,
+    n_out: int,
+    rtol: float,
+    atol: float,
+    max_step: float,
+    max_order: int,
+    max_steps: int,
+    perturbation: float,
+    window_fraction: float,
+    max_switch_rate: float | None,
+) -> tuple[dict[str, Any], _core.SimulationOptions]:
+    """simulate's settings, checked (each refused by name, as documented there), and the core's
+    options made of them, for a string of ``dof`` inertias. Apart from simulate so that a sweep
+    builds them once for all its points (sweep_points._run_options): they do not depend on
+    W_ob, u or the string's parameters, and checking and building them anew at every run was,
+    with the SimulationResult a sweep does not read, 8 % of a dof-4 point's CPU time."""
     t_end = _number("t_end", t_end, "s")
     if not 0 < t_end <= MAX_T_END:  # (a NaN fails it too)
         raise ValueError(
@@ -185,7 +229,7 @@ def simulate(
     settings: dict[str, Any] = {"t_end": t_end}
     opts = _core.SimulationOptions()
     opts.t_end = t_end
-    settings["initial"] = _initial(initial, params.dof)
+    settings["initial"] = _initial(initial, dof)
     if isinstance(settings["initial"], str):
         opts.initial = settings["initial"]
     else:
@@ -199,7 +243,7 @@ def simulate(
     if settings["t_out"] is not None:
         opts.t_out = settings["t_out"]
     settings["n_out"] = opts.n_out = _integer("n_out", n_out, 2, 100_000_000)
-    _check_output_size(settings["t_out"], settings["n_out"], params.dof)
+    _check_output_size(settings["t_out"], settings["n_out"], dof)
     _check_normal_times(t_end, settings["t_out"], settings["n_out"])
     for key, value, unit in (
         ("rtol", rtol, "relative tolerance"),
@@ -216,56 +260,7 @@ def simulate(
         "max_order", max_order, 0, 12, hint=" (0: the method's own; bdf 1 ... 5, adams 1 ... 12)"
     )
     settings["max_steps"] = opts.max_steps = _integer("max_steps", max_steps, 1, 2**62)
-    core = _core.simulate(params._core_params(), wob, torque, opts)
-    return SimulationResult(core, params, settings)
-
-
-def _check_output_size(t_out: Any, n_out: int, dof: int) -> None:
-    """Refuse, before the run, an output larger than this machine's memory: the state (2·dof − 1
-    numbers) and its time at every output time, 8 bytes each. --dof 100000 --n-out 1000000
-    (1.6 TB) ended in a traceback, "MemoryError: std::bad_alloc"."""
-    import os
-
-    times = n_out if t_out is None else len(t_out)
-    size = 8.0 * times * (2 * dof)
-    try:
-        memory = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (ValueError, OSError, AttributeError):  # not known here: nothing to compare with
-        return
-    if size > memory:
-        given = f"n_out = {n_out}" if t_out is None else f"t_out of {times} times"
-        raise ValueError(
-            f"{given} is not allowed with dof = {dof}: its output ({times} times of "
-            f"{2 * dof - 1} state values, 8 bytes each) would take {_bytes(size)}, more than this "
-            f"machine's {_bytes(memory)} of memory; ask for fewer output times"
-        )
-
-
-def _check_normal_times(t_end: float, t_out: list[float] | None, n_out: int) -> None:
-    """Refuse output times the core cannot tell from 0: it runs with subnormal numbers (below
-    2.2e-308) flushed to zero, so t_end = 5e-324 s was judged "steady" from rest, and t_out
-    = [0, 1e-320, 1] came back as times [0, 0, 1]."""
-    tiny = sys.float_info.min
-    if t_out is None and t_end / (n_out - 1) < tiny:
-        raise ValueError(
-            f"t_end = {t_end:g} is not allowed with n_out = {n_out}: its output times would be "
-            f"{t_end / (n_out - 1):g} s apart, below the smallest normal float ({tiny:.3g}) "
-            "the core computes with; need t_end >= (n_out - 1) * 2.2e-308 s"
-        )
-    for k, t in enumerate(t_out or ()):
-        if 0 < t < tiny:
-            raise ValueError(
-                f"t_out[{k}] = {t:g} is not allowed: an output time is 0 or at least "
-                f"{tiny:.3g} s (the smallest normal float, which the core computes with)"
-            )
-
-
-def _bytes(n: float) -> str:
-    for unit in ("bytes", "kB", "MB", "GB", "TB"):
-        if n < 1000 or unit == "TB":
-            return f"{n:.3g} {unit}"
-        n /= 1000
-    raise AssertionError  # (unreachable)
+    return settings, opts
 
 
 # simulate's own keyword arguments (what an unknown one is checked against)
