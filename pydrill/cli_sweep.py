@@ -193,6 +193,13 @@ def _already_done(out: Path, spec) -> int | None:
 CLI_WORDS = {"resume=True": "--resume", "scheduler=...": "--scheduler", "out=PATH": "--out"}
 
 
+SCHEDULER_FORMS = (
+    "a scheduler's address (tcp://HOST:PORT) or its scheduler file (FILE.json, from "
+    "'dask scheduler --scheduler-file FILE.json'); leave --scheduler out to run on a local "
+    "cluster"
+)
+
+
 def cli_words(message: str) -> str:
     """``message`` of the Python API in the command line's words (:data:`CLI_WORDS`)."""
     for api, flag in CLI_WORDS.items():
@@ -230,6 +237,10 @@ def _sweep(args: argparse.Namespace) -> int:
     spec_notes(spec)
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise ValueError(f"--workers = {args.workers} is not allowed: 1 ... 256")
+    if args.scheduler is not None and not args.scheduler.strip():
+        # A job script's unset variable (--scheduler "$SCHED_FILE"): it ran on a local
+        # cluster, of the login node's cores, as if --scheduler were not there.
+        raise ValueError(f"--scheduler {args.scheduler!r} is not allowed: {SCHEDULER_FORMS}")
     dashboard = args.dashboard_address or ("127.0.0.1:8787" if args.dashboard else None)
     if dashboard and (args.serial or args.scheduler):
         raise ValueError(

@@ -118,10 +118,12 @@ def say_if_waiting(bar: Any, address: Any) -> None:
     """Say that the sweep waits, and for how long, when nothing answers at the scheduler's
     ``address`` (or its scheduler file is not there) yet: else the run would sit silent until
     Dask gives up."""
-    if address and str(address).endswith(".json"):
+    from .dask_connect import scheduler_file
+
+    file = scheduler_file(address) if address else None
+    if file is not None:
         from .dask_connect import connect_timeout, scheduler_file_address
 
-        file = Path(address)
         if not file.exists():
             say(
                 bar,

@@ -43,6 +43,19 @@ def connect_timeout() -> float:
     return float(parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s"))
 
 
+def scheduler_file(scheduler: Any) -> Path | None:
+    """``scheduler`` (an address or a path) as a scheduler file: a name ending in ``.json``
+    (waited for if not there yet), or any file that exists. Batch systems name it as they
+    like (``--scheduler-file $HOME/scheduler``); taken for an address, such a file was
+    refused as "missing port number in address"."""
+    text = str(scheduler)
+    if text.endswith(".json"):
+        return Path(text)
+    if "://" not in text and Path(text).is_file():
+        return Path(text)
+    return None
+
+
 def scheduler_file_address(file: Path, wait: float) -> str:
     """The scheduler's address in ``file`` (``dask scheduler --scheduler-file FILE.json``),
     waiting up to ``wait`` s for the file to appear: a job script may start the scheduler and

@@ -72,10 +72,11 @@ def run_sweep(
     """Compute every missing point of ``spec`` into the atlas ``out``: on a LocalCluster of
     ``workers`` processes (default: one per core it may use: affinity and cgroup limits
     count), started for this sweep; on an existing Dask cluster, given as ``scheduler`` (its
-    address, its scheduler file ``*.json``, or a ``distributed.Client``, left open); or
-    ``serial``-ly in this process. Given none of these, it runs where Dask's own work would:
-    on the caller's default ``distributed.Client`` (left open), else on the cluster named in
-    the Dask config's ``scheduler-address`` (e.g. ``DASK_SCHEDULER_ADDRESS``), else locally.
+    address, its scheduler file (``*.json``, or any file that exists), or a
+    ``distributed.Client``, left open); or ``serial``-ly in this process. Given none of
+    these, it runs where Dask's own work would: on the caller's default
+    ``distributed.Client`` (left open), else on the cluster named in the Dask config's
+    ``scheduler-address`` (e.g. ``DASK_SCHEDULER_ADDRESS``), else locally.
 
     Any of the signals ``stop_on`` (``pydrill sweep`` adds SIGTERM) stops the sweep between
     batches with everything finished saved, raising ``SweepInterrupted``. Raises
@@ -105,6 +106,11 @@ def run_sweep(
         if call is not None and not callable(call):
             raise TypeError(f"{name} = {call!r} is not allowed: None or a function")
     stop_on = _signals(stop_on)
+    if isinstance(scheduler, str) and not scheduler.strip():  # not None: an unset variable?
+        raise ValueError(
+            f"scheduler = {scheduler!r} is not allowed: a scheduler's address "
+            "(tcp://HOST:PORT), its scheduler file, a distributed.Client, or None"
+        )
     if (workers is not None) + bool(scheduler) + bool(serial) > 1:
         raise ValueError("give at most one of workers (a local cluster), scheduler, serial")
     implicit = None  # where the sweep goes when told nowhere, as Dask's own work would
@@ -297,6 +303,7 @@ def _sweep_locked(
                     0,
                     stop.signum or signal.SIGINT,
                     wall_time=time.perf_counter() - t0,
+                    written=False,
                 ) from None
             # What was absorbed is in the journal already; the flush lets the atlas show it
             # before --resume. A second Ctrl-C waits for the flush (the journal would
@@ -321,20 +328,29 @@ def _sweep_locked(
                 first_failure=first,
             ) from None
         except SchedulerError as exc:
-            if not computed:
-                if fresh:  # e.g. no scheduler at that address: leave no trace
-                    out.unlink(missing_ok=True)
-                    jp.unlink(missing_ok=True)
+            if not computed and fresh:  # e.g. no scheduler at that address: leave no trace
+                out.unlink(missing_ok=True)
+                jp.unlink(missing_ok=True)
+                if exc.then:  # lost before its first batch came back: say what to do
+                    raise SchedulerError(
+                        f"{exc}: the sweep stopped before any point was saved (nothing is "
+                        f"written). {exc.then}, then run the sweep again"
+                    ) from None
+                raise
+            if not computed and not exc.then:
                 raise
             # Lost midway: what was absorbed is in the journal; the flush lets the atlas show
             # it, as after Ctrl-C, and --resume computes the rest once a cluster runs again.
             with stop.hold():
                 write_atlas(out, table)
             saved = int(np.count_nonzero(table.status != fmt.STATUS["missing"]))
+            then = exc.then or (
+                "Start the scheduler and its workers again (or sweep without scheduler=... to "
+                "run here)"
+            )
             raise SchedulerError(
                 f"{exc}: the sweep stopped with {saved} of {spec.size} points saved in {out}. "
-                "Start the scheduler and its workers again (or sweep without scheduler=... to "
-                "run here), then run the sweep again with resume=True"
+                f"{then}, then run the sweep again with resume=True"
             ) from None
         except Exception:
             if fresh and computed == 0:  # e.g. no scheduler at that address: leave no trace

@@ -15,7 +15,6 @@ import logging
 import threading
 import warnings
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import dask
@@ -25,6 +24,7 @@ import numpy as np
 from .dask_connect import (
     ConfiguredAddress,
     connect_timeout,
+    scheduler_file,
     scheduler_file_address,
     served_dashboard,
     worker_count,
@@ -103,7 +103,7 @@ def _run_dask(
     from distributed import Client, KilledWorker, LocalCluster, as_completed
     from distributed.client import FutureCancelledError
 
-    from . import batching
+    from . import __version__, batching
     from .sweep import ClusterInfo, SchedulerError, evaluate_batch
 
     with dask.config.set(QUIET):
@@ -114,7 +114,7 @@ def _run_dask(
         elif scheduler:
             # A scheduler file (dask scheduler --scheduler-file, dask-mpi, batch systems)
             # names the address and how to connect: HPC clusters share it, not an address.
-            file = Path(scheduler) if str(scheduler).endswith(".json") else None
+            file = scheduler_file(scheduler)
             address = scheduler_file_address(file, connect_timeout()) if file else scheduler
             try:  # waits distributed.comm.timeouts.connect (30 s unless configured)
                 client = Client(address)
@@ -126,6 +126,12 @@ def _run_dask(
                         "run on a local cluster"
                     ) from None
                 where = f"{scheduler} (address {address})" if file else scheduler
+                if isinstance(exc, ValueError) and not file:  # e.g. "missing port number"
+                    raise SchedulerError(
+                        f"--scheduler {scheduler}: neither a scheduler's address "
+                        "(tcp://HOST:PORT) nor a scheduler file that exists (FILE.json, from "
+                        f"'dask scheduler --scheduler-file FILE.json'): {exc}"
+                    ) from None
                 raise SchedulerError(
                     f"--scheduler {where}: no Dask scheduler answered there ({exc}). "
                     "Start one ('dask scheduler', then 'dask worker ADDRESS' on each machine), "
@@ -174,6 +180,9 @@ def _run_dask(
                 check_workers(client)
             deal = batching.Batcher(todo)
             batch_of: dict[Any, list[int]] = {}  # each future's points
+            # Workers of others' clusters are checked again by each batch: one may join after
+            # check_workers (a batch job's workers queued, an adaptive cluster scaling).
+            task = evaluate_batch if cluster is not None else guarded_batch(__version__)
 
             def submit(workers: int, parts: list[list[int]] | None = None) -> list[Any]:
                 # One message to the scheduler for many batches, not one each (measured: a
@@ -181,7 +190,7 @@ def _run_dask(
                 alone = parts is not None  # points of a batch that killed its workers
                 parts = deal.rest(max(workers, 1)) if parts is None else parts
                 futures = client.map(
-                    evaluate_batch,
+                    task,
                     [spec.text] * len(parts),
                     parts,
                     [spec.tally_text] * len(parts),
@@ -223,6 +232,8 @@ def _run_dask(
                     suspect.clear()
                 try:
                     done = fut.result()
+                    if isinstance(done, dict):  # a worker that may not run it (guarded_batch)
+                        raise refused(done, client.scheduler.address)
                 except KilledWorker as exc:
                     # Workers died running it, again and again (the scheduler gives up after
                     # distributed.scheduler.allowed-failures): a point that crashes the
@@ -251,12 +262,16 @@ def _run_dask(
             where = scheduler if cluster is None and not hasattr(scheduler, "submit") else None
             where = where or getattr(client.scheduler, "address", None) or "?"
             if exc.reason == "scheduler-connection-lost" or client.status != "running":
-                raise SchedulerError(
-                    f"lost the connection to the Dask scheduler at {where}"
-                ) from None
-            raise SchedulerError(
-                f"the Dask cluster at {where} cancelled the sweep's tasks ({exc.reason})"
-            ) from None
+                lost = SchedulerError(f"lost the connection to the Dask scheduler at {where}")
+            else:
+                lost = SchedulerError(
+                    f"the Dask cluster at {where} cancelled the sweep's tasks ({exc.reason})"
+                )
+            lost.then = (
+                "Start the scheduler and its workers again (or sweep without scheduler=... to "
+                "run here)"
+            )
+            raise lost from None
         finally:
             if watch is not None:
                 watch.stop()
@@ -286,6 +301,55 @@ def killed_point(spec: SweepSpec, index: int, exc: BaseException) -> Any:
         ),
     }
     return Batch(*encode_batch(spec, [rec]), 0.0, [])
+
+
+def guarded_batch(version: str) -> Callable[..., Any]:
+    """``evaluate_batch`` for workers this process did not start, refusing (a dict, not a
+    batch) on a worker without pydrill ``version``: ``check_workers`` asks only the workers
+    there when the sweep starts, and one that joined later ran the sweep unasked: with
+    another pydrill, into the same atlas; without pydrill, dying on its first batch while
+    the sweep waited for ever. Defined here, the task is pickled by value, so a worker
+    without pydrill unpickles it and says so; a refusal is returned, not raised, so that
+    Dask does not retry it on another worker."""
+
+    def evaluate_batch(*args: Any) -> Any:
+        def worker() -> str:
+            try:
+                from distributed import get_worker
+
+                return str(get_worker().address)
+            except Exception:  # (not in a worker: a caller's own executor)
+                return "?"
+
+        try:
+            import pydrill
+        except Exception as exc:  # (ImportError, or anything its import raised)
+            why = f"cannot import pydrill ({type(exc).__name__}: {exc})"
+            return {"worker": worker(), "why": why}
+        if pydrill.__version__ != version:
+            why = f"runs pydrill {pydrill.__version__}, this client {version}"
+            return {"worker": worker(), "why": f"{why}: one atlas must come from one version"}
+        from pydrill.sweep import evaluate_batch as evaluate
+
+        return evaluate(*args)
+
+    return evaluate_batch
+
+
+def refused(said: dict[str, str], where: str) -> Exception:
+    """The ``SchedulerError`` for a batch refused by ``guarded_batch``'s worker."""
+    from . import __version__
+    from .sweep import SchedulerError
+
+    exc = SchedulerError(
+        f"the Dask worker {said['worker']} at {where}, which joined after the sweep checked "
+        f"the workers, {said['why']}"
+    )
+    exc.then = (
+        f"Install pydrill {__version__} where it runs (in the environment its 'dask worker' "
+        "starts from), or stop it"
+    )
+    return exc
 
 
 #: how often (s) a sweep on an existing cluster looks at how many workers it has

@@ -17,6 +17,9 @@ class SchedulerError(ConnectionError):
     are saved (journal and atlas), and the message says how many; ``resume=True`` computes
     the rest."""
 
+    #: raised midway: what to do before running the sweep again (else "")
+    then: str = ""
+
 
 @dataclass(frozen=True)
 class ClusterInfo:
@@ -47,22 +50,38 @@ class SweepInterrupted(KeyboardInterrupt):
         write_time: float = 0.0,
         failed_in_atlas: int = 0,
         first_failure: str = "",
+        written: bool = True,
     ):
         self.atlas, self.points, self.done, self.signum = atlas, points, done, signum
+        #: False when stopped before any point was saved: the new atlas was removed
         # as in SweepReport: what this run computed (failed of them), found done, and took
         self.computed, self.failed, self.resumed = computed, failed, resumed
         self.wall_time, self.write_time = wall_time, write_time
         self.failed_in_atlas, self.first_failure = failed_in_atlas, first_failure
+        self.written = written
         super().__init__(
             f"sweep interrupted: {done} of {points} points are saved in {atlas}; resuming "
             f"(resume=True) computes the other {points - done}"
+            if written
+            # (it said "0 of N points are saved in ATLAS", an atlas that is not there)
+            else f"sweep interrupted before any point was computed: nothing was written "
+            f"({atlas} is not made); run it again to start"
         )
 
     def __reduce__(self) -> tuple[Any, ...]:
         # An exception pickles as type(self)(*self.args), here the message alone, which this
         # __init__ does not take: unpickling (a sweep run in a worker process, copy.copy) failed
-        # with a TypeError. Rebuild it from the positional fields, the rest as its state.
-        return (type(self), (self.atlas, self.points, self.done, self.signum), self.__dict__)
+        # with a TypeError. Rebuilt with its message as it is (written=False says another)
+        # and its fields as its state.
+        return (_restore, (type(self), self.args, self.__dict__))
+
+
+def _restore(cls: type[BaseException], args: tuple[Any, ...], state: dict[str, Any]) -> Any:
+    """An exception as pickled by ``SweepInterrupted.__reduce__``, its __init__ not run."""
+    exc = cls.__new__(cls, *args)
+    exc.args = args
+    exc.__dict__.update(state)
+    return exc
 
 
 @dataclass

@@ -118,3 +118,12 @@ def test_tally_repr_is_one_line_of_its_totals(depth):
     assert text.startswith(f"<Tally '5.5in-dp-8in-collars': {len(tally.sections)} sections, ")
     assert f"{joints} joints, {length:.6g} m (BHA {bha:.6g} m)" in text
     assert (depth is None) == (joints == 327)  # at_depth changed the drill pipe, shown
+
+
+def test_an_interrupt_before_any_point_keeps_its_message_through_pickle(tmp_path):
+    """Stopped before any point, the message says nothing was written; its copy must say the
+    same, not "0 of 10 points are saved in" an atlas that is not there."""
+    exc = SweepInterrupted(tmp_path / "a.h5", 10, 0, written=False)
+    for again in (pickle.loads(pickle.dumps(exc)), copy.copy(exc), copy.deepcopy(exc)):
+        assert str(again) == str(exc) and "nothing was written" in str(again)
+        assert again.written is False and again.points == 10
