@@ -115,12 +115,21 @@ class _Parser(argparse.ArgumentParser):
         # A bad value of a known option is said in one line (the check names the option and
         # its range); the usage block, ten lines for simulate, only helps when the command
         # line itself is malformed: an option missing, unknown, or a choice not offered.
-        from .cli_typos import choice_hint, misplaced_option, misspelt_option, option_hint
+        from .cli_typos import (
+            choice_hint,
+            misplaced_option,
+            misspelt_option,
+            option_hint,
+            stray_value,
+        )
 
         parser: argparse.ArgumentParser = self
         misplaced = misplaced_option(*_Parser.line) if _Parser.line is not None else None
+        stray = stray_value(*_Parser.line, message) if _Parser.line is not None else None
         if misplaced is not None:
             parser, message = misplaced
+        elif stray is not None:  # said by the top parser: said here by the command's
+            parser, message = stray
         elif _Parser.line is not None and (
             message.startswith("the following arguments are required")
             or message.startswith("unrecognized arguments")

@@ -117,3 +117,31 @@ def misplaced_option(
             return None  # a command's own line (or a bad command): not this case
         parser, prog = sub, f"{prog} {token}"
     return None
+
+
+def stray_value(
+    parser: argparse.ArgumentParser, argv: Sequence[str], message: str
+) -> tuple[argparse.ArgumentParser, str] | None:
+    """argparse's "unrecognized arguments: X" for a value no option took, said by the top
+    parser ("pydrill: error:", its usage naming no command): the (sub)command it was given to,
+    and what X follows if that is a flag, which takes no value ("--dashboard :0"). None when
+    the unrecognized argument is an option (``misspelt_option``'s case)."""
+    prefix = "unrecognized arguments: "
+    if not message.startswith(prefix):
+        return None
+    stray = message[len(prefix) :].split(" ")
+    if any(s.startswith("-") for s in stray):
+        return None
+    command = parser
+    for token in argv:
+        sub = _subcommands(command).get(token)
+        if sub is not None:
+            command = sub
+    hint = ""
+    at = [k for k, token in enumerate(argv) if token == stray[0]]
+    if at and at[0] > 0:
+        action = command._option_string_actions.get(argv[at[0] - 1])
+        if action is not None and action.nargs == 0:
+            hint = f" ({argv[at[0] - 1]} takes no value)"
+    said = ", ".join(repr(s) for s in stray)
+    return command, f"unrecognized argument{'s' if len(stray) > 1 else ''} {said}{hint}"

@@ -101,3 +101,28 @@ def test_an_option_after_its_command_is_not_sent_to_another_command(capsys):
     command's option ("--omega" is stability's, not simulate's)."""
     said = refused(["simulate", *OP, "--omega", "3"], capsys)
     assert said.startswith("pydrill simulate: error: unrecognized argument --omega")
+
+
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        # argparse's top parser said these, with its usage naming no command
+        (["sweep", "a.toml", "--out", "a.h5", "--dashboard", ":0"],
+         "pydrill sweep: error: unrecognized argument ':0' (--dashboard takes no value)"),
+        (["simulate", *OP, "--json", "3"],
+         "pydrill simulate: error: unrecognized argument '3' (--json takes no value)"),
+        (["simulate", *OP, "extra"], "pydrill simulate: error: unrecognized argument 'extra'"),
+        (["atlas", "info", "a.h5", "b.h5"],
+         "pydrill atlas info: error: unrecognized argument 'b.h5'"),
+        (["simulate", *OP, "a", "b"],
+         "pydrill simulate: error: unrecognized arguments 'a', 'b'"),
+    ],
+)  # fmt: skip
+def test_a_stray_value_is_said_by_its_command_with_the_flag_it_follows(argv, said, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(argv)
+    _, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert exit_.value.code == 2 and lines[-1] == said
+    # the usage shown is the command's, not "pydrill [-h] [--version] COMMAND ..."
+    assert lines[0].startswith(f"usage: {said.split(':')[0]} ")
