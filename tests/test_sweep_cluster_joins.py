@@ -94,6 +94,11 @@ def test_a_scheduler_lost_before_the_first_batch_says_what_to_do(tmp_path):
         os.killpg(scheduler.pid, signal.SIGKILL)
 
     try:
+        from distributed import Client
+
+        # The worker must have joined before the sweep looks (CI once saw 0 workers there).
+        with Client(address, timeout="30s") as client:
+            client.wait_for_workers(1, timeout=60)
         with pytest.raises(SchedulerError) as raised:
             run_sweep(slow, out, scheduler=address, on_cluster=kill_the_scheduler)
     finally:
