@@ -117,8 +117,11 @@ def _run_dask(
             # names the address and how to connect: HPC clusters share it, not an address.
             file = scheduler_file(scheduler)
             address = scheduler_file_address(file, connect_timeout()) if file else scheduler
+            # Never the caller's default client: Dask makes a Client the default before it
+            # connects, and one that failed to stayed so, half made ("connecting"), with
+            # dask's scheduler set to it: the caller's next dask.compute or sweep went there.
             try:  # waits distributed.comm.timeouts.connect (30 s unless configured)
-                client = Client(address)
+                client = Client(address, set_as_default=False)
             except (OSError, ValueError) as exc:
                 if isinstance(scheduler, ConfiguredAddress):
                     raise SchedulerError(
@@ -172,7 +175,7 @@ def _run_dask(
                     f"the local Dask workers did not start ({type(root).__name__}: {root}); "
                     "run with --serial, or start a cluster and give --scheduler"
                 ) from exc
-            client = Client(cluster)
+            client = Client(cluster, set_as_default=False)
         pending: set[Any] = set()  # submitted, not absorbed yet
         watch = running = fut = None
         try:
@@ -204,7 +207,7 @@ def _run_dask(
                 batch_of.update((f, part) for f, part in zip(futures, parts, strict=True))
                 return futures
 
-            running = as_completed(submit(n))
+            running = as_completed(submit(n), loop=client.loop)  # not a default client's
             if on_cluster is not None:
                 # Without a dashboard, the local scheduler's HTTP server still makes a link;
                 # so does another's, started with --no-dashboard (served_dashboard).

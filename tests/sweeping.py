@@ -6,6 +6,7 @@ import contextlib
 import json
 import math
 import os
+import random
 import signal
 import socket
 import subprocess
@@ -94,10 +95,29 @@ def wait_for_journal(journal: Path, more_than: int, proc: subprocess.Popen) -> N
         time.sleep(0.02)
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+def free_port() -> int:
+    """A loopback port nothing is bound to now, for a server a test must name before it
+    starts (a sweep told to wait for a scheduler not started yet). Outside the kernel's
+    ephemeral range (/proc/sys/net/ipv4/ip_local_port_range): a port from bind(0), released
+    at once, can be handed to any process's next bind(0) (each Dask scheduler, worker, nanny
+    and dashboard the other pytest worker starts makes one; measured: one such port in about
+    10000 binds) or outgoing connection before the server binds it, and the server then fails
+    to start. Below the range, only a bind of that very number can take it. A server that can
+    choose its own port should (``dask_scheduler``)."""
+    try:
+        low = int(Path("/proc/sys/net/ipv4/ip_local_port_range").read_text().split()[0])
+    except (OSError, ValueError, IndexError):
+        low = 0
+    pick = random.Random()  # seeded from the OS: pytest workers pick apart
+    for _ in range(200):
+        port = pick.randrange(20000, low) if low > 21000 else 0
+        with socket.socket() as s:
+            try:
+                s.bind(("127.0.0.1", port))
+            except OSError:
+                continue
+            return s.getsockname()[1]
+    raise AssertionError("no free loopback port below the ephemeral range in 200 tries")
 
 
 @contextlib.contextmanager
@@ -121,6 +141,35 @@ def dask_process(*args: str, log: Path | None = None) -> subprocess.Popen:
         env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
         start_new_session=True,
     )
+
+
+def dask_scheduler(file: Path, *args: str) -> tuple[subprocess.Popen, str]:
+    """A real ``dask scheduler ARGS`` on a loopback port it chooses itself, and its address
+    once it listens (it writes its scheduler ``file`` then). A port chosen for it beforehand
+    (``free_port``) may be taken by another process before it binds; this one cannot."""
+    proc = dask_process(
+        "scheduler", "--host", "127.0.0.1", "--port", "0", "--scheduler-file", str(file), *args
+    )
+    deadline = time.monotonic() + 120  # a few seconds alone; minutes on a loaded machine
+    while True:
+        try:
+            return proc, json.loads(file.read_text())["address"]
+        except (OSError, ValueError, KeyError):  # not there yet, or not written whole
+            pass
+        if proc.poll() is not None or time.monotonic() > deadline:
+            stop_processes([proc])
+            raise AssertionError(f"the Dask scheduler did not start (exit {proc.returncode})")
+        time.sleep(0.02)
+
+
+def wait_for_workers(address: str, n: int) -> None:
+    """Until ``n`` workers have joined the scheduler at ``address``: a ``dask worker`` process
+    registers seconds after it starts, more on a loaded machine, and a sweep started at
+    once would count fewer (CI once saw 0 where the test expected 1)."""
+    from distributed import Client
+
+    with Client(address, timeout="120s") as client:
+        client.wait_for_workers(n, timeout=120)
 
 
 def stop_processes(procs: list[subprocess.Popen]) -> None:

@@ -22,9 +22,10 @@ from sweeping import (
     SMALL,
     TINY,
     dask_process,
-    free_port,
+    dask_scheduler,
     same_atlas,
     stop_processes,
+    wait_for_workers,
 )
 
 from pydrill.atlas import Atlas
@@ -34,31 +35,16 @@ from pydrill.sweep import SweepInterrupted, run_sweep
 
 @pytest.mark.slow
 def test_real_dask_cluster_and_a_worker_killed_mid_sweep(tmp_path):
-    port = free_port()
-    address = f"tcp://127.0.0.1:{port}"
-    scheduler_file = str(tmp_path / "scheduler.json")
-    procs = [
-        dask_process(
-            "scheduler", "--host", "127.0.0.1", "--port", str(port),
-            "--dashboard-address", ":0", "--scheduler-file", scheduler_file,
-        )
-    ]  # fmt: skip
+    scheduler, address = dask_scheduler(tmp_path / "scheduler.json", "--dashboard-address", ":0")
+    procs = [scheduler]
     try:
-        deadline = time.time() + 60  # the scheduler writes its file once it is listening
-        while not Path(scheduler_file).exists():
-            assert procs[0].poll() is None, "the scheduler exited"
-            assert time.time() < deadline, "the scheduler did not start in 60 s"
-            time.sleep(0.02)
         for _ in range(2):
             procs.append(
                 dask_process(
                     "worker", address, "--nthreads", "1", "--no-nanny", "--host", "127.0.0.1"
                 )
             )
-        from distributed import Client
-
-        with Client(address, timeout="30s") as client:
-            client.wait_for_workers(2, timeout=60)
+        wait_for_workers(address, 2)
         spec_file = tmp_path / "m.toml"
         spec_file.write_text(MEDIUM)
         out = tmp_path / "cluster.h5"

@@ -10,7 +10,16 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from sweeping import CMD, LONGER, TINY, dask_process, free_port, same_atlas, stop_processes
+from sweeping import (
+    CMD,
+    LONGER,
+    TINY,
+    dask_process,
+    dask_scheduler,
+    same_atlas,
+    stop_processes,
+    wait_for_workers,
+)
 
 from pydrill import __version__
 from pydrill.spec import parse_spec
@@ -80,10 +89,7 @@ def test_a_scheduler_lost_before_the_first_batch_says_what_to_do(tmp_path):
     said only "lost the connection to the Dask scheduler at ...", neither what was saved
     nor what to do. The first batch takes seconds (LONGER's points, 10x longer, past the
     batches' 5 s budget), the scheduler is killed as soon as the points are out."""
-    port = free_port()
-    address = f"tcp://127.0.0.1:{port}"
-    scheduler = dask_process("scheduler", "--host", "127.0.0.1", "--port", str(port),
-                             "--dashboard-address", ":0")  # fmt: skip
+    scheduler, address = dask_scheduler(tmp_path / "scheduler.json", "--dashboard-address", ":0")
     procs = [scheduler, dask_process("worker", address, "--nthreads", "1", "--no-nanny")]
     out = tmp_path / "lost.h5"
     slow = parse_spec(LONGER.replace("t_end = 3000.0", "t_end = 30000.0"))
@@ -94,11 +100,7 @@ def test_a_scheduler_lost_before_the_first_batch_says_what_to_do(tmp_path):
         os.killpg(scheduler.pid, signal.SIGKILL)
 
     try:
-        from distributed import Client
-
-        # The worker must have joined before the sweep looks (CI once saw 0 workers there).
-        with Client(address, timeout="30s") as client:
-            client.wait_for_workers(1, timeout=60)
+        wait_for_workers(address, 1)  # before the sweep looks (CI once saw 0 workers there)
         with pytest.raises(SchedulerError) as raised:
             run_sweep(slow, out, scheduler=address, on_cluster=kill_the_scheduler)
     finally:

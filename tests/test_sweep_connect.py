@@ -17,6 +17,7 @@ from sweeping import (
     ROOT,
     SMALL,
     dask_process,
+    dask_scheduler,
     free_port,
     same_atlas,
     stop_processes,
@@ -77,6 +78,45 @@ def test_a_missing_scheduler_file_is_named_and_nothing_is_written(tmp_path):
     ):
         run_sweep(parse_spec(SMALL), out, scheduler=str(tmp_path / "gone.json"))
     assert not out.exists() and not Path(str(out) + ".journal").exists()
+
+
+def test_a_sweep_leaves_the_callers_dask_as_it_was(tmp_path):
+    """The sweep's own Client was made the process's default before it connected, and one
+    that failed to connect stayed so, half made ("connecting"), with dask's scheduler set to
+    it: the caller's next sweep took it for theirs ("only a local cluster's dashboard ...")
+    and their next dask.compute went to a scheduler that was never there."""
+    from distributed import LocalCluster, default_client
+
+    from pydrill.sweep import SchedulerError
+
+    def no_default_client() -> bool:
+        try:
+            default_client()
+        except ValueError:  # "No clients found"
+            return True
+        return False
+
+    assert no_default_client()
+    before = dask.config.get("scheduler", None)
+    spec = parse_spec(SMALL)
+    with unserved_port() as port, dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        for nowhere in [f"tcp://127.0.0.1:{port}", str(tmp_path / "no-such-file")]:
+            with pytest.raises(SchedulerError):
+                run_sweep(spec, tmp_path / "never.h5", scheduler=nowhere)
+            assert no_default_client(), nowhere
+            assert dask.config.get("scheduler", None) == before, nowhere
+    seen = []  # while the sweep runs, the caller's threads keep their dask too
+    with LocalCluster(n_workers=1, processes=False, dashboard_address=":0") as cluster:
+        run_sweep(
+            spec,
+            tmp_path / "done.h5",
+            scheduler=cluster.scheduler_address,
+            on_cluster=lambda _: seen.append(
+                (no_default_client(), dask.config.get("scheduler", None))
+            ),
+        )
+    assert seen == [(True, before)]
+    assert no_default_client() and dask.config.get("scheduler", None) == before
 
 
 @pytest.mark.parametrize("text", ["{}", "garbage", '{"address": 5}', "[1, 2]"])
@@ -176,10 +216,7 @@ def test_a_scheduler_lost_midway_is_one_clear_error_and_resume_completes_the_atl
     reconnection tracebacks, then FutureCancelledError's, and exit 1. Now one line saying
     how many points are saved and what to do; the atlas holds them (flushed, as after
     Ctrl-C), and --resume on local workers completes it as an uninterrupted sweep would."""
-    port = free_port()
-    address = f"tcp://127.0.0.1:{port}"
-    scheduler = dask_process("scheduler", "--host", "127.0.0.1", "--port", str(port),
-                             "--dashboard-address", ":0")  # fmt: skip
+    scheduler, address = dask_scheduler(tmp_path / "scheduler.json", "--dashboard-address", ":0")
     procs = [scheduler]
     spec_file, out = tmp_path / "s.toml", tmp_path / "a.h5"
     spec_file.write_text(LONGER)

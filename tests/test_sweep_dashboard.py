@@ -14,7 +14,7 @@ import urllib.request
 import h5py
 import numpy as np
 import pytest
-from sweeping import CMD, TINY, dask_process, free_port, stop_processes
+from sweeping import CMD, TINY, dask_process, dask_scheduler, stop_processes, unserved_port
 
 from pydrill.dask_connect import served_dashboard
 from pydrill.spec import parse_spec
@@ -137,33 +137,36 @@ def test_a_configured_scheduler_that_does_not_answer_is_named_and_nothing_is_wri
     """DASK_SCHEDULER_ADDRESS is where a Dask user's work goes, so the sweep goes there too;
     when nothing answers, the error names the variable (the user may have forgotten it) and
     how to run locally instead, which works with the variable still set."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        nobody = f"tcp://127.0.0.1:{s.getsockname()[1]}"
-    env = {
-        **os.environ,
-        "DASK_SCHEDULER_ADDRESS": nobody,
-        "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s",
-    }
-    run = _sweep_cli(tmp_path, env=env)
-    assert run.returncode == 2 and "Traceback" not in run.stderr
-    assert f"DASK_SCHEDULER_ADDRESS is {nobody}, but no Dask scheduler answered" in run.stderr
-    assert "--workers N" in run.stderr
-    assert list(tmp_path.iterdir()) == [tmp_path / "tiny.toml"]
-    run = _sweep_cli(tmp_path, "--dashboard", env=env)
-    assert (
-        run.returncode == 2
-        and "runs on the cluster of DASK_SCHEDULER_ADDRESS, which serves its own" in run.stderr
-    )
-    run = _sweep_cli(tmp_path, "--workers", "1", "--json", env=env)
-    assert run.returncode == 0, run.stderr
-    assert "sweep: 1 Dask worker, scheduler tcp://127.0.0.1:" in run.stderr
-    assert "from DASK_SCHEDULER_ADDRESS" not in run.stderr
-    cluster = json.loads(run.stdout)["cluster"]  # where it ran, for scripts
-    assert cluster["workers"] == 1 and cluster["dashboard"] is None
-    assert cluster["scheduler"].startswith("tcp://127.0.0.1:") and cluster["scheduler"] != nobody
-    run = _sweep_cli(tmp_path, "--serial", "--json", "--resume", env=env)
-    assert run.returncode == 0 and json.loads(run.stdout)["cluster"] is None
+    # Held, not listening, for the whole test: a port released at once may be taken, even by
+    # the local cluster of the --workers run below, which must not be the one named.
+    with unserved_port() as port:
+        nobody = f"tcp://127.0.0.1:{port}"
+        env = {
+            **os.environ,
+            "DASK_SCHEDULER_ADDRESS": nobody,
+            "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s",
+        }
+        run = _sweep_cli(tmp_path, env=env)
+        assert run.returncode == 2 and "Traceback" not in run.stderr
+        assert f"DASK_SCHEDULER_ADDRESS is {nobody}, but no Dask scheduler answered" in run.stderr
+        assert "--workers N" in run.stderr
+        assert list(tmp_path.iterdir()) == [tmp_path / "tiny.toml"]
+        run = _sweep_cli(tmp_path, "--dashboard", env=env)
+        assert (
+            run.returncode == 2
+            and "runs on the cluster of DASK_SCHEDULER_ADDRESS, which serves its own" in run.stderr
+        )
+        run = _sweep_cli(tmp_path, "--workers", "1", "--json", env=env)
+        assert run.returncode == 0, run.stderr
+        assert "sweep: 1 Dask worker, scheduler tcp://127.0.0.1:" in run.stderr
+        assert "from DASK_SCHEDULER_ADDRESS" not in run.stderr
+        cluster = json.loads(run.stdout)["cluster"]  # where it ran, for scripts
+        assert cluster["workers"] == 1 and cluster["dashboard"] is None
+        assert (
+            cluster["scheduler"].startswith("tcp://127.0.0.1:") and cluster["scheduler"] != nobody
+        )
+        run = _sweep_cli(tmp_path, "--serial", "--json", "--resume", env=env)
+        assert run.returncode == 0 and json.loads(run.stdout)["cluster"] is None
 
 
 def test_a_scheduler_address_in_the_dask_config_is_named_as_such(tmp_path):
@@ -216,10 +219,11 @@ def test_a_scheduler_without_a_dashboard_gets_no_dead_link(tmp_path):
     Now it says no dashboard; one with a dashboard keeps its link, which answers."""
     from distributed import Client, LocalCluster
 
-    port = free_port()
-    address = f"tcp://127.0.0.1:{port}"
-    procs = [dask_process("scheduler", "--host", "127.0.0.1", "--port", str(port),
-                          "--dashboard-address", "127.0.0.1:0", "--no-dashboard")]  # fmt: skip
+    file = tmp_path / "scheduler.json"
+    scheduler, address = dask_scheduler(
+        file, "--dashboard-address", "127.0.0.1:0", "--no-dashboard"
+    )
+    procs = [scheduler]
     try:
         procs.append(dask_process("worker", address, "--nthreads", "1", "--no-nanny"))
         with Client(address, timeout=60) as client:
@@ -252,8 +256,8 @@ def test_a_scheduler_without_a_dashboard_gets_no_dead_link(tmp_path):
 def test_a_dashboard_link_that_does_not_answer_is_kept():
     """Only a scheduler that says it serves no dashboard takes the link away: one that does not
     answer from here (another network's view of the host) may answer in the user's browser."""
-    closed = free_port()
-    assert served_dashboard(f"http://127.0.0.1:{closed}/status", within=2) is not None
+    with unserved_port() as closed:
+        assert served_dashboard(f"http://127.0.0.1:{closed}/status", within=2) is not None
     assert served_dashboard(None) is None
 
 
@@ -270,9 +274,10 @@ def test_the_dashboard_is_asked_of_the_scheduler_not_of_an_http_proxy():
         "    print(served_dashboard(f'http://127.0.0.1:{port}/status'))\n"
     )
     env = {k: v for k, v in os.environ.items() if k.lower() not in ("no_proxy", "http_proxy")}
-    env["http_proxy"] = f"http://127.0.0.1:{free_port()}"
-    run = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=env
-    )
+    with unserved_port() as port:
+        env["http_proxy"] = f"http://127.0.0.1:{port}"
+        run = subprocess.run(
+            [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=env
+        )
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == "None", run.stdout + run.stderr
