@@ -14,7 +14,7 @@ SCENARIO = textwrap.dedent(
     from pydrill.fork_stdio import forking_workers
 
     guarded = sys.argv[1] == "guarded"
-    gate = threading.Event()
+    gate, inside = threading.Event(), threading.Event()
 
     class Slow(io.RawIOBase):  # a stderr whose writes wait: its buffer's lock stays held
         def __init__(self, fd):
@@ -25,6 +25,7 @@ SCENARIO = textwrap.dedent(
             return self.fd
         def write(self, b):
             if threading.current_thread() is not threading.main_thread():
+                inside.set()
                 gate.wait()
             return os.write(self.fd, b)
 
@@ -37,7 +38,9 @@ SCENARIO = textwrap.dedent(
         sys.stderr = open(os.devnull, "w")  # made at import, is under pytest's capture)
     writer = threading.Thread(target=lambda: stream.write("a progress bar\\n"), daemon=True)
     writer.start()
-    time.sleep(0.3)  # the writer is inside the write, holding the lock
+    # Until the writer is inside the write, holding the lock: a fixed 0.3 s promised nothing
+    # on a loaded machine, where the child could fork with the lock free, and not hang.
+    assert inside.wait(60), "the writer thread never reached its write"
 
     def child():
         logger.error("worker started")  # as a Dask worker logs "Start worker at ..."
@@ -48,7 +51,9 @@ SCENARIO = textwrap.dedent(
         pid = os.fork()
         if pid == 0:
             child()
-    for _ in range(100):  # 5 s
+    # A hung child stays hung: 5 s tell it. A guarded child exits at once, but one that is
+    # slow to be scheduled on a loaded machine is not a hung one: up to 30 s for it.
+    for _ in range(600 if guarded else 100):
         done, _ = os.waitpid(pid, os.WNOHANG)
         if done:
             break

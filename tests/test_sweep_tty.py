@@ -23,7 +23,7 @@ def _stderr_on_a_pty(argv, size=None):
         fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", *size, 0, 0))
     proc = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=slave)
     os.close(slave)
-    chunks = []
+    chunks, exited = [], False
     while True:
         ready, _, _ = select.select([master], [], [], 0.2)
         if ready:
@@ -34,8 +34,10 @@ def _stderr_on_a_pty(argv, size=None):
             if not data:
                 break
             chunks.append(data)
-        elif proc.poll() is not None:
+        elif exited:  # and nothing came in the 0.2 s since: all is read
             break
+        else:  # a child that wrote its last bar and exited just after the select above left
+            exited = proc.poll() is not None  # it unread: one more look before stopping
     proc.wait(timeout=60)
     os.close(master)
     assert proc.returncode == 0
