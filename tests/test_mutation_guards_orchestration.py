@@ -69,6 +69,7 @@ class FakeClient:
         self.two_alone_at_once = False
         self.scheduler = types.SimpleNamespace(address="tcp://fake:8786")
         self.dashboard_link = None
+        self.loop = object()  # the IO loop its futures report on (FakeAsCompleted checks it)
 
     def submit(self, *args, **kwargs):
         raise AssertionError("the sweep hands out batches with map")
@@ -101,8 +102,12 @@ class FakeClient:
 class FakeAsCompleted:
     """distributed.as_completed, first submitted first done."""
 
-    def __init__(self, futures):
-        self.queue = list(futures)
+    def __init__(self, futures, loop=None):
+        # The client's own loop: the sweep's client is not the default one, whose loop
+        # as_completed takes when given none ("No clients found").
+        futures = list(futures)
+        assert futures and loop is futures[0].client.loop, "as_completed without the client's loop"
+        self.queue = futures
 
     def update(self, futures):
         self.queue.extend(futures)

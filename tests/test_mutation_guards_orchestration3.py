@@ -117,7 +117,8 @@ def test_a_scheduler_that_does_not_answer_is_one_error_naming_where_it_was_given
 ):
     asked = []
 
-    def client(address):
+    def client(address, set_as_default=True):
+        assert set_as_default is False, "the sweep's client made the caller's default"
         asked.append(address)
         raise error
 
