@@ -5,10 +5,12 @@ and a dashboard that can be served. ``sweep_dask`` runs the points there.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.metadata
 import os
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -109,6 +111,52 @@ def unanswered(address: str, within: float = 0.5) -> float | None:
             return None
     except OSError:
         return connect_timeout()
+
+
+def connect(scheduler: Any) -> Any:
+    """A ``distributed.Client`` of ``scheduler`` (an address or a cluster), never the caller's
+    default: Dask makes a Client the default before it connects, and one that failed to stayed
+    so, half made, with dask's scheduler set to it (the caller's next dask.compute went there).
+    One that fails to connect leaves nothing running: Dask's own left its event loop's thread
+    ("IO loop") and three descriptors in the caller's process, more at each refused sweep."""
+    from distributed import Client
+
+    class SweepClient(Client):
+        def start(self, **kwargs: Any) -> None:
+            try:
+                super().start(**kwargs)
+            except BaseException:
+                # A refused address leaves it "connecting": closed while its loop runs (at
+                # exit, Dask's finalizer waited 2 s on it and printed a TimeoutError). A timeout
+                # leaves it closed but its loop running: close() stops the loop only when it
+                # closes. (Dask adds a client to Client._instances only once it has started.)
+                with contextlib.suppress(Exception):
+                    self.close()
+                runner = getattr(self, "_loop_runner", None)
+                if runner is not None:
+                    runner.stop()
+                raise
+
+    return SweepClient(scheduler, set_as_default=False)
+
+
+@contextlib.contextmanager
+def kept_environ() -> Iterator[None]:
+    """The caller's environment variables, as they were, after the block. A local cluster's
+    nanny sets in the process that starts it what its workers must have from birth
+    (``distributed.nanny.pre-spawn-environ``: OMP_NUM_THREADS, MKL_NUM_THREADS and
+    OPENBLAS_NUM_THREADS = 1, MALLOC_TRIM_THRESHOLD_; and PYTHONHASHSEED, __DASK_PARENT_PID),
+    and leaves them: after a sweep, every program the caller started ran its BLAS on one
+    thread, with a fixed hash seed."""
+    before = dict(os.environ)
+    try:
+        yield
+    finally:
+        for name in set(os.environ) - set(before):
+            os.environ.pop(name, None)
+        for name, value in before.items():
+            if os.environ.get(name) != value:
+                os.environ[name] = value
 
 
 def worker_count(client: Any) -> int:

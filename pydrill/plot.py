@@ -267,13 +267,19 @@ def fit_suptitle(fig: Figure, text: str, **kwargs):
 
 
 def save(fig: Figure, path: str | Path, dpi: int = 130) -> Path:
+    """Write ``fig`` to ``path`` and close it, saved or not: pyplot keeps every figure it made
+    until closed, and one whose save failed (a full disk, a parent that is a file) stayed
+    open in the caller's session, drawn again by a notebook, counted towards pyplot's
+    "more than 20 figures" warning."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with warnings.catch_warnings():
-        # An axis of a range no tick can label (a window charted to 1e-300 rpm) collapses
-        # matplotlib's layout, which it says in a UserWarning on stderr beside the notes; the
-        # figure is saved without it, and the command has noted the range.
-        warnings.filterwarnings("ignore", "constrained_layout not applied", UserWarning)
-        fig.savefig(path, dpi=dpi)
-    plt.close(fig)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with warnings.catch_warnings():
+            # An axis of a range no tick can label (a window charted to 1e-300 rpm) collapses
+            # matplotlib's layout, which it says in a UserWarning on stderr beside the notes;
+            # the figure is saved without it, and the command has noted the range.
+            warnings.filterwarnings("ignore", "constrained_layout not applied", UserWarning)
+            fig.savefig(path, dpi=dpi)
+    finally:
+        plt.close(fig)
     return path

@@ -23,7 +23,9 @@ import numpy as np
 
 from .dask_connect import (
     ConfiguredAddress,
+    connect,
     connect_timeout,
+    kept_environ,
     scheduler_file,
     scheduler_file_address,
     served_dashboard,
@@ -64,7 +66,7 @@ def run_dask(
     from .fork_stdio import forking_workers
 
     local = not hasattr(scheduler, "submit") and not scheduler  # a cluster of this sweep's
-    with forking_workers() if local else contextlib.nullcontext(), quiet_client():
+    with forking_workers() if local else contextlib.nullcontext(), kept_environ(), quiet_client():
         _run_dask(spec, todo, workers, scheduler, absorb, dashboard, on_cluster, starting)
 
 
@@ -100,7 +102,7 @@ def _run_dask(
     ``on_cluster`` gets a ``ClusterInfo`` once the batches are submitted. The local cluster
     starts inside ``starting()``: a Ctrl-C then waits for it to be up (a second), and the
     cluster is closed whole, not half started (Dask then printed tracebacks at exit)."""
-    from distributed import Client, KilledWorker, LocalCluster, as_completed
+    from distributed import KilledWorker, LocalCluster, as_completed
     from distributed.client import FutureCancelledError
 
     from . import __version__, batching
@@ -117,11 +119,8 @@ def _run_dask(
             # names the address and how to connect: HPC clusters share it, not an address.
             file = scheduler_file(scheduler)
             address = scheduler_file_address(file, connect_timeout()) if file else scheduler
-            # Never the caller's default client: Dask makes a Client the default before it
-            # connects, and one that failed to stayed so, half made ("connecting"), with
-            # dask's scheduler set to it: the caller's next dask.compute or sweep went there.
             try:  # waits distributed.comm.timeouts.connect (30 s unless configured)
-                client = Client(address, set_as_default=False)
+                client = connect(address)
             except (OSError, ValueError) as exc:
                 if isinstance(scheduler, ConfiguredAddress):
                     raise SchedulerError(
@@ -175,7 +174,11 @@ def _run_dask(
                     f"the local Dask workers did not start ({type(root).__name__}: {root}); "
                     "run with --serial, or start a cluster and give --scheduler"
                 ) from exc
-            client = Client(cluster, set_as_default=False)
+            try:  # a Ctrl-C while it connects: the cluster's workers were left running
+                client = connect(cluster)
+            except BaseException:
+                cluster.close()
+                raise
         pending: set[Any] = set()  # submitted, not absorbed yet
         watch = running = fut = None
         try:

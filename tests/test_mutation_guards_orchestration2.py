@@ -191,12 +191,7 @@ def test_the_local_cluster_is_of_single_threaded_processes_quiet_and_closed(
     monkeypatch.setattr(distributed, "LocalCluster", Cluster)
     client = FakeClient(workers=workers or 5)
     client.dashboard_link = "http://127.0.0.1:1/status"  # served by no dashboard asked for
-
-    def own_client(cluster, set_as_default=True):
-        assert set_as_default is False, "the sweep's client made the caller's default"
-        return client
-
-    monkeypatch.setattr(distributed, "Client", own_client)
+    monkeypatch.setattr(sweep_dask, "connect", lambda cluster: client)
     monkeypatch.setattr(distributed, "as_completed", FakeAsCompleted)
     seen = []
     report = run_sweep(

@@ -117,12 +117,11 @@ def test_a_scheduler_that_does_not_answer_is_one_error_naming_where_it_was_given
 ):
     asked = []
 
-    def client(address, set_as_default=True):
-        assert set_as_default is False, "the sweep's client made the caller's default"
+    def client(address):
         asked.append(address)
         raise error
 
-    monkeypatch.setattr(distributed, "Client", client)
+    monkeypatch.setattr(sweep_dask, "connect", client)
     file = tmp_path / "s.json"
     file.write_text('{"address": "tcp://10.0.0.2:8786"}')
     with pytest.raises(SchedulerError, match=f"--scheduler {file} \\(address tcp://10.0.0.2"):
