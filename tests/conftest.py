@@ -29,6 +29,29 @@ def _close_figures():
         plt.close("all")
 
 
+@pytest.fixture(autouse=True)
+def _leaves_the_process_as_it_was():
+    """A test that leaves an environment variable changed or a default Dask client behind
+    fails itself, not whichever test pytest-xdist happens to run next in its process (8
+    dashboard tests failed so, after a sweep's half-made Client had stayed the default; the
+    nanny's OMP_NUM_THREADS=1 reached later subprocesses). pydrill leaves neither in a
+    caller's process (tests/test_process_state.py); a test changes them with monkeypatch."""
+    environ = dict(os.environ)
+    yield
+    names = {*environ, *os.environ} - {"PYTEST_CURRENT_TEST"}  # pytest's, set at each phase
+    changed = sorted(k for k in names if environ.get(k) != os.environ.get(k))
+    for k in changed:  # the next test starts clean either way
+        if k in environ:
+            os.environ[k] = environ[k]
+        else:
+            del os.environ[k]
+    assert not changed, f"the test left environment variables changed: {changed}"
+    client = sys.modules.get("distributed.client")
+    if client is not None:
+        leftover = client._get_global_client()
+        assert leftover is None, f"the test left a default Dask client: {leftover!r}"
+
+
 @pytest.fixture(scope="session")
 def paper_dof4():
     """The paper's three dof-4 cases at u = 8.3 N·m from rest (Figs. 4, 7, 9)."""
