@@ -29,6 +29,7 @@ from sweeping import (
 )
 
 from pydrill.atlas import Atlas
+from pydrill.dask_connect import kept_environ
 from pydrill.spec import parse_spec
 from pydrill.sweep import SweepInterrupted, run_sweep
 
@@ -257,6 +258,7 @@ def test_workers_that_cannot_run_the_sweep_are_refused_before_any_point(tmp_path
 
     out = tmp_path / "never.h5"
     with (
+        kept_environ(),  # the test's own nanny sets OMP_NUM_THREADS and more in this process
         LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=":0") as cluster,
         Client(cluster) as client,
     ):
@@ -277,7 +279,10 @@ def test_a_cluster_without_workers_yet_is_waited_for_and_said_so(tmp_path):
 
     spec_file = tmp_path / "small.toml"
     spec_file.write_text(SMALL)
-    with LocalCluster(n_workers=0, threads_per_worker=1, dashboard_address=":0") as cluster:
+    with (
+        kept_environ(),  # the nanny scale(1) starts sets OMP_NUM_THREADS and more here
+        LocalCluster(n_workers=0, threads_per_worker=1, dashboard_address=":0") as cluster,
+    ):
         out = tmp_path / "later.h5"
         where = ["--scheduler", cluster.scheduler_address]
         sweep = subprocess.Popen(
