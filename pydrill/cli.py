@@ -7,6 +7,7 @@ exit status 3. ``--json`` prints exactly one JSON object on stdout for scripts.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
 from typing import Any
@@ -338,7 +339,7 @@ def _run(line: list[str]) -> int:
     try:
         return int(args.handler(args))
     except BrokenPipeError:  # e.g. piped into head: not an error of ours
-        sys.stderr.close()
+        quiet_stdout()
         return 0
     except KeyboardInterrupt:  # Ctrl-C: the user knows why; a traceback would only hide it
         sys.stderr.write(f"\n{prog}: interrupted\n")
@@ -360,6 +361,22 @@ def _run(line: list[str]) -> int:
         where = f" (reached t = {t:g} s)" if t is not None else ""
         say_error(prog, "solver failed", str(exc), EXIT_SOLVER, where, t_reached=t)
         return EXIT_SOLVER
+
+
+def quiet_stdout() -> None:
+    """Point standard output, whose reader has gone (``| head``), at /dev/null: Python flushes
+    it again at exit, and that flush failed with a message on stderr ("Exception ignored ...
+    BrokenPipeError"). Python's own recipe (the signal module's "Note on SIGPIPE"); standard
+    error was closed instead, and a program that called ``main`` lost its own stderr with it."""
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # not a file (captured): nothing flushes
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, fd)
+    finally:
+        os.close(devnull)
 
 
 if __name__ == "__main__":
