@@ -93,6 +93,12 @@ void SimulationOptions::validate(int dof) const {
   if (!(rtol >= kMinRtol) || !(rtol <= kMaxRtol)) refuse("rtol = " + num(rtol) + " is not allowed: need " + num(kMinRtol) + " <= rtol <= " + num(kMaxRtol) + " (a double resolves ~2.2e-16; a looser tolerance misjudges the regime)");
   if (!(atol >= kMinAtol) || !(atol <= kMaxAtol)) refuse("atol = " + num(atol) + " is not allowed: need " + num(kMinAtol) + " <= atol <= " + num(kMaxAtol) + " (rad and rad/s; a looser tolerance misjudges the regime)");
   if (!(max_step >= 0) || !std::isfinite(max_step)) refuse("max_step = " + num(max_step) + " is not allowed: must be >= 0 (0 = no limit)");
+  // A run flushes subnormals (below): a max_step of 1e-320 s reached the integrators as 0, and
+  // they failed with "h = nan" (CVODES) or "its step size became NaN (the state or its error
+  // estimate overflowed)" (ARKODE), naming neither max_step nor the cause.
+  if (max_step > 0 && max_step < std::numeric_limits<double>::min()) {
+    refuse("max_step = " + num(max_step) + " is not allowed: 0 (no limit) or at least 2.23e-308 s (the smallest normal float, which the core computes with)");
+  }
   // An enum holds any value of its type: a cast (static_cast<Method>(42)) ran as if it
   // were a method and reported "?".
   if (std::string(method_name(method)) == "?") refuse("method = " + std::to_string(static_cast<int>(method)) + " is not a pydrill::Method");

@@ -217,3 +217,29 @@ TEST_CASE("output times a run cannot tell from 0 are refused", "[simulator]") {
   o.t_out = {0.0};
   CHECK_THROWS_WITH(o.validate(2), Catch::StartsWith("t_end = 1e-310 is not allowed: below the smallest normal float"));
 }
+
+TEST_CASE("a max_step a run cannot tell from 0 is refused by name", "[simulator]") {
+  // A run flushes subnormals to 0: max_step = 1e-320 s reached each integrator as a zero
+  // step bound, and the run failed with a SolverError about NaN step sizes (CVODES "h = nan",
+  // ARKODE "the state or its error estimate overflowed") that named neither max_step nor why.
+  const Params p = preset("reduced-scale", 4);
+  SimulationOptions o;
+  o.t_end = 10.0;
+  o.max_steps = 100'000;  // small enough not to be refused as a grind first
+  for (Method m : {Method::DOP853, Method::BDF, Method::Adams, Method::ERK}) {
+    INFO("method " << method_name(m));
+    o.method = m;
+    o.max_step = 1e-320;
+    CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o),
+                      Catch::StartsWith("max_step = 9.99989e-321 is not allowed: 0 (no limit) or at least 2.23e-308 s"));
+    o.max_step = std::numeric_limits<double>::denorm_min();
+    CHECK_THROWS_AS(o.validate(4), std::invalid_argument);
+  }
+  // The smallest normal bound is a bound (the run grinds into max_steps, as any tiny step
+  // would), and 0 is still "no limit".
+  o.method = Method::DOP853;
+  o.max_step = std::numeric_limits<double>::min();
+  CHECK_NOTHROW(o.validate(4));
+  o.max_step = 0.0;
+  CHECK_NOTHROW(simulate(p, 100.0, 8.3, o));
+}

@@ -82,7 +82,7 @@ struct PYDRILL_API SimulationOptions {
   // state component (twists in rad, velocities in rad/s), kMinAtol <= atol <= kMaxAtol.
   double rtol = 1e-8;
   double atol = 1e-8;
-  double max_step = 0.0;             // s, the longest internal step; 0: no limit
+  double max_step = 0.0;             // s, the longest internal step; 0: no limit; else normal (>= 2.2e-308)
   int max_order = 0;                 // 0: the method's default; BDF 1..5, Adams 1..12, others 0
   long max_steps = 50'000'000;       // internal steps over the whole run (>= 1), then SolverError
   double window_fraction = 0.5;      // last fraction of the run judged for the regime, in (0, 1]
