@@ -4,12 +4,14 @@
 //   pydrill_example [W_ob N] [u N·m] [dof] [seconds of wall time allowed]
 //
 // Without arguments: the paper's Fig. 4 case, a 4-DOF string at W_ob = 100 N and
-// u = 8.3 N·m, which sticks and slips. Exit status 0, 2 for bad input, 3 when the integrator
-// fails, 4 when the time allowed runs out.
+// u = 8.3 N·m, which sticks and slips. Exit status 0, 2 for bad input (a string too large for
+// this machine's memory included, as the pydrill command says), 3 when the integrator fails,
+// 4 when the time allowed runs out.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -112,5 +114,10 @@ int main(int argc, char** argv) {
   } catch (const pydrill::Cancelled&) {  // any other stopped computation: the stability's
     std::fprintf(stderr, "out of time in the stability analysis\n");
     return 4;
+  } catch (const std::bad_alloc&) {
+    // simulate keeps 2·dof − 1 doubles per output time (3001 of them here): a string of
+    // 100000 inertias needs 4.8 GB, and without this the program ended in std::terminate.
+    std::fprintf(stderr, "bad input: out of memory: ask for a smaller string (dof)\n");
+    return 2;
   }
 }
