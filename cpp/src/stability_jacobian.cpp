@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "pydrill/stability.hpp"
 #include "shortest.hpp"
@@ -104,7 +105,12 @@ std::vector<double> characteristic_polynomial(const Params& p, double delta) {
 
 std::vector<double> hurwitz_determinants(const std::vector<double>& a) {
   const int n = static_cast<int>(a.size()) - 1;
-  if (n < 1) throw std::invalid_argument("hurwitz_determinants needs a polynomial of degree >= 1");
+  if (n < 1) {
+    // Name what was given: "needs degree >= 1" alone left a caller to guess which list it was.
+    throw std::invalid_argument("ascending has " + std::to_string(a.size()) +
+                                (a.size() == 1 ? " coefficient" : " coefficients") + ": hurwitz_determinants needs a polynomial of degree >= 1 "
+                                "(at least 2 coefficients, in ascending powers)");
+  }
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (!std::isfinite(a[i])) {
       std::ostringstream o;
@@ -131,7 +137,11 @@ std::vector<double> hurwitz_determinants(const std::vector<double>& a) {
 
 std::vector<double> hopf_deltas_dof2(const Params& p) {
   p.validate();
-  if (p.dof() != 2) throw std::invalid_argument("the closed form of Eq. (51) is for dof = 2 (n' = 3)");
+  if (p.dof() != 2) {
+    throw std::invalid_argument("dof = " + std::to_string(p.dof()) +
+                                " is not allowed: the closed form of Eq. (51) is for dof = 2 (n' = 3); "
+                                "critical_deltas finds the Hopf points of any string");
+  }
   const double Jr = p.inertias[0], Jb = p.inertias[1], kt = p.stiffnesses[0], ct = p.dampings[0];
   const double cr = p.top_damping, cb = p.bit_damping, P = Jb * Jr;
   // a_2 = (α2 − J_r δ)/P, a_1 = (α1 − β δ)/P, a_0 = (α0 − k_t δ)/P (Eq. 50 with d_b = −δ).

@@ -165,3 +165,18 @@ TEST_CASE("options.interrupt runs with the caller's floating-point setting", "[a
   CHECK((_mm_getcsr() & ~0x3Fu) == (before & ~0x3Fu));
 }
 #endif
+
+TEST_CASE("the closed-form and Hurwitz calls name what they were given", "[api]") {
+  // Both refused without naming the bad input: "the closed form of Eq. (51) is for dof = 2"
+  // (which dof came?) and "hurwitz_determinants needs a polynomial of degree >= 1" (how many
+  // coefficients came?), where every other refusal names the parameter and its value.
+  CHECK_THROWS_WITH(hopf_deltas_dof2(preset("reduced-scale", 4)),
+                    Catch::StartsWith("dof = 4 is not allowed: the closed form of Eq. (51) is for dof = 2"));
+  CHECK_THROWS_WITH(hurwitz_determinants({}), Catch::StartsWith("ascending has 0 coefficients"));
+  CHECK_THROWS_WITH(hurwitz_determinants({2.0}),
+                    Catch::StartsWith("ascending has 1 coefficient: hurwitz_determinants needs a polynomial of degree >= 1"));
+  // What they accept is unchanged: the paper's 2-DOF string has one Hopf point below its fold,
+  // and λ + 1 is Hurwitz with no determinant to give.
+  CHECK(hopf_deltas_dof2(preset("real-string", 2)).size() == 1);
+  CHECK(hurwitz_determinants({1.0, 1.0}).empty());
+}
