@@ -233,8 +233,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   o.method = static_cast<Method>(in.ConsumeIntegralInRange(0, 5));
   o.friction = static_cast<FrictionLaw>(in.ConsumeIntegralInRange(0, 1));
   o.initial = static_cast<Initial>(in.ConsumeIntegralInRange(0, 2));
-  o.state.assign(static_cast<std::size_t>(2 * dof - 1), 0.0);
-  for (double& v : o.state) v = number(in, 1.0);
+  std::vector<double> state(static_cast<std::size_t>(2 * dof - 1), 0.0);
+  for (double& v : state) v = number(in, 1.0);
+  if (o.initial == Initial::State) o.state = state;  // refused with any other initial
   o.perturbation = in.ConsumeBool() ? 1e-3 : number(in, 0.01);
   o.rtol = in.ConsumeBool() ? 1e-6 : number(in, 1e-6);
   o.atol = in.ConsumeBool() ? 1e-8 : number(in, 1e-8);

@@ -148,6 +148,12 @@ void SimulationOptions::validate(int dof) const {
     for (std::size_t i = 0; i < n; ++i) {
       if (!std::isfinite(state[i])) refuse("state[" + std::to_string(i) + "] = " + num(state[i]) + " is not allowed: must be finite");
     }
+  } else if (!state.empty()) {
+    // A state given without Initial::State was silently ignored, as a max_order would be
+    // (above): the run started from rest, or from the steady state, not from it.
+    refuse("state has " + std::to_string(state.size()) + (state.size() == 1 ? " entry" : " entries") + " but initial = '" +
+           (initial == Initial::Rest ? "rest" : "equilibrium") +
+           "' does not use it: set initial = Initial::State to start from it, or leave state empty");
   }
 }
 

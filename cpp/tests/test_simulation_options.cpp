@@ -23,6 +23,7 @@ TEST_CASE("bad options are refused before anything runs", "[simulator]") {
   o.initial = Initial::State;
   o.state = {1.0};
   CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o), Catch::Contains("2*dof-1 = 7"));
+  o.state.clear();  // only Initial::State takes one
   o.initial = Initial::Equilibrium;
   CHECK_THROWS_WITH(simulate(p, 160.0, 8.3, o), Catch::Contains("no steady rotation"));
   // Loads so large that the run overflowed at t = 0 ("step size fell to 0"): named instead.
@@ -242,4 +243,28 @@ TEST_CASE("a max_step a run cannot tell from 0 is refused by name", "[simulator]
   CHECK_NOTHROW(o.validate(4));
   o.max_step = 0.0;
   CHECK_NOTHROW(simulate(p, 100.0, 8.3, o));
+}
+
+TEST_CASE("a state that the run would ignore is refused", "[simulator]") {
+  // options.state was read only with Initial::State: a program that filled it and left
+  // initial at its default (Rest) ran from rest with no word, as a max_order on an explicit
+  // method would (refused above). The independent judge: a run from the state given differs
+  // from the run from rest.
+  const Params p = preset("reduced-scale", 2);
+  SimulationOptions o;
+  o.t_end = 20.0;
+  o.n_out = 21;
+  o.state = {5.0, 0.0, 5.0};  // turning at 5 rad/s, untwisted
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o),
+                    Catch::StartsWith("state has 3 entries but initial = 'rest' does not use it: set initial = Initial::State"));
+  o.initial = Initial::Equilibrium;
+  CHECK_THROWS_WITH(o.validate(2), Catch::Contains("initial = 'equilibrium' does not use it"));
+  o.initial = Initial::State;
+  const Result from_state = simulate(p, 100.0, 8.3, o);
+  CHECK(from_state.states[0] == 5.0);
+  o.initial = Initial::Rest;
+  o.state.clear();
+  const Result from_rest = simulate(p, 100.0, 8.3, o);
+  CHECK(from_rest.states[0] == 0.0);
+  CHECK(from_rest.states != from_state.states);
 }

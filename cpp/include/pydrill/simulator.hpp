@@ -76,7 +76,8 @@ struct PYDRILL_API SimulationOptions {
   // there is none (the torque cannot balance the bit friction) simulate throws
   // std::invalid_argument. State: `state` as given.
   Initial initial = Initial::Rest;
-  std::vector<double> state;         // Initial::State: 2·dof − 1 finite numbers, layout of model.hpp
+  std::vector<double> state;         // Initial::State: 2·dof − 1 finite numbers, layout of model.hpp;
+                                     // empty otherwise (a state the run would ignore is refused)
   double perturbation = 1e-3;        // Initial::Equilibrium: ω_b = (1 + perturbation)·Ω; |.| < 1
   // Error tolerances per step. rtol: kMinRtol <= rtol <= kMaxRtol. atol: one scalar for every
   // state component (twists in rad, velocities in rad/s), kMinAtol <= atol <= kMaxAtol.
