@@ -120,6 +120,13 @@ void SimulationOptions::validate(int dof) const {
     }
   }
   if (!(window_fraction > 0) || !(window_fraction <= 1)) refuse("window_fraction = " + num(window_fraction) + " is not allowed: need 0 < window_fraction <= 1");
+  // The window opens at t_end·(1 − window_fraction), as the run computes it: below ~1.1e-16
+  // that is t_end itself, and an empty window was judged anyway ("steady", its mean bit
+  // velocity 0 beside a min and max of 18.3 rad/s).
+  if (std::isfinite(t_end) && t_end > 0 && !(t_end * (1.0 - window_fraction) < t_end)) {
+    refuse("window_fraction = " + num(window_fraction) + " is not allowed with t_end = " + num(t_end) +
+           " s: the judged window, the run's last t_end * window_fraction, rounds to nothing; need window_fraction >= 1.2e-16 (a window of a few of the string's slowest periods judges best)");
+  }
   if (!(max_switch_rate > 0) || std::isnan(max_switch_rate)) refuse("max_switch_rate = " + num(max_switch_rate) + " is not allowed: must be > 0 switches/s");
   if (!std::isfinite(perturbation) || std::fabs(perturbation) >= 1) refuse("perturbation = " + num(perturbation) + " is not allowed: need |perturbation| < 1 (relative to the steady bit velocity)");
   // A run flushes subnormal numbers to 0 (flush_subnormals.hpp): output times below the

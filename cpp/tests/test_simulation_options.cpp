@@ -268,3 +268,23 @@ TEST_CASE("a state that the run would ignore is refused", "[simulator]") {
   CHECK(from_rest.states[0] == 0.0);
   CHECK(from_rest.states != from_state.states);
 }
+
+TEST_CASE("a window_fraction whose window rounds to nothing is refused", "[simulator]") {
+  // The run judges [t_end·(1 − window_fraction), t_end]: at 1e-17 that is [300, 300] s, and
+  // the empty window was judged "steady" with a mean bit velocity of 0 beside a min and max of
+  // 18.3 rad/s (the mean is the angle advance over the window's length, 0 / 0).
+  const Params p = preset("reduced-scale", 4);
+  SimulationOptions o;
+  o.t_end = 300.0;
+  o.window_fraction = 1e-17;
+  CHECK_THROWS_WITH(simulate(p, 100.0, 8.3, o),
+                    Catch::StartsWith("window_fraction = 1e-17 is not allowed with t_end = 300 s: the judged window") &&
+                        Catch::Contains("need window_fraction >= 1.2e-16"));
+  // The smallest fraction the message names opens a window at every t_end (2^-53 <= 1.2e-16).
+  o.window_fraction = 1.2e-16;
+  for (double t_end : {1.0, 300.0, 256.0, 1e10, 3e-300}) {
+    o.t_end = t_end;
+    CHECK_NOTHROW(o.validate(4));
+    CHECK(t_end * (1.0 - o.window_fraction) < t_end);
+  }
+}
