@@ -164,7 +164,12 @@ class Tally:
         depth = value
         pipe = [i for i, s in enumerate(self.sections) if s.kind == "drill-pipe"]
         if not pipe:
-            raise TallyError("at_depth needs a drill-pipe section to lengthen")
+            # Said in the tally's words: "at_depth" is no name a command-line user knows.
+            raise TallyError(
+                f"depth {depth:g} m: the tally has no drill-pipe section (kind = "
+                f'"drill-pipe") to lengthen or shorten to a depth; as listed, its string is '
+                f"{self.length:g} m"
+            )
         i = pipe[0]
         rest = self.length - self.sections[i].count * self.sections[i].length
         need = depth - rest

@@ -113,14 +113,23 @@ def _section(n: int, sec: Any, g: float, rho: float, notes: list[str]) -> Sectio
     _known(sec, where, SECTION_KEYS)
     kind = sec.get("kind", "other")
     if not isinstance(kind, str) or kind not in KINDS:
-        raise _refuse(f"{where}.kind", kind, f"choose one of {', '.join(KINDS)}")
+        raise _refuse(
+            f"{where}.kind",
+            kind,
+            f"choose one of {', '.join(KINDS)}{did_you_mean(kind, KINDS)}",
+        )
     count = sec.get("count", 1)
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
         raise _refuse(f"{where}.count", count, "an integer >= 1 (joints)")
-    od = _get(sec, "od", where, "length", high=MAX_DIAMETER)
+    od = _get(sec, "od", where, "length", high=MAX_DIAMETER, note=_inches_hint("od", sec))
     inner = _get(sec, "id", where, "length", 0.0, zero=True)
     if not inner < od:
-        raise _refuse(f"{where}.id", sec["id"], f"need 0 <= id < od = {_show(sec['od'])}")
+        raise _refuse(
+            f"{where}.id",
+            sec["id"],
+            f"need 0 <= id < od = {_show(sec['od'])}"
+            + _inches_hint("id", sec, WIDEST_BARE_DIAMETER),
+        )
     s = Section(
         kind,
         count,
@@ -176,6 +185,16 @@ def _diameter_note(key: str, value: Any, diameter: float) -> list[str]:
     ]
 
 
+def _inches_hint(key: str, table: dict, wider: float = MAX_DIAMETER) -> str:
+    """What a refusal of a bare diameter wider than ``wider`` m adds: it was read as m, and was
+    most likely inches (od = 5.5 for 5 1/2 in pipe, the commonest size, was refused as "at most
+    5 m" alone, while od = 5 was noted as inches)."""
+    value = table.get(key)
+    if not _bare(value) or not float(value) > wider:
+        return ""
+    return f'; a bare number is m: for inches write {key} = "{str(value).strip()} in"'
+
+
 def parse_tally(text: str, name: str = "tally") -> Tally:
     """A tally from its TOML text. Raises :class:`TallyError` naming the key at fault."""
     try:
@@ -187,7 +206,7 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
     if unknown:
         raise TallyError(
             f"{printable(sorted(unknown)[0])}: unknown{did_you_mean(sorted(unknown)[0], tables)}; "
-            "allowed: [top_drive], [bit], [damping], [steel], [[section]]"
+            "allowed: name, [top_drive], [bit], [damping], [steel], [[section]]"
         )
     steel = _table(doc, "steel", STEEL_KEYS)
     g = _get(steel, "shear_modulus", "steel", "modulus", STEEL_G)
@@ -250,7 +269,9 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
     decay = _number(bit, "stribeck_decay", "bit", 0.9, "a finite number > 0")
     if not decay > 0:
         raise _refuse("bit.stribeck_decay", bit["stribeck_decay"], "a finite number > 0")
-    bit_diameter = _get(bit, "diameter", "bit", "length", high=MAX_DIAMETER)
+    bit_diameter = _get(
+        bit, "diameter", "bit", "length", high=MAX_DIAMETER, note=_inches_hint("diameter", bit)
+    )
     notes.extend(_diameter_note("bit.diameter", bit.get("diameter"), bit_diameter))
     label = doc.get("name", name)
     if not isinstance(label, str):

@@ -20,6 +20,7 @@ LBF = 4.4482216152605  # N
 FT = 0.3048  # m
 INCH = 0.0254  # m
 TONNE_FORCE = 9806.65  # N: 1 t × g_n
+LBM = 0.45359237  # kg: the pound (mass)
 
 # kind -> {unit: factor to SI}
 UNITS: dict[str, dict[str, float]] = {
@@ -36,7 +37,8 @@ UNITS: dict[str, dict[str, float]] = {
         "psi": LBF / INCH**2,
         "Mpsi": 1e6 * LBF / INCH**2,
     },
-    "density": {"kg/m3": 1.0, "kg/m^3": 1.0, "g/cm3": 1e3},
+    # lb/ft3: pounds (mass) per cubic foot, the field unit of a steel's density (490 lb/ft3)
+    "density": {"kg/m3": 1.0, "kg/m^3": 1.0, "g/cm3": 1e3, "lb/ft3": LBM / FT**3},
     "inertia": {"kg·m2": 1.0, "kg·m^2": 1.0},
     "damping": {"N·m·s/rad": 1.0},
     "rate": {"m/s": 1.0, "m/h": 1 / 3600, "m/hr": 1 / 3600, "ft/h": FT / 3600, "ft/hr": FT / 3600},
@@ -85,6 +87,9 @@ _ALIASES = {
 _ALIASES.update({f"n{sep}m{sep}s/rad": "N·m·s/rad" for sep in ("", " ")})
 # ... and of an inertia, as printed ("kg m^2", and kg·m² in the docs and the tallies' comments)
 _ALIASES.update({f"kg{sep}m{p}": "kg·m2" for sep in (" ", "·") for p in ("2", "^2", "²")})
+# ... and of a density, as the docs write steel's (7850 kg/m³; kg·m² was read, kg/m³ refused)
+_ALIASES.update({"kg/m³": "kg/m3", "lbm/ft3": "lb/ft3", "lb/ft^3": "lb/ft3", "pcf": "lb/ft3"})
+_ALIASES.update({"lb/ft³": "lb/ft3", "lbm/ft^3": "lb/ft3", "lbm/ft³": "lb/ft3"})
 # ... and as an atlas's axes write them for CF and netCDF readers (UDUNITS, atlas_schema)
 _ALIASES.update({"n m s rad-1": "N·m·s/rad", "rad s-1": "rad/s", "kg m-3": "kg/m3", "m s-1": "m/s"})
 # ... and of a torque: ft-lb(s), lb(s)-ft, lbf-ft, ft-lbf and their k (1000) forms, written
@@ -117,6 +122,7 @@ _SPELLINGS = {
     },
     "damping": {"N·m·s/rad": "N m s/rad, Nms/rad, N-m-s/rad"},
     "inertia": {"kg·m2": "kg m^2, kg·m²"},
+    "density": {"kg/m3": "kg/m³", "lb/ft3": "lbm/ft3, lb/ft³, pcf"},
 }
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
 

@@ -129,7 +129,7 @@ def test_a_key_or_path_with_control_characters_is_shown_escaped(text, shown, tmp
 @pytest.mark.parametrize(
     ("text", "shown"),
     [
-        ('"x\\u0000" = 1\n', r"'x\x00': unknown; allowed: [top_drive]"),
+        ('"x\\u0000" = 1\n', r"'x\x00': unknown; allowed: name, [top_drive]"),
         ('[bit]\n"y\\u001b" = 1\n', r"bit.'y\x1b': unknown; allowed: diameter"),
     ],
 )

@@ -1,0 +1,176 @@
+"""A drilling engineer's second audit of tallies, `pydrill string` and `pydrill window`.
+
+What a person typing a tally sheet into TOML meets: a bare diameter of the commonest pipe
+(od = 5.5) refused as "at most 5 m" with no word that it was read as metres; a kind typed
+"drill-collars" refused without the near name; a top-level typo answered with an allowed list
+that left out `name`; a tally without drill pipe refused, at a --depth, as "at_depth needs a
+drill-pipe section"; a density written kg/m³ (as the guide writes steel's) or in field units
+(lb/ft3) refused. Expected numbers are computed here from the definitions (1 lb = 0.45359237
+kg, 1 ft = 0.3048 m, I_p = π(OD⁴ − ID⁴)/32, c = sqrt(G/ρ)), not taken from pydrill.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from cli_running import run
+
+from pydrill import units
+from pydrill.tally import Tally, TallyError, parse_tally
+
+INCH, FT, LBM = 0.0254, 0.3048, 0.45359237
+
+
+def tally_text(pipe: str = "", bit: str = 'diameter = "8.5 in"', head: str = "") -> str:
+    """A one-section tally of 5 1/2 in drill pipe; ``pipe`` replaces its od/id lines."""
+    pipe = pipe or 'od = "5.5 in"\nid = "4.778 in"'
+    return (
+        f'{head}[top_drive]\ninertia = "2500 kg·m2"\n[bit]\n{bit}\n'
+        f'[[section]]\nkind = "drill-pipe"\ncount = 300\nlength = "31 ft"\n{pipe}\n'
+    )
+
+
+@pytest.mark.parametrize(
+    ("pipe", "bit", "said"),
+    [
+        ("od = 5.5\nid = 0.1", 'diameter = "8.5 in"', "section[0].od = 5.5 is not allowed"),
+        ('od = "5.5 in"', "diameter = 8.5", "bit.diameter = 8.5 is not allowed"),
+        ('od = "5.5 in"\nid = 4.778', 'diameter = "8.5 in"', "section[0].id = 4.778 is not"),
+    ],
+)
+def test_a_bare_diameter_refused_says_it_was_read_as_metres(pipe, bit, said):
+    """od = 5.5 (5 1/2 in pipe, the commonest) was refused as "at most 5 m" alone, where
+    od = 5 was noted as most likely inches: the refusal now says what to write."""
+    with pytest.raises(TallyError) as info:
+        parse_tally(tally_text(pipe, bit))
+    message = str(info.value)
+    assert message.startswith(said)
+    key, value = said.split(" = ")[0].rsplit(".", 1)[1], said.split(" = ")[1].split()[0]
+    assert f'a bare number is m: for inches write {key} = "{value} in"' in message
+
+
+@pytest.mark.parametrize(
+    ("pipe", "bit"),
+    [
+        ('od = "6 m"', 'diameter = "8.5 in"'),  # with its unit: taken as meant, no hint
+        ("od = -5.5", 'diameter = "8.5 in"'),  # not a diameter in any unit
+        ('od = "5.5 in"\nid = "6 in"', 'diameter = "8.5 in"'),
+    ],
+)
+def test_a_diameter_with_its_unit_or_negative_gets_no_inches_hint(pipe, bit):
+    with pytest.raises(TallyError) as info:
+        parse_tally(tally_text(pipe, bit))
+    assert "for inches" not in str(info.value)
+
+
+def test_a_mistyped_kind_is_answered_with_the_near_one():
+    text = tally_text().replace('"drill-pipe"', '"drill-pipes"')
+    with pytest.raises(TallyError, match=r"\(did you mean 'drill-pipe'\?\)"):
+        parse_tally(text)
+
+
+def test_a_top_level_typo_lists_name_among_the_allowed_keys():
+    with pytest.raises(TallyError) as info:
+        parse_tally(tally_text(head='nmae = "x"\n'))
+    # it suggested 'name' while its allowed list left name out
+    assert "(did you mean 'name'?); allowed: name, [top_drive]" in str(info.value)
+    assert parse_tally(tally_text(head='name = "x"\n')).name == "x"
+
+
+def test_a_depth_for_a_tally_without_drill_pipe_is_refused_in_its_words(tmp_path, capsys):
+    text = tally_text().replace('"drill-pipe"', '"heavy-weight"')
+    with pytest.raises(TallyError) as info:
+        parse_tally(text).at_depth(3000.0)
+    message = str(info.value)
+    assert "at_depth" not in message and 'no drill-pipe section (kind = "drill-pipe")' in message
+    assert f"its string is {300 * 31 * FT:g} m" in message
+    path = tmp_path / "hw.toml"
+    path.write_text(text)
+    code, out, err = run(capsys, "string", path, "--depth", "3000m")
+    assert code == 2 and out == ""
+    assert err.startswith("pydrill string: error: --depth 3000 m: the tally has no drill-pipe")
+
+
+@pytest.mark.parametrize(
+    ("written", "si"),
+    [
+        ("7850 kg/m³", 7850.0),
+        ("490 lb/ft3", 490 * LBM / FT**3),
+        ("490 lbm/ft3", 490 * LBM / FT**3),
+        ("490 lb/ft³", 490 * LBM / FT**3),
+        ("490 pcf", 490 * LBM / FT**3),
+        ("490 LB/FT3", 490 * LBM / FT**3),
+    ],
+)
+def test_a_density_reads_kg_per_cubic_metre_as_written_and_field_units(written, si):
+    assert units.parse(written, "density") == pytest.approx(si, rel=1e-12)
+
+
+def test_a_tally_all_in_field_units_is_the_si_tally():
+    """Every quantity of a tally sheet in oilfield units (ft, in, psi, lb/ft3) builds the
+    string of the same tally in SI, joint by joint (hand-computed conversions)."""
+    field = tally_text().replace('"drill-pipe"', '"drill-pipe"\nshear_modulus = "11.5e6 psi"')
+    field = field.replace("count = 300", 'count = 300\ndensity = "490 lb/ft3"')
+    g, rho = 11.5e6 * LBM * 9.80665 / INCH**2, 490 * LBM / FT**3
+    si = tally_text('od = "0.1397 m"\nid = "0.1213612 m"', 'diameter = "0.2159 m"')
+    si = si.replace('"31 ft"', f'"{31 * FT!r} m"').replace(
+        "count = 300", f'count = 300\nshear_modulus = "{g!r} Pa"\ndensity = "{rho!r} kg/m3"'
+    )
+    a, b = parse_tally(field).to_params(), parse_tally(si).to_params()
+    ip = math.pi * ((5.5 * INCH) ** 4 - (4.778 * INCH) ** 4) / 32
+    assert a.stiffnesses[0] == pytest.approx(g * ip / (31 * FT), rel=1e-12)
+    assert a.inertias[1] == pytest.approx(rho * ip * 31 * FT, rel=1e-12)
+    assert np.allclose(a.stiffnesses, b.stiffnesses, rtol=1e-12)
+    assert np.allclose(a.inertias, b.inertias, rtol=1e-12)
+
+
+def test_the_defaults_the_guide_states():
+    """docs/guide/real-strings.md lists what a key left out takes: kind other, count 1, id 0,
+    no damping at the top drive and bit, beta 0.2 s, the paper's friction law."""
+    t = parse_tally('[top_drive]\ninertia = 2500\n[bit]\ndiameter = "8.5 in"\n'
+                    '[[section]]\nlength = "31 ft"\nod = "8 in"\n')  # fmt: skip
+    (s,) = t.sections
+    assert (s.kind, s.count, s.id) == ("other", 1, 0.0)
+    assert (t.top_damping, t.bit_damping, t.beta) == (0.0, 0.0, 0.2)
+    assert (t.mu_static, t.mu_coulomb, t.stribeck_decay, t.stribeck_velocity) == (
+        0.8, 0.5, 0.9, 1.0
+    )  # fmt: skip
+    for key in ("inertia = 2500\n", 'diameter = "8.5 in"\n', 'length = "31 ft"\n'):
+        with pytest.raises(TallyError, match="missing"):
+            parse_tally(t_text_without(key))
+
+
+def t_text_without(line: str) -> str:
+    text = '[top_drive]\ninertia = 2500\n[bit]\ndiameter = "8.5 in"\n[[section]]\n'
+    return (text + 'length = "31 ft"\nod = "8 in"\n').replace(line, "", 1)
+
+
+def lowest_frequency(tally: Tally, dof: int | None = None) -> float:
+    """The lowest non-zero natural frequency, Hz, of the undamped chain."""
+    p = tally.to_params(dof=dof)
+    j, k = np.array(p.inertias), np.array(p.stiffnesses)
+    n = len(j)
+    stiff = np.zeros((n, n))
+    for i, ki in enumerate(k):
+        stiff[i : i + 2, i : i + 2] += ki * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    scaled = stiff / np.sqrt(np.outer(j, j))
+    w = np.sqrt(np.clip(np.linalg.eigvalsh(scaled), 0.0, None))
+    return float(w[w > 1e-6][0] / (2 * math.pi))
+
+
+def test_a_uniform_5km_string_rings_as_a_fixed_free_rod():
+    """530 joints of 5 1/2 in pipe under a top drive heavy enough to hold its top still: the
+    chain's lowest frequency is the rod's c/(4L), c = sqrt(G/ρ), and its reductions converge
+    to it like 1/N² (the guide's table)."""
+    t = parse_tally(
+        '[top_drive]\ninertia = "1e12 kg·m2"\n[bit]\ndiameter = "8.5 in"\n[damping]\nbeta = 0\n'
+        '[[section]]\nkind = "drill-pipe"\ncount = 530\nlength = "31 ft"\nod = "5.5 in"\n'
+        'id = "4.778 in"\n'
+    )
+    length = 530 * 31 * FT
+    assert t.length == pytest.approx(length, rel=1e-12)
+    rod = math.sqrt(79.3e9 / 7850.0) / (4 * length)
+    assert lowest_frequency(t) == pytest.approx(rod, rel=2e-3)
+    errors = [abs(lowest_frequency(t, dof) / rod - 1) for dof in (4, 8, 20)]
+    assert errors[0] < 0.015 and errors[1] < 0.004 and errors[2] < 0.002
+    assert errors[0] > errors[1] > errors[2]
