@@ -185,6 +185,21 @@ def _diameter_note(key: str, value: Any, diameter: float) -> list[str]:
     ]
 
 
+def _bit_note(sections: list[Section]) -> list[str]:
+    """A note on a bit listed above other sections: a BHA sheet is often written from the bit
+    up, and a tally listed so built the string upside down (the bit next to the top drive,
+    the drill pipe at the bottom) without a word. Read as written: a note, not a refusal."""
+    bits = [n for n, s in enumerate(sections) if s.kind == "bit"]
+    if not bits or bits[0] == len(sections) - 1:
+        return []
+    n = bits[0]
+    return [
+        f"section[{n}] is the bit, with {len(sections) - 1 - n} section(s) listed below it: "
+        "a tally lists the string top down, from the top drive to the bit (the last section); "
+        "read as written"
+    ]
+
+
 def _inches_hint(key: str, table: dict, wider: float = MAX_DIAMETER) -> str:
     """What a refusal of a bare diameter wider than ``wider`` m adds: it was read as m, and was
     most likely inches (od = 5.5 for 5 1/2 in pipe, the commonest size, was refused as "at most
@@ -252,6 +267,7 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
         sections.append(s)
     if not sections:
         raise TallyError("section: the tally lists no sections ([[section]] tables)")
+    notes.extend(_bit_note(sections))
     mu_coulomb = _number(bit, "mu_coulomb", "bit", 0.5, "a finite number > 0")
     if not mu_coulomb > 0:
         raise _refuse("bit.mu_coulomb", bit["mu_coulomb"], "need 0 < mu_coulomb < mu_static")

@@ -174,3 +174,25 @@ def test_a_uniform_5km_string_rings_as_a_fixed_free_rod():
     errors = [abs(lowest_frequency(t, dof) / rod - 1) for dof in (4, 8, 20)]
     assert errors[0] < 0.015 and errors[1] < 0.004 and errors[2] < 0.002
     assert errors[0] > errors[1] > errors[2]
+
+
+def test_a_tally_listed_from_the_bit_up_is_said(tmp_path, capsys):
+    """A BHA sheet is often written from the bit up: such a tally built the string upside
+    down (the bit's joint next to the top drive) without a word. It is read as written, and
+    every command says so; a tally listed top down says nothing."""
+    collars = '[[section]]\nkind = "drill-collar"\ncount = 9\nlength = "31 ft"\nod = "8 in"\n'
+    bit = '[[section]]\nkind = "bit"\nlength = "1 ft"\nod = "8.5 in"\n'
+    top_down = tally_text() + collars + bit
+    head, rest = top_down.split("[[section]]", 1)
+    pipe, collars_, bit_ = ("[[section]]" + x for x in rest.split("[[section]]"))
+    bit_up = head + bit_ + collars_ + pipe
+    assert parse_tally(top_down).notes == ()
+    (note,) = parse_tally(bit_up).notes
+    assert note.startswith("section[0] is the bit, with 2 section(s) listed below it")
+    kinds = [s.kind for s in parse_tally(bit_up).sections]
+    assert kinds == ["bit", "drill-collar", "drill-pipe"]  # read as written, not reordered
+    path = tmp_path / "bit-up.toml"
+    path.write_text(bit_up)
+    code, _, err = run(capsys, "window", path, "--depth", "3000m", "--at-rpm", "60")
+    assert code == 0
+    assert f"pydrill: note: {path}: section[0] is the bit" in err
