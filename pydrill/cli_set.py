@@ -83,12 +83,24 @@ def _set_refused(exc: ValueError, sets: dict[str, float]) -> ValueError:
 
 
 def friction_notes(label: str, values: dict[str, float], verb: str = "=") -> list[str]:
-    """A note on each friction coefficient of ``values`` (mu_static, mu_coulomb; others are
-    passed over) above ``cli_options.MOST_FRICTION``, most likely mistyped, in the words of
-    ``label`` (the option or key, "--set " or "axes."): ``--set mu_static = 8: ...``."""
+    """A note on each friction coefficient of ``values`` (mu_static, mu_coulomb) above
+    ``cli_options.MOST_FRICTION``, and on a bit_radius wider than any bit, most likely mistyped,
+    in the words of ``label`` (the option or key, "--set " or "axes."): ``--set mu_static = 8:
+    ...``; other names are passed over."""
     from .cli_options import MOST_FRICTION
+    from .tally import WIDEST_BARE_DIAMETER
 
     notes = []
+    # --set bit_radius=8.5 (8.5 in meant; a bare number is m) built a bit 17 m across without
+    # a word, where the tally refuses a bit diameter beyond 5 m and notes one beyond 1 m.
+    radius = values.get("bit_radius")
+    if radius is not None and radius > WIDEST_BARE_DIAMETER / 2:
+        inches = f"bit_radius={radius:g}in" if label.startswith("--") else f'"{radius:g} in"'
+        notes.append(
+            f"{label}bit_radius {verb} {radius:g} m: a bit {2 * radius:g} m across, wider than "
+            f"any bit (at most some {WIDEST_BARE_DIAMETER:g} m); a bare number is m: for "
+            f"inches write {inches}"
+        )
     for name in ("mu_static", "mu_coulomb"):
         value = values.get(name)
         if value is None or not value > MOST_FRICTION:

@@ -10,6 +10,7 @@ kg, 1 ft = 0.3048 m, I_p = π(OD⁴ − ID⁴)/32, c = sqrt(G/ρ)), not taken fr
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from pydrill import units
 from pydrill.tally import Tally, TallyError, parse_tally
 
 INCH, FT, LBM = 0.0254, 0.3048, 0.45359237
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def tally_text(pipe: str = "", bit: str = 'diameter = "8.5 in"', head: str = "") -> str:
@@ -196,3 +198,23 @@ def test_a_tally_listed_from_the_bit_up_is_said(tmp_path, capsys):
     code, _, err = run(capsys, "window", path, "--depth", "3000m", "--at-rpm", "60")
     assert code == 0
     assert f"pydrill: note: {path}: section[0] is the bit" in err
+
+
+@pytest.mark.parametrize("command", ["string", "window", "stability"])
+def test_a_bit_radius_wider_than_any_bit_is_said(command, capsys):
+    """--set bit_radius=8.5 (8.5 in meant; a bare number is m) built a bit 17 m across without
+    a word, where a tally refuses a bit diameter beyond 5 m. Said; the command goes on."""
+    tally = ROOT / "examples" / "tallies" / "paper-eq53.toml"
+    args = {
+        "string": ["string", tally, "--dof", "2"],
+        "window": ["window", tally, "--depth", "3000m", "--at-rpm", "60"],
+        "stability": ["stability", "--tally", tally, "--dof", "4", "--wob", "60kN",
+                      "--omega", "60rpm"],
+    }[command]  # fmt: skip
+    code, out, err = run(capsys, *args, "--set", "bit_radius=8.5")
+    assert code == 0 and "bit_radius = 8.5 m" in out
+    assert "pydrill: note: --set bit_radius = 8.5 m: a bit 17 m across" in err
+    assert "for inches write bit_radius=8.5in" in err
+    # a real bit's radius (6 in, 0.1524 m) is no note
+    code, _, err = run(capsys, *args, "--set", "bit_radius=6in")
+    assert code == 0 and "bit_radius" not in err
