@@ -278,4 +278,9 @@ def parse_depths(text: str) -> list[float]:
     bad = [d for d in out if not d > 0]
     if bad:
         raise ValueError(f"--depth: depths must be > 0 m, got {bad[0]:g}")
+    # A depth twice ("1000m,1000m", or a range from a depth to itself) printed its rows twice
+    # and drew the chart against depth over a span of 0 m: empty, with matplotlib's warning.
+    twice = next((d for n, d in enumerate(out) if d in out[:n]), None)
+    if twice is not None:
+        raise ValueError(f"--depth: {twice:g} m is given more than once; give each depth once")
     return out

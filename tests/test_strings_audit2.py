@@ -218,3 +218,17 @@ def test_a_bit_radius_wider_than_any_bit_is_said(command, capsys):
     # a real bit's radius (6 in, 0.1524 m) is no note
     code, _, err = run(capsys, *args, "--set", "bit_radius=6in")
     assert code == 0 and "bit_radius" not in err
+
+
+@pytest.mark.parametrize("depth", ["1000m,1000m", "1000m:1000m:3", "1000m,3000m,3km"])
+def test_a_depth_given_twice_is_refused(depth, tmp_path, capsys):
+    """A depth twice printed its rows twice and drew the chart against depth over a span of
+    0 m (empty, and matplotlib's 'identical low and high ylims' warning on stderr)."""
+    tally = ROOT / "examples" / "tallies" / "paper-eq53.toml"
+    plot = tmp_path / "w.png"
+    code, out, err = run(capsys, "window", tally, "--depth", depth, "--plot", plot)
+    assert code == 2 and out == "" and not plot.exists()
+    twice = "3000" if "3km" in depth else "1000"
+    assert err.strip().endswith(f"--depth: {twice} m is given more than once; give each depth once")
+    code, out, _ = run(capsys, "window", tally, "--depth", "1000m,3000m", "--at-rpm", "60")
+    assert code == 0 and "\n    1000   3281" in out and "\n    3000   9843" in out
