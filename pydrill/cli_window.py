@@ -202,7 +202,9 @@ def _cmd_window(args: argparse.Namespace) -> int:
                 args.wob_max,
                 args.rpm_max,
                 [c[:3] for c in checks.get(depths[0], [])],
-                args.check_from,
+                # the legend says which model the checks simulated, if not the drawn one
+                args.check_from
+                + ("" if args.check_dof is None else f", {args.check_dof} inertias"),
                 float(dw.length[0]),
             )
         else:  # the checks' points are off these curves: the figure says how they came out

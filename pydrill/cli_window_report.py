@@ -33,6 +33,9 @@ def window_json(tally, dw, grid, checks, args) -> dict:
         "at_wob": dw.wob.tolist(),
         "check": args.check,
         "check_from": args.check_from if checks else None,
+        # the inertias of the string the checks simulated (null: each depth's full string,
+        # its dof): their verdicts are that model's, not the tables'
+        "check_dof": args.check_dof if checks else None,
     }
     results = {
         "wob": wob.tolist(),
@@ -126,6 +129,23 @@ def check_agreement(every: list, check_from: str) -> str:
 NOTE_DEPTHS = 8
 
 
+def reduced_checks(args) -> str:
+    """What says that the checks simulated the string reduced by --check-dof ("" without it):
+    the tables, the chart's edges and the title's inertias are the full string's, and nothing
+    said that the checks' verdicts were another model's."""
+    if args.check_dof is None:
+        return ""
+    return (
+        f"checks simulated on the string reduced to {args.check_dof} inertias "
+        f"(--check-dof {args.check_dof}); the window itself is the full string's"
+    )
+
+
+def _sentence(text: str) -> str:
+    """``text`` as a sentence after another ("" stays "")."""
+    return f" {text[0].upper()}{text[1:]}." if text else ""
+
+
 def checks_note(checks: dict, args) -> str | None:
     """The depth chart's footnote on ``window --check`` (None without checks). The checks'
     points lie on each depth's own (W_ob, rpm) grid, off the chart's curves (which are at
@@ -148,7 +168,7 @@ def checks_note(checks: dict, args) -> str | None:
     k = args.check
     text = f"checks ({k} x {k} simulations per depth from {args.check_from}): " + "; ".join(parts)
     return (
-        textwrap.fill(text + ".", width=190)
+        textwrap.fill(text + "." + _sentence(reduced_checks(args)), width=190)
         + "\nTheir points are on each depth's own window: plot one depth (--depth "
         + f"{next(iter(checks)):.0f}m) to see them."
     )
@@ -197,6 +217,8 @@ def print_window(tally, dw, checks, args) -> None:
         text = textwrap.fill("strings of whole joints: " + ", ".join(no_break), 120)
         print(text.replace("\0", " "))
     failures = []
+    if checks and args.check_dof is not None:  # before the lines it is about
+        print(reduced_checks(args))
     for d, every in checks.items():
         counts: dict[str, int] = {}
         for _, _, g, *_ in every:

@@ -9,6 +9,7 @@ drill-pipe section"; a density written kg/m³ (as the guide writes steel's) or i
 kg, 1 ft = 0.3048 m, I_p = π(OD⁴ − ID⁴)/32, c = sqrt(G/ρ)), not taken from pydrill.
 """
 
+import json
 import math
 from pathlib import Path
 
@@ -232,3 +233,44 @@ def test_a_depth_given_twice_is_refused(depth, tmp_path, capsys):
     assert err.strip().endswith(f"--depth: {twice} m is given more than once; give each depth once")
     code, out, _ = run(capsys, "window", tally, "--depth", "1000m,3000m", "--at-rpm", "60")
     assert code == 0 and "\n    1000   3281" in out and "\n    3000   9843" in out
+
+
+def _saved_figure(monkeypatch, capsys, argv, tmp_path):
+    """The figure ``pydrill ARGV --plot`` saves, kept."""
+    import pydrill.plot
+
+    figures, save = [], pydrill.plot.save
+    monkeypatch.setattr(
+        pydrill.plot, "save", lambda fig, path: figures.append(fig) or save(fig, path)
+    )
+    code, out, err = run(capsys, *argv, "--plot", tmp_path / "w.png")
+    assert code == 0, err
+    (fig,) = figures
+    return fig, out
+
+
+def test_checks_on_a_reduced_string_say_so(monkeypatch, capsys, tmp_path):
+    """window --check --check-dof 4 simulated a 4-inertia string and judged it by that string's
+    edges, while the tables, the chart and its title ('lumped model 334 inertias') are the full
+    string's: nothing said the checks were another model's, not even the JSON."""
+    paper = ROOT / "examples" / "tallies" / "paper-eq53.toml"
+    one = ["window", paper, "--depth", "3000m", "--at-rpm", "60", "--check", "2"]
+    fig, out = _saved_figure(monkeypatch, capsys, [*one, "--check-dof", "4"], tmp_path)
+    said = "checks simulated on the string reduced to 4 inertias (--check-dof 4)"
+    assert said + "; the window itself is the full string's" in out.splitlines()
+    labels = fig.axes[0].get_legend_handles_labels()[1]
+    assert any(s.startswith("simulated from equilibrium, 4 inertias: ") for s in labels)
+    assert "lumped model 334 inertias" in fig.axes[0].get_title()  # the drawn string's
+    code, out, _ = run(capsys, *one, "--check-dof", "4", "--json")
+    assert code == 0 and json.loads(out)["check_dof"] == 4
+    # the full string checked: nothing to say, and the JSON's check_dof is null
+    fig, out = _saved_figure(monkeypatch, capsys, one, tmp_path)
+    assert "reduced to" not in out
+    labels = fig.axes[0].get_legend_handles_labels()[1]
+    assert not any("inertias" in s for s in labels)
+    assert json.loads(run(capsys, *one, "--json")[1])["check_dof"] is None
+    # the chart against depth says it in its footnote
+    two = ["window", paper, "--depth", "1000m,3000m", "--at-rpm", "60", "--check", "2"]
+    fig, _ = _saved_figure(monkeypatch, capsys, [*two, "--check-dof", "4"], tmp_path)
+    note = " ".join(fig._supxlabel.get_text().split())
+    assert "Checks simulated on the string reduced to 4 inertias (--check-dof 4)" in note
