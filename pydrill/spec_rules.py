@@ -246,8 +246,12 @@ class TextTooLong(ValueError):
 
 def read_text(path: Path) -> str:
     """``path.read_text()``, but at most ``MAX_TEXT`` characters: :class:`TextTooLong`
-    beyond (and OSError, UnicodeDecodeError as read_text)."""
-    with path.open() as file:
+    beyond (and OSError, UnicodeDecodeError as read_text).
+
+    TOML is UTF-8 whatever the locale: read in the locale's encoding, a tally's "kg·m2" was
+    "not UTF-8 text" under an ASCII locale and mojibake under Windows' cp1252. A byte-order
+    mark, as Windows editors write one, is passed over (tomllib refused it at line 1)."""
+    with path.open(encoding="utf-8-sig") as file:
         text = file.read(MAX_TEXT + 1)
     if len(text) > MAX_TEXT:
         raise TextTooLong()

@@ -274,3 +274,56 @@ def test_checks_on_a_reduced_string_say_so(monkeypatch, capsys, tmp_path):
     fig, _ = _saved_figure(monkeypatch, capsys, [*two, "--check-dof", "4"], tmp_path)
     note = " ".join(fig._supxlabel.get_text().split())
     assert "Checks simulated on the string reduced to 4 inertias (--check-dof 4)" in note
+
+
+MY_WELL = """name = "my-well"
+[top_drive]
+inertia = "2500 kg·m2"
+[bit]
+diameter = "8.5 in"
+[[section]]
+kind = "drill-pipe"
+count = 300
+length = "31 ft"
+od = "5.5 in"
+id = "4.778 in"
+[[section]]
+kind = "drill-collar"
+count = 20
+length = "31 ft"
+od = "8 in"
+id = "2.8125 in"
+"""
+
+
+def test_a_tally_is_utf8_whatever_the_locale(tmp_path):
+    """A tally was read in the locale's encoding: the guide's own "2500 kg·m2" was "not UTF-8
+    text" under an ASCII locale (and mojibake, an unknown unit, under a Latin-1 one)."""
+    import os
+    import subprocess
+    import sys
+
+    path = tmp_path / "my-well.toml"
+    path.write_text(MY_WELL, encoding="utf-8")
+    # a locale not installed leaves Python's locale encoding ASCII; one installed, Latin-1
+    env = {**os.environ, "LC_ALL": "en_US.ISO-8859-1", "PYTHONUTF8": "0"}
+    env.pop("PYTHONIOENCODING", None)
+    done = subprocess.run(
+        [sys.executable, "-m", "pydrill", "string", str(path), "--dof", "2"],
+        capture_output=True, text=True, encoding="utf-8", errors="replace", env=env,
+        cwd=tmp_path, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith(f"my-well: {320 * 31 * FT:.1f} m ({20 * 31 * FT:.1f} m BHA)")
+
+
+def test_a_tally_saved_with_a_byte_order_mark_is_read(tmp_path):
+    """Windows editors may begin a UTF-8 file with a byte-order mark: tomllib refused it as
+    'Invalid statement (at line 1, column 1)'."""
+    from pydrill import load_tally
+
+    plain, marked = tmp_path / "plain.toml", tmp_path / "marked.toml"
+    plain.write_text(MY_WELL, encoding="utf-8")
+    marked.write_bytes(b"\xef\xbb\xbf" + MY_WELL.encode("utf-8"))
+    assert load_tally(marked) == load_tally(plain)
+    assert load_tally(marked).name == "my-well" and load_tally(marked).top_inertia == 2500.0
