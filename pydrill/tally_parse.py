@@ -290,8 +290,14 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
     )
     notes.extend(_diameter_note("bit.diameter", bit.get("diameter"), bit_diameter))
     label = doc.get("name", name)
-    if not isinstance(label, str):
-        raise _refuse("name", label, "a string (the string's name)")
+    # Every output line and figure title begins with the name: an empty one printed
+    # ": 3023.6 m ...", and a newline or an escape sequence reached the terminal as it was.
+    if not isinstance(label, str) or (
+        "name" in doc and not (label.strip() and label.isprintable())
+    ):
+        raise _refuse(
+            "name", label, "a string of printable characters, not empty (the string's name)"
+        )
     tally = Tally(
         sections=tuple(sections),
         top_inertia=_get(

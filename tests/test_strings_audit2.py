@@ -327,3 +327,23 @@ def test_a_tally_saved_with_a_byte_order_mark_is_read(tmp_path):
     marked.write_bytes(b"\xef\xbb\xbf" + MY_WELL.encode("utf-8"))
     assert load_tally(marked) == load_tally(plain)
     assert load_tally(marked).name == "my-well" and load_tally(marked).top_inertia == 2500.0
+
+
+@pytest.mark.parametrize("name", ["", "  ", "a\\nb", "x\\u001b[2J"])
+def test_a_tally_name_that_cannot_head_a_line_is_refused(name, tmp_path, capsys):
+    """Every output line and figure title begins with the tally's name: an empty one printed
+    ': 3023.6 m ...', and a newline or an escape sequence (clearing the screen) reached the
+    terminal as it was."""
+    path = tmp_path / "t.toml"
+    path.write_text(MY_WELL.replace('name = "my-well"', f'name = "{name}"'), encoding="utf-8")
+    code, out, err = run(capsys, "string", path, "--dof", "2")
+    assert code == 2 and out == ""
+    assert "name = " in err and "a string of printable characters, not empty" in err
+    assert "\x1b" not in err and err.count("\n") == 1
+
+
+def test_a_printable_tally_name_is_kept(tmp_path, capsys):
+    path = tmp_path / "t.toml"
+    path.write_text(MY_WELL.replace('"my-well"', '"Bohrung Süd-3 (8½ in)"'), encoding="utf-8")
+    code, out, _ = run(capsys, "string", path, "--dof", "2")
+    assert code == 0 and out.startswith("Bohrung Süd-3 (8½ in): ")
