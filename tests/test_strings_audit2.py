@@ -347,3 +347,13 @@ def test_a_printable_tally_name_is_kept(tmp_path, capsys):
     path.write_text(MY_WELL.replace('"my-well"', '"Bohrung Süd-3 (8½ in)"'), encoding="utf-8")
     code, out, _ = run(capsys, "string", path, "--dof", "2")
     assert code == 0 and out.startswith("Bohrung Süd-3 (8½ in): ")
+
+
+def test_string_help_lists_the_density_units_a_tally_reads(capsys):
+    """The help's list of a tally's units is what units.parse reads for a density."""
+    code, out, _ = run(capsys, "string", "-h")
+    assert code == 0
+    listed = " ".join(out.split()).split("Pa, GPa, psi; ")[1].split(". Output")[0].split(", ")
+    assert listed == ["kg/m3", "lb/ft3"]
+    for unit in listed:
+        assert units.parse(f"1 {unit}", "density") > 0
