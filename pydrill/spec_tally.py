@@ -88,6 +88,12 @@ def _fixed_depth(value: Any, tally_text: str | None, axes_doc: dict[str, Any]) -
         )
     if "depth" in axes_doc:
         raise _fail("model.depth", "depth is also an axis: give it in one place only")
+    if isinstance(value, list):  # the guide's "(or an axis: depth = [...])" read as here
+        raise _fail(
+            "model.depth",
+            f"{value!r} is not allowed: one depth, held for the whole sweep; for several, make "
+            "depth an axis: [axes] depth = [...]",
+        )
     depth = in_si("model.depth", "depth", value)
     if not _is_number(depth) or not 0 < depth < math.inf:
         raise _fail("model.depth", f"{value!r} is not allowed: a depth > 0 (m, or '3000 ft')")

@@ -1,0 +1,37 @@
+"""A drilling engineer's audit of tallies (continued from tests/test_strings_audit2.py): a
+sweep's spec naming a tally."""
+
+from pathlib import Path
+
+import pytest
+
+from pydrill.spec import SpecError, parse_spec
+
+PAPER = Path(__file__).resolve().parents[1] / "examples" / "tallies" / "paper-eq53.toml"
+SPEC = """[model]
+tally = "{tally}"
+dof = 8
+depth = {depth}
+[axes]
+wob = {{ start = "20 kN", stop = "120 kN", num = 3 }}
+torque = {{ start = "4 kN·m", stop = "14 kN·m", num = 3 }}
+[simulation]
+t_end = 20.0
+"""
+
+
+def test_several_model_depths_are_pointed_to_the_depth_axis(tmp_path):
+    """The guide's spec says 'depth = "3000 m"  # ... (or an axis: depth = [...])': a list
+    there was refused as 'a depth > 0 (m, or '3000 ft')', which a list of depths > 0 is."""
+    text = SPEC.format(tally=PAPER, depth='["1000 m", "3000 m"]')
+    with pytest.raises(SpecError) as info:
+        parse_spec(text, base=tmp_path)
+    assert str(info.value).startswith("model.depth: ['1000 m', '3000 m'] is not allowed")
+    assert "for several, make depth an axis: [axes] depth = [...]" in str(info.value)
+    # as an axis, the same depths are taken
+    axis = text.replace('depth = ["1000 m", "3000 m"]\n', "").replace(
+        "[axes]\n", '[axes]\ndepth = ["1000 m", "3000 m"]\n'
+    )
+    spec = parse_spec(axis, base=tmp_path)
+    assert list(spec.axes["depth"]) == [1000.0, 3000.0]
+    assert parse_spec(SPEC.format(tally=PAPER, depth='"3000 m"'), base=tmp_path) is not None
