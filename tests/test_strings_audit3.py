@@ -35,3 +35,20 @@ def test_several_model_depths_are_pointed_to_the_depth_axis(tmp_path):
     spec = parse_spec(axis, base=tmp_path)
     assert list(spec.axes["depth"]) == [1000.0, 3000.0]
     assert parse_spec(SPEC.format(tally=PAPER, depth='"3000 m"'), base=tmp_path) is not None
+
+
+def test_window_json_is_si_but_its_speeds_in_rpm(capsys):
+    """README and the guide said window --json gives every number in SI: its speeds are rpm,
+    as on the chart (its units table said so). Every unit it names is SI or rpm."""
+    import json
+
+    from cli_running import run
+
+    code, out, _ = run(capsys, "window", PAPER, "--depth", "3000m", "--check", "1", "--json")
+    assert code == 0
+    named = json.loads(out)["units"]
+    speeds = {k for k, v in named.items() if v == "rpm"}
+    assert speeds == {
+        "at_rpm", "rpm", "min_rpm", "rpm_min", "rpm_min_stable", "rpm_min_unstuck", "bit_rpm"
+    }  # fmt: skip
+    assert {v for k, v in named.items() if k not in speeds} <= {"m", "N", "N·m·s/rad", "N·m"}
