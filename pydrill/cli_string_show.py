@@ -30,8 +30,8 @@ def register_string(sub, tally_help: str) -> None:
         "  pydrill string examples/tallies/paper-eq53.toml --set bit_radius=6in\n"
         "  pydrill string --preset reduced-scale --dof 4\n\n"
         "units in the tally: m, ft, in (a bare length is m: one longer than any joint of pipe,\n"
-        "15 m, is noted, as a string longer than any well); Pa, GPa, psi; kg/m3, lb/ft3.\n"
-        "Output is SI.",
+        "15 m, is noted, as a string longer than any well); Pa, GPa, psi; kg/m3, lb/ft3;\n"
+        "kg·m2, lb·ft2. Output is SI.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     string.add_argument("tally", metavar="TALLY.toml", nargs="?", help=tally_help)

@@ -39,7 +39,8 @@ UNITS: dict[str, dict[str, float]] = {
     },
     # lb/ft3: pounds (mass) per cubic foot, the field unit of a steel's density (490 lb/ft3)
     "density": {"kg/m3": 1.0, "kg/m^3": 1.0, "g/cm3": 1e3, "lb/ft3": LBM / FT**3},
-    "inertia": {"kg·m2": 1.0, "kg·m^2": 1.0},
+    # lb·ft2: pound (mass) square feet, the WR² of a US top drive's or rotary table's sheet
+    "inertia": {"kg·m2": 1.0, "kg·m^2": 1.0, "lb·ft2": LBM * FT**2},
     "damping": {"N·m·s/rad": 1.0},
     "rate": {"m/s": 1.0, "m/h": 1 / 3600, "m/hr": 1 / 3600, "ft/h": FT / 3600, "ft/hr": FT / 3600},
 }
@@ -90,6 +91,15 @@ _ALIASES.update({f"kg{sep}m{p}": "kg·m2" for sep in (" ", "·") for p in ("2", 
 # ... and of a density, as the docs write steel's (7850 kg/m³; kg·m² was read, kg/m³ refused)
 _ALIASES.update({"kg/m³": "kg/m3", "lbm/ft3": "lb/ft3", "lb/ft^3": "lb/ft3", "pcf": "lb/ft3"})
 _ALIASES.update({"lb/ft³": "lb/ft3", "lbm/ft^3": "lb/ft3", "lbm/ft³": "lb/ft3"})
+# ... and of a field inertia, lb·ft² (lb-ft2, lbm·ft^2, ...): "-", "." and "*" are read as "·"
+_ALIASES.update(
+    {
+        f"{lb}{sep}ft{p}": "lb·ft2"
+        for lb in ("lb", "lbm")
+        for sep in ("", " ", "·")
+        for p in ("2", "^2", "²")
+    }
+)
 # ... and as an atlas's axes write them for CF and netCDF readers (UDUNITS, atlas_schema)
 _ALIASES.update({"n m s rad-1": "N·m·s/rad", "rad s-1": "rad/s", "kg m-3": "kg/m3", "m s-1": "m/s"})
 # ... and of a torque: ft-lb(s), lb(s)-ft, lbf-ft, ft-lbf and their k (1000) forms, written
@@ -121,7 +131,7 @@ _SPELLINGS = {
         "kft·lbf": "kft-lb, kft-lbs, klb-ft",
     },
     "damping": {"N·m·s/rad": "N m s/rad, Nms/rad, N-m-s/rad"},
-    "inertia": {"kg·m2": "kg m^2, kg·m²"},
+    "inertia": {"kg·m2": "kg m^2, kg·m²", "lb·ft2": "lb-ft2, lbm·ft², lb ft^2"},
     "density": {"kg/m3": "kg/m³", "lb/ft3": "lbm/ft3, lb/ft³, pcf"},
 }
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")

@@ -353,7 +353,8 @@ def test_string_help_lists_the_density_units_a_tally_reads(capsys):
     """The help's list of a tally's units is what units.parse reads for a density."""
     code, out, _ = run(capsys, "string", "-h")
     assert code == 0
-    listed = " ".join(out.split()).split("Pa, GPa, psi; ")[1].split(". Output")[0].split(", ")
-    assert listed == ["kg/m3", "lb/ft3"]
-    for unit in listed:
-        assert units.parse(f"1 {unit}", "density") > 0
+    listed = " ".join(out.split()).split("Pa, GPa, psi; ")[1].split(". Output")[0].split("; ")
+    assert [part.split(", ") for part in listed] == [["kg/m3", "lb/ft3"], ["kg·m2", "lb·ft2"]]
+    for kind, part in zip(("density", "inertia"), listed, strict=True):
+        for unit in part.split(", "):
+            assert units.parse(f"1 {unit}", kind) > 0

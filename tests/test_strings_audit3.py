@@ -52,3 +52,20 @@ def test_window_json_is_si_but_its_speeds_in_rpm(capsys):
         "at_rpm", "rpm", "min_rpm", "rpm_min", "rpm_min_stable", "rpm_min_unstuck", "bit_rpm"
     }  # fmt: skip
     assert {v for k, v in named.items() if k not in speeds} <= {"m", "N", "N·m·s/rad", "N·m"}
+
+
+@pytest.mark.parametrize(
+    "written", ["59300 lb·ft2", "59300 lb-ft2", "59300 lbm·ft²", "59300 lb ft^2", "59300 LB-FT2"]
+)
+def test_a_top_drive_inertia_in_field_units(written, tmp_path):
+    """A US top drive's sheet gives its inertia as WR², lb·ft²: the tally took kg·m² only,
+    where it reads every other quantity in field units. 1 lb·ft² = 0.45359237 × 0.3048² kg·m²."""
+    from pydrill.tally import parse_tally
+    from pydrill.units import parse
+
+    text = PAPER.read_text(encoding="utf-8").replace("inertia = 2122.0 ", f'inertia = "{written}" ')
+    assert f'inertia = "{written}"' in text
+    assert parse_tally(text).top_inertia == pytest.approx(59300 * 0.45359237 * 0.3048**2)
+    assert parse(written, "inertia") == pytest.approx(2498.9085, rel=1e-7)
+    with pytest.raises(ValueError, match="is not a torque unit"):
+        parse(written, "torque")  # lb-ft is a torque; lb-ft2 is not
