@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import sys
 import tomllib
 from dataclasses import replace
@@ -185,6 +186,21 @@ def _diameter_note(key: str, value: Any, diameter: float) -> list[str]:
     ]
 
 
+def _in_seconds(table: dict, key: str) -> dict:
+    """``table`` with ``key``'s "0.2 s" (or "200 ms") as its number of seconds: a tally takes
+    every quantity with its unit, and beta = "0.2 s" was refused as "not a finite number of
+    seconds". Anything else as it is, for _number to judge."""
+    value = table.get(key)
+    match = re.fullmatch(r"\s*(.+?)\s*(s|sec|ms)\s*", value) if isinstance(value, str) else None
+    if match is None:
+        return table
+    try:
+        seconds = float(match.group(1)) * (1e-3 if match.group(2) == "ms" else 1.0)
+    except ValueError:
+        return table
+    return {**table, key: seconds} if math.isfinite(seconds) else table  # refused as written
+
+
 def _bit_note(sections: list[Section]) -> list[str]:
     """A note on a bit listed above other sections: a BHA sheet is often written from the bit
     up, and a tally listed so built the string upside down (the bit next to the top drive,
@@ -234,11 +250,10 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
         raise _refuse(
             "damping.model", model, "only 'stiffness-proportional' (c = beta * k) is offered"
         )
-    beta = _number(damp, "beta", "damping", 0.2, "a finite number of seconds >= 0 (c = beta * k)")
+    allowed = "a finite number of seconds >= 0 (c = beta * k; '0.2 s' or 0.2)"
+    beta = _number(_in_seconds(damp, "beta"), "beta", "damping", 0.2, allowed)
     if not beta >= 0:
-        raise _refuse(
-            "damping.beta", damp["beta"], "a finite number of seconds >= 0 (c = beta * k)"
-        )
+        raise _refuse("damping.beta", damp["beta"], allowed)
     listed = doc.get("section", [])
     if isinstance(listed, dict):
         raise TallyError(

@@ -69,3 +69,31 @@ def test_a_top_drive_inertia_in_field_units(written, tmp_path):
     assert parse(written, "inertia") == pytest.approx(2498.9085, rel=1e-7)
     with pytest.raises(ValueError, match="is not a torque unit"):
         parse(written, "torque")  # lb-ft is a torque; lb-ft2 is not
+
+
+@pytest.mark.parametrize(
+    ("written", "seconds"),
+    [('"0.2 s"', 0.2), ('"0.35s"', 0.35), ('"200 ms"', 0.2), ("0.2", 0.2), ('"0.2"', 0.2)],
+)
+def test_beta_takes_its_unit_as_every_quantity_of_a_tally_does(written, seconds):
+    """beta = "0.2 s" was refused as 'not allowed: a finite number of seconds'; the element
+    dampings are beta times the stiffnesses (c = beta * k), checked here against that."""
+    from pydrill.tally import parse_tally
+
+    text = PAPER.read_text(encoding="utf-8").replace("beta = 0.2 ", f"beta = {written} ")
+    assert f"beta = {written}" in text
+    tally = parse_tally(text)
+    assert tally.beta == pytest.approx(seconds, rel=1e-12)
+    p = tally.to_params(dof=4)
+    assert p.dampings == pytest.approx([seconds * k for k in p.stiffnesses], rel=1e-12)
+
+
+@pytest.mark.parametrize("written", ['"-0.2 s"', '"nan s"', '"0.2 h"', '"x s"'])
+def test_a_beta_that_is_no_time_is_refused_as_written(written):
+    from pydrill.tally import TallyError, parse_tally
+
+    text = PAPER.read_text(encoding="utf-8").replace("beta = 0.2 ", f"beta = {written} ")
+    with pytest.raises(TallyError) as info:
+        parse_tally(text)
+    shown = written.strip('"')
+    assert str(info.value).startswith(f"damping.beta = '{shown}' is not allowed: a finite number")
