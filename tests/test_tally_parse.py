@@ -116,7 +116,7 @@ def test_an_unknown_key_in_a_table_is_refused(path, meant, allowed):
         ("bit.mu_static", math.nan, "bit.mu_static = 'nan' is not allowed"),
         ("bit.stribeck_decay", -0.9, "bit.stribeck_decay = -0.9 is not allowed"),
         ("bit.stribeck_velocity", 0.0, "bit.stribeck_velocity = 0.0 is not allowed"),
-        ("damping.beta", "0.2 s", "damping.beta = '0.2 s' is not allowed: a finite number of"),
+        ("damping.beta", "0.2 h", "damping.beta = '0.2 h' is not allowed: a finite number of"),
         ("damping.beta", math.inf, "damping.beta = 'inf' is not allowed"),
     ],
 )
@@ -213,7 +213,7 @@ def test_bad_lump_and_dof_arguments_are_refused_naming_them():
         ("steel", 5, None, "steel = 5 is not allowed"),
         ("bit.mu_statik", 0.8, None, "bit.mu_statik: unknown (did you mean 'mu_static'?)"),
         ("steel.shear_modulus", "-79.3 GPa", None, "steel.shear_modulus = '-79.3 GPa' is not"),
-        ("damping.beta", "0.2 s", None, "damping.beta = '0.2 s' is not allowed"),
+        ("damping.beta", "0.2 h", None, "damping.beta = '0.2 h' is not allowed"),
         ("bit.mu_static", 0.3, None, "bit.mu_static = 0.3 is not allowed"),
         ("name", "t", "1e8m", "depth = 100000000.0 m is not allowed"),
         ("name", "t", "1000km", "lump = 1: the string (1e+06 m) has 111110 inertias"),
