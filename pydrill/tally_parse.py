@@ -220,7 +220,7 @@ def _inches_hint(key: str, table: dict, wider: float = MAX_DIAMETER) -> str:
     """What a refusal of a bare diameter wider than ``wider`` m adds: it was read as m, and was
     most likely inches (od = 5.5 for 5 1/2 in pipe, the commonest size, was refused as "at most
     5 m" alone, while od = 5 was noted as inches)."""
-    value = table.get(key)
+    value: Any = table.get(key)
     if not _bare(value) or not float(value) > wider:
         return ""
     return f'; a bare number is m: for inches write {key} = "{str(value).strip()} in"'
