@@ -12,6 +12,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
+from .cli_encoding import writable_output
 from .cli_options import (
     _duration,
     _finite,
@@ -318,7 +319,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     line = sys.argv[1:] if argv is None else list(argv)
     _Parser.argv, _Parser.json_sent = line, False
     try:
-        return _run(line)
+        with writable_output():
+            return _run(line)
     finally:
         _Parser.argv = None
 
