@@ -8,14 +8,13 @@ import subprocess
 import sys
 
 import pytest
-from sweeping import SMALL
+from sweeping import CMD, SMALL
 
 from pydrill import cli
 from pydrill.cli_encoding import PLAIN
 from pydrill.spec import parse_spec
 from pydrill.sweep import run_sweep
 
-CMD = [sys.executable, "-m", "pydrill"]
 COMMANDS = ["simulate", "hopf", "stability", "bifurcation", "string", "window", "map", "sweep"]
 COMMANDS += ["atlas", "reproduce"]
 
