@@ -3,10 +3,12 @@
 //
 //   pydrill_example [W_ob N] [u N·m] [dof] [seconds of wall time allowed]
 //
+// Each argument a plain decimal number (100, 8.3, -5, 1e2; not 0x10, inf or nan).
 // Without arguments: the paper's Fig. 4 case, a 4-DOF string at W_ob = 100 N and
 // u = 8.3 N·m, which sticks and slips. Exit status 0, 2 for bad input (a string too large for
 // this machine's memory included, as the pydrill command says), 3 when the integrator fails,
 // 4 when the time allowed runs out.
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,17 +24,39 @@
 
 namespace {
 
-// A command-line number, all of it (std::stod alone takes "8.3x" for 8.3).
+// A command-line number: a plain decimal one, all of it ("8.3", "-5", "1e2"). std::stod alone
+// took "8.3x" for 8.3, and also read hexadecimal ("0x10" as 16), "inf", "nan" and leading
+// blanks; a value beyond a double ("1e999") said "not a number". One too small for a double
+// ("1e-400") rounds to 0, as any decimal rounds to the nearest double.
 double number(const char* text, const char* what) {
-  std::size_t used = 0;
-  double value = 0.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
+  const std::string s(text);
+  std::size_t i = 0;
+  const auto digits = [&] {
+    const std::size_t from = i;
+    while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
+    return i - from;
+  };
+  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+  std::size_t mantissa = digits();
+  if (i < s.size() && s[i] == '.') {
+    ++i;
+    mantissa += digits();
   }
-  if (used == 0 || text[used] != '\0') {
-    throw std::invalid_argument(std::string(what) + " = '" + text + "' is not a number");
+  bool plain = mantissa > 0;
+  if (plain && i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+    ++i;
+    if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+    plain = digits() > 0;
+  }
+  if (!plain || i != s.size()) {
+    throw std::invalid_argument(std::string(what) + " = '" + s +
+                                "' is not allowed: must be a decimal number such as 100, 8.3 or 1e2");
+  }
+  errno = 0;
+  const double value = std::strtod(text, nullptr);
+  if (errno == ERANGE && std::isinf(value)) {
+    throw std::invalid_argument(std::string(what) + " = '" + s +
+                                "' is out of range: must be a decimal number of size below 1.8e308");
   }
   return value;
 }
