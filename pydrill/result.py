@@ -81,7 +81,9 @@ class Summary:
     top_max: float  #: rad/s, greatest ω_0 in the window
     top_mean: float  #: rad/s, mean ω_0 over the window
     severity: float  #: (max ω_b − min ω_b) / (2 mean ω_b)
-    bit_top_ratio: float  #: max ω_b / mean ω_top (min ω_b / mean ω_top when u < 0)
+    #: max ω_b / mean ω_top (min ω_b / mean ω_top when mean ω_top < 0: the bit's fastest turn in
+    #: the top drive's direction, which is u's but for a window where the string swings back)
+    bit_top_ratio: float
     stuck_fraction: float  #: fraction of the window the bit is held (stick)
     period: float | None  #: s, stick-slip or oscillation period
     stick_events: int  #: slip → stick transitions in the window

@@ -47,3 +47,28 @@ TEST_CASE("a long window's mean is still the angle turned over it", "[summary][w
   CHECK(coarse.bit_min < coarse.bit_mean);
   CHECK(coarse.bit_mean < coarse.bit_max);
 }
+
+TEST_CASE("bit_top_ratio follows the top drive's mean turn, not the sign of u",
+          "[summary][ratio]") {
+  // A string thrown backwards at u = 1 N·m > 0 (top and bit at −5 rad/s), which the rock then
+  // holds: over the first 0.2 s the top drive turns backwards on average and the bit's
+  // fastest turn that way is −5 rad/s. The ratio is that turn over the top's mean (as the
+  // header says), the same as for the mirror image at u = −1 thrown forwards; by the sign of
+  // u it would be max ω_b / mean ω_top = 0 / (< 0), saying nothing of the overshoot.
+  const Params p = preset("reduced-scale", 2);
+  SimulationOptions o;
+  o.t_end = 0.2;
+  o.window_fraction = 1.0;
+  o.initial = Initial::State;
+  o.state = {-5.0, 0.0, -5.0};
+  const Summary back = simulate(p, 100.0, 1.0, o).summary;
+  REQUIRE(back.top_mean < 0.0);
+  CHECK(back.bit_min == -5.0);
+  CHECK(back.bit_max == 0.0);
+  CHECK(back.bit_top_ratio == back.bit_min / back.top_mean);
+  CHECK(back.bit_top_ratio > 1.0);  // the bit's backward turn outruns the top's mean
+  o.state = {5.0, 0.0, 5.0};
+  const Summary mirror = simulate(p, 100.0, -1.0, o).summary;
+  CHECK(mirror.top_mean == -back.top_mean);
+  CHECK(mirror.bit_top_ratio == back.bit_top_ratio);
+}

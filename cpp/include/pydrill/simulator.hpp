@@ -146,7 +146,10 @@ struct Summary {
   double bit_min = 0, bit_max = 0, bit_mean = 0;  // bit velocity ω_b, rad/s
   double top_min = 0, top_max = 0, top_mean = 0;  // top-drive velocity ω_0, rad/s
   double severity = 0;         // (max ω_b − min ω_b) / (2 mean ω_b)
-  double bit_top_ratio = 0;    // max ω_b / mean ω_top (min ω_b / mean ω_top when u < 0)
+  double bit_top_ratio = 0;    // max ω_b / mean ω_top (min ω_b / mean ω_top when mean ω_top < 0:
+                               // the bit's fastest turn in the top drive's direction, which
+                               // is u's but for a window where the string swings back); 0
+                               // when mean ω_top or that turn is 0
   double stuck_fraction = 0;   // fraction of the window spent in stick
   double period = -1;          // s; < 0 when there is none
   long stick_events = 0;       // slip→stick transitions in the window
