@@ -1,6 +1,7 @@
 """Stability of steady drilling against brute-force eigenvalues and the paper's closed form."""
 
 import json
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -365,3 +366,16 @@ def test_a_stability_map_larger_than_the_memory_is_refused_before_it_is_allocate
     monkeypatch.setattr(psutil, "virtual_memory", lambda: Low)
     with pytest.raises(ValueError, match=r"500 wob x 1000 omega .* 0.016 GB is available"):
         stability_map(p, np.linspace(0.0, 10.0, 1000), np.linspace(1.0, 200.0, 500), crossings)
+
+
+def test_a_hand_made_crossing_that_is_no_hopf_point_has_no_lyapunov_coefficient():
+    """Crossing("hopf", 0.01, 1.0, ...) on the 4-DOF string had l1 = 0.036, "subcritical",
+    though i·1 rad/s is no eigenvalue at δ = 0.01 (numpy's nearest lies 0.27 rad/s away)."""
+    p4 = pydrill.preset("reduced-scale", dof=4)
+    nearest = np.min(np.abs(st.eigenvalues(p4, 0.01) - 1j))
+    assert nearest > 0.2  # (independent of the core's check: LAPACK's eigenvalues)
+    made = st.Crossing("hopf", 0.01, 1.0, 1, 2)
+    with pytest.raises(ValueError, match=r"delta = 0\.01 and frequency = 1 are not a Hopf point"):
+        made.lyapunov(p4)
+    hopf = next(c for c in st.critical_deltas(p4) if c.type == "hopf")
+    assert math.isfinite(hopf.lyapunov(p4))

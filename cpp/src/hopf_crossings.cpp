@@ -20,6 +20,7 @@ using detail::bit_fraction;
 using detail::check_delta;
 using detail::Fraction;
 using detail::impedance;
+using detail::impedance_slope;
 
 namespace {
 
@@ -108,7 +109,10 @@ double brent(F f, double a, double b, double fa, double fb) {
 // inertias ×1e8 and dampings ×1e4 (the same string on a clock 1e4 times slower) had its
 // fold's direction reversed, and from ×1e16 its Hopf points' too. Where the fraction
 // overflows (an inertia near 1.8e308) the difference stands in, at a step of 1e-6 |λ|.
-complex impedance_slope(const Params& p, complex lambda) {
+// (In detail, not here alone: first_lyapunov_coefficient checks its Hopf point with it.)
+}  // namespace
+
+complex detail::impedance_slope(const Params& p, complex lambda) {
   const int n = p.dof();
   complex num = p.inertias[0] * lambda + p.top_damping, dnum = p.inertias[0], den = 1.0, dden = 0.0;
   for (int i = 0; i < n - 1; ++i) {
@@ -133,6 +137,8 @@ complex impedance_slope(const Params& p, complex lambda) {
   const double h = 1e-6 * std::max(std::abs(lambda), estimate_stiffness(p).fundamental);
   return (impedance(p, lambda + h) - impedance(p, lambda - h)) / (2 * h);
 }
+
+namespace {
 
 // dλ/dδ = 1/Z_b'(λ) on the imaginary axis; its real part says which way the
 // eigenvalues cross as δ grows.

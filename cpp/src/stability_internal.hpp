@@ -28,6 +28,8 @@ Fraction bit_fraction(const Params& p, complex lambda);
 
 // Z_b(λ) for a string already validated (the public bit_impedance checks first).
 complex impedance(const Params& p, complex lambda);
+// Z_b'(λ), exact along the continued fraction (hopf_crossings.cpp), for a validated string.
+complex impedance_slope(const Params& p, complex lambda);
 
 // δ enters every linearisation as a number; a NaN or infinite one would come back as a
 // "did not converge", a NaN spectrum or a stable count, none of which names it.

@@ -162,10 +162,17 @@ TEST_CASE("first_lyapunov_coefficient at the fold is refused, naming delta", "[s
   p.bit_damping = 0.0;
   // At δ = 0, the fold of this string, the friction is flat (every Taylor term ∝ δ): the
   // coefficient is 0, degenerate, not a singular solve (an undamped string's Hopf points are
-  // all there). Beside it, the solve is regular again.
+  // all there).
   CHECK(first_lyapunov_coefficient(p, 0.0, 1.0) == 0.0);
   CHECK_THROWS_AS(first_lyapunov_coefficient(p, -0.0, 0.0), std::invalid_argument);  // frequency 0
-  CHECK(std::isfinite(first_lyapunov_coefficient(p, 0.01, 1.0)));
+  // Beside it, at this string's Hopf points above δ = 0, the solves are regular again.
+  int hopf = 0;
+  for (const Crossing& c : critical_deltas(p)) {
+    if (c.type != CrossingType::Hopf || !(c.delta > 0.0)) continue;
+    CHECK(std::isfinite(first_lyapunov_coefficient(p, c.delta, c.frequency)));
+    ++hopf;
+  }
+  CHECK(hopf > 0);
 }
 
 TEST_CASE("equilibrium_velocities returns no steady state that a double cannot hold", "[stability][extreme]") {

@@ -121,8 +121,10 @@ PYDRILL_API std::vector<Crossing> critical_deltas(const Params& params,
 // Normalisation: the eigenvector q of iω has unit Euclidean norm in twist coordinates
 // (which mix rad and rad/s) and ⟨p, q⟩ = 1, so the value depends on that choice: use
 // its sign, and compare sizes only between Hopf points of one string. O(dof): banded solves.
-// (δ, ω) is taken to be a Hopf point (a Crossing's delta and frequency: iω an eigenvalue at δ)
-// and not checked: another pair gives a number that belongs to no Hopf point.
+// (δ, ω) must be a Hopf point (a Crossing's delta and frequency: iω an eigenvalue at δ):
+// std::invalid_argument, naming both, where iω lies more than 1 % of ω from every eigenvalue
+// at δ (the distance estimated by a Newton step on Z_b(λ) = δ; a crossing's pair typed to six
+// digits passes), whose coefficient would belong to no Hopf point.
 PYDRILL_API double first_lyapunov_coefficient(const Params& params, double delta,
                                               double frequency);
 
