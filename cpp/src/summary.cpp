@@ -258,7 +258,6 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
     }
     s.severity = 0.0;
     if (!karnopp) s.bit_mean = 0.0;  // exact stick: the bit does not move at all
-    if (s.bit_max == 0.0) s.bit_top_ratio = 0.0;
   } else if (held > 0.0) {
     s.regime = Regime::StickSlip;
     // The mode the window opened in: the last change at or before its start.

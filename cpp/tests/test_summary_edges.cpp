@@ -72,3 +72,27 @@ TEST_CASE("bit_top_ratio follows the top drive's mean turn, not the sign of u",
   CHECK(mirror.top_mean == -back.top_mean);
   CHECK(mirror.bit_top_ratio == back.bit_top_ratio);
 }
+
+TEST_CASE("bit_top_ratio of a stuck window is its mirror image's", "[summary][ratio]") {
+  // A bit slipping backwards at 1e-10 rad/s as the window opens, held by the rock from then on
+  // (stuck, 1 − 8e-13 of the window), its top drive swinging back at u = 1: the ratio is the
+  // bit's fastest turn the top's way over the top's mean, 2.2e-10, as for the mirror image at
+  // u = −1. A stuck window with max ω_b = 0 had its ratio set to 0, and so this one's, while
+  // the mirror image, whose min ω_b is 0, kept 2.2e-10.
+  const Params p = preset("reduced-scale", 2);
+  SimulationOptions o;
+  o.t_end = 0.5;
+  o.window_fraction = 1.0;
+  o.initial = Initial::State;
+  o.state = {-1.0, 0.0, -1e-10};
+  const Summary back = simulate(p, 100.0, 1.0, o).summary;
+  o.state = {1.0, 0.0, 1e-10};
+  const Summary mirror = simulate(p, 100.0, -1.0, o).summary;
+  REQUIRE(back.regime == Regime::Stuck);
+  REQUIRE(mirror.regime == Regime::Stuck);
+  CHECK(back.bit_min == -1e-10);
+  CHECK(back.bit_max == 0.0);
+  CHECK(back.bit_top_ratio == back.bit_min / back.top_mean);
+  CHECK(back.bit_top_ratio > 0.0);
+  CHECK(mirror.bit_top_ratio == back.bit_top_ratio);
+}
