@@ -19,6 +19,37 @@ def add_set_option(parser: Any, help: str) -> None:
     )
 
 
+#: what each list of the chain has one value per, and its option's metavar (simulate's)
+_EACH = {"inertias": "inertia", "stiffnesses": "link", "dampings": "link"}
+_METAVARS = {"inertias": "I0,I1,...", "stiffnesses": "K0,K1,...", "dampings": "C0,C1,..."}
+
+
+def _takes(args: argparse.Namespace) -> tuple[str, ...]:
+    """The names this command's ``--set`` takes: window's, without karnopp_band (its checks
+    use the exact law), listed in ``args.set_names``; every other command's, all scalars."""
+    return tuple(getattr(args, "set_names", None) or _SCALARS)
+
+
+def _unknown_hint(name: str, args: argparse.Namespace) -> str:
+    """The "did you mean" of a ``--set`` name that is none of the string's: one this command's
+    --set takes; or, when the name is closest to a list of the chain (top_inertia, inertia:
+    inertias), the option that sets that list. "(did you mean 'inertias'?)" sent the user to
+    --set inertias=..., which is refused as a list."""
+    takes = _takes(args)
+    hint = did_you_mean(name, takes + _LISTS)
+    listed = next((key for key in _LISTS if hint == f" (did you mean {key!r}?)"), None)
+    if listed is None:
+        return hint
+    each = f"the {listed} are a list, one value per {_EACH[listed]}"
+    option = f"--{listed} {_METAVARS[listed]}"
+    # a scalar near the name as well ("damping": top_damping, bit_damping) may be the one meant
+    scalar = did_you_mean(name, takes).removeprefix(" (").removesuffix(")")
+    also = f"; or {scalar}" if scalar else ""
+    if hasattr(args, listed):
+        return f" ({each}: give {option}{also})"
+    return f" ({each}: only pydrill simulate changes them, with {option}{also})"
+
+
 def set_params(args: argparse.Namespace) -> dict[str, float]:
     """``--set NAME=VALUE`` options as ``{name: SI value}``: the string's scalar parameters
     (a preset's or a tally's), each once, a VALUE with a unit where the parameter measures
@@ -34,15 +65,14 @@ def set_params(args: argparse.Namespace) -> dict[str, float]:
             )
         if name not in _SCALARS:
             what = (
-                f"{name} is a list, one value per {'inertia' if name == 'inertias' else 'link'}"
-                + (f": give --{name}" if hasattr(args, name) else "")
+                f"{name} is a list, one value per {_EACH[name]}"
+                + (f": give --{name} {_METAVARS[name]}" if hasattr(args, name) else "")
                 if name in _LISTS
                 else f"{name} has an option of its own: give --{name}"
                 if hasattr(args, name)
-                else f"{name} is not one of the string's parameters"
-                + did_you_mean(name, _SCALARS + _LISTS)
+                else f"{name} is not one of the string's parameters" + _unknown_hint(name, args)
             )
-            raise ValueError(f"--set {item!r}: {what}; --set takes " + ", ".join(_SCALARS))
+            raise ValueError(f"--set {item!r}: {what}; --set takes " + ", ".join(_takes(args)))
         if name in out:  # --set a=1 --set a=2: the last would win, silently
             raise ValueError(f"--set {item!r}: {name} is given twice; give each parameter once")
         try:
@@ -82,11 +112,23 @@ def _set_refused(exc: ValueError, sets: dict[str, float]) -> ValueError:
     return exc
 
 
-def friction_notes(label: str, values: dict[str, float], verb: str = "=") -> list[str]:
+def set_notes(args: argparse.Namespace) -> list[str]:
+    """:func:`friction_notes` on ``--set``'s values, each judged as it was written."""
+    written = {}
+    for item in getattr(args, "set_params", None) or []:
+        name, _, value = (part.strip() for part in item.partition("="))
+        written[name] = value
+    return friction_notes("--set ", set_params(args), written=written)
+
+
+def friction_notes(
+    label: str, values: dict[str, float], verb: str = "=", written: dict | None = None
+) -> list[str]:
     """A note on each friction coefficient of ``values`` (mu_static, mu_coulomb) above
     ``cli_options.MOST_FRICTION``, and on a bit_radius wider than any bit, most likely mistyped,
     in the words of ``label`` (the option or key, "--set " or "axes."): ``--set mu_static = 8:
-    ...``; other names are passed over."""
+    ...``; other names are passed over. ``written`` holds the values as typed, where known
+    ("8.5 m", 8.5): one with its unit is read as written, a bare one is m."""
     from .cli_options import MOST_FRICTION
     from .tally import WIDEST_BARE_DIAMETER
 
@@ -95,11 +137,12 @@ def friction_notes(label: str, values: dict[str, float], verb: str = "=") -> lis
     # a word, where the tally refuses a bit diameter beyond 5 m and notes one beyond 1 m.
     radius = values.get("bit_radius")
     if radius is not None and radius > WIDEST_BARE_DIAMETER / 2:
-        inches = f"bit_radius={radius:g}in" if label.startswith("--") else f'"{radius:g} in"'
         notes.append(
-            f"{label}bit_radius {verb} {radius:g} m: a bit {2 * radius:g} m across, wider than "
-            f"any bit (at most some {WIDEST_BARE_DIAMETER:g} m); a bare number is m: for "
-            f"inches write {inches}"
+            f"{label}bit_radius {verb} "
+            + _radius_note(label, radius, (written or {}).get("bit_radius"))
+            + f": a bit {2 * radius:g} m across, wider than any bit (at most some "
+            f"{WIDEST_BARE_DIAMETER:g} m); "
+            + _radius_meant(label, radius, (written or {}).get("bit_radius"))
         )
     for name in ("mu_static", "mu_coulomb"):
         value = values.get(name)
@@ -111,3 +154,33 @@ def friction_notes(label: str, values: dict[str, float], verb: str = "=") -> lis
             f"(some 0.1 ... 1; most likely mistyped above {MOST_FRICTION:g}{meant})"
         )
     return notes
+
+
+def _radius_note(label: str, radius: float, written: object) -> str:
+    """A bit radius as its note shows it: "8.5 m" (bare, or in m), '"8.5 ft" (2.591 m)'."""
+    from .units import _NUMBER
+
+    match = _NUMBER.match(written) if isinstance(written, str) else None
+    if match is None or match.group(2) in ("", "m"):
+        return f"{radius:g} m"
+    shown = written.strip() if label.startswith("--") else f'"{written.strip()}"'
+    return f"{shown} ({radius:.4g} m)"
+
+
+def _radius_meant(label: str, radius: float, written: object) -> str:
+    """What the note on a wide bit radius says was most likely meant: a bare number is m, and
+    was inches; one with its unit ("8.5 m", "8.5 ft") is read as written, and was inches too
+    unless they are its unit ("a bare number is m" of '"8.5 m"' contradicted what was typed)."""
+    from .tally import WIDEST_BARE_DIAMETER
+    from .units import _NUMBER, INCH, _factor
+
+    match = _NUMBER.match(written) if isinstance(written, str) else None
+    unit = match.group(2) if match else ""
+    number = match.group(1) if match else f"{radius:g}"
+    inches = f"bit_radius={number}in" if label.startswith("--") else f'"{number} in"'
+    if not unit:
+        return f"a bare number is m: for inches write {inches}"
+    # inches only where they make a bit ("850 mm" as 850 in would be 43 m across)
+    if _factor(unit, "length") == INCH or not float(number) * INCH <= WIDEST_BARE_DIAMETER / 2:
+        return "read as written"
+    return f"read as written, in {unit}: if inches were meant, write {inches}"

@@ -20,7 +20,7 @@ from .cli_options import (
     _whole,
     typed_bare,
 )
-from .cli_set import _set_refused, add_set_option, friction_notes, set_params
+from .cli_set import _set_refused, add_set_option, friction_notes, set_notes, set_params
 from .model import _SCALARS, _UNITS, MAX_DOF
 
 
@@ -248,7 +248,7 @@ def unit_notes(args: argparse.Namespace) -> None:
             f"--omega is {omega * 30 / math.pi:.4g} rpm, faster than any top drive turns (some "
             f"{TOP_DRIVE_RPM:g} rpm at most)"
         )
-    _say(notes + friction_notes("--set ", set_params(args)) + run_notes(args))
+    _say(notes + set_notes(args) + run_notes(args))
 
 
 def lab_notes(args: argparse.Namespace) -> None:
@@ -269,7 +269,7 @@ def lab_notes(args: argparse.Namespace) -> None:
                 f"(its {typical}); for a real string give --tally TALLY.toml or --preset "
                 "real-string"
             )
-    _say(notes + friction_notes("--set ", set_params(args)) + run_notes(args))
+    _say(notes + set_notes(args) + run_notes(args))
 
 
 def run_notes(args: argparse.Namespace) -> list[str]:

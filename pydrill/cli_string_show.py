@@ -75,7 +75,7 @@ def register_string(sub, tally_help: str) -> None:
 
 def cmd_string(args: argparse.Namespace) -> int:
     from .cli_options import json_document
-    from .cli_set import _set_refused, friction_notes, set_params
+    from .cli_set import _set_refused, set_notes, set_params
     from .cli_string import _say, string_json, string_params, string_units, tally_params
 
     sets = set_params(args)  # a bad --set is refused before the tally is read
@@ -105,7 +105,7 @@ def cmd_string(args: argparse.Namespace) -> int:
             p = p.replace(**sets)
         except ValueError as exc:
             raise _set_refused(exc, sets) from None
-        _say(friction_notes("--set ", sets))  # as the preset's string_params says them
+        _say(set_notes(args))  # as the preset's string_params says them
     results = {
         "name": tally.name if tally else p.name,
         "dof": p.dof,

@@ -53,7 +53,10 @@ def spec_notes(spec: SweepSpec) -> None:
         n: float(max(spec.axes[n])) for n in ("mu_static", "mu_coulomb") if n in spec.axes
     }
     notes += friction_notes("axes.", swept, "reaches")
-    notes += friction_notes("model.", dict(spec.overrides)) + held_in_vain(spec)
+    import tomllib
+
+    written = tomllib.loads(spec.text).get("model", {})  # "8.5 m" or 8.5, as the spec has it
+    notes += friction_notes("model.", dict(spec.overrides), written=written) + held_in_vain(spec)
     for note in notes:
         print(f"pydrill: note: {note}", file=sys.stderr)
 

@@ -129,7 +129,7 @@ def register_tally(sub) -> None:
     win.add_argument(
         "--plot", metavar="FILE.png", type=figure_path, help="draw the window (or against depth)"
     )
-    win.set_defaults(handler=_cmd_window)
+    win.set_defaults(handler=_cmd_window, set_names=TALLY_SETS)
 
 
 def _cmd_window(args: argparse.Namespace) -> int:
@@ -137,7 +137,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
 
     from .cli_checks import say_failed_checks
     from .cli_options import check_progress
-    from .cli_set import friction_notes, set_params
+    from .cli_set import set_notes
     from .cli_string import _say, for_option, load_tally_file, tally_notes
     from .cli_window_report import print_window, window_json
     from .window import parse_depths, window_against_depth
@@ -165,7 +165,7 @@ def _cmd_window(args: argparse.Namespace) -> int:
         raise for_option(exc, "--depth", "depth") from None
     _window_notes(args, depths, at_rpm, at_wob)
     _say(tally_notes(written, args.tally, own_length=False))  # --depth sets its length
-    _say(friction_notes("--set ", set_params(args)))  # mu_static=8 for 0.8, as in simulate
+    _say(set_notes(args))  # mu_static=8 for 0.8, as in simulate
     if tally.top_damping + tally.bit_damping == 0:  # a table of zeros and infs says no why
         _say(
             [

@@ -1,0 +1,153 @@
+"""What the command line says of a name or a value it cannot take as typed: its "did you
+mean" must name something that works, and a note must not contradict what was typed.
+
+--set top_inertia=1 was answered "(did you mean 'inertias'?)", a name --set refuses (a list);
+window's --set karnopp_bnd=1 suggested karnopp_band, which window refuses; and --set
+"bit_radius=8.5 m" was noted "a bare number is m" of a value written with its unit. Each
+suggestion is checked here by doing what it says: the name or option it gives is taken.
+"""
+
+import re
+from pathlib import Path
+
+import pytest
+from cli_running import notes, run
+
+from pydrill.cli_sweep import spec_notes
+from pydrill.spec import parse_spec
+
+ROOT = Path(__file__).resolve().parents[1]
+TALLY = ROOT / "examples" / "tallies" / "paper-eq53.toml"
+INCH = 0.0254
+
+#: each command that takes --set, with the options it needs to run
+COMMANDS = {
+    "simulate": ["simulate", "--dof", "3", "--wob", "100", "--torque", "8", "--t-end", "1"],
+    "stability": ["stability", "--dof", "3", "--wob", "100", "--torque", "8"],
+    "string": ["string", "--preset", "reduced-scale", "--dof", "3"],
+    "window": ["window", TALLY, "--depth", "3000m", "--at-rpm", "60"],
+}
+
+
+def refusal(capsys, args) -> str:
+    code, out, err = run(capsys, *args)
+    assert code == 2 and out == "", err
+    return err.strip().splitlines()[-1]
+
+
+def suggested(message: str) -> str | None:
+    """The name a refusal's "(did you mean 'NAME'?)" gives, if any."""
+    found = re.search(r"did you mean '(\w+)'\?", message)
+    return found and found.group(1)
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+@pytest.mark.parametrize("name", ["top_inertia", "inertia", "stiffness", "damping", "karnopp_bnd"])
+def test_a_set_name_suggested_is_one_set_takes(command, name, capsys):
+    """Whatever --set suggests for a name it refuses, --set takes: the suggestion, typed, runs
+    (top_inertia was sent to 'inertias', which --set refuses as a list)."""
+    message = refusal(capsys, [*COMMANDS[command], "--set", f"{name}=1"])
+    assert f"{name} is not one of the string's parameters" in message
+    meant = suggested(message)
+    takes = message.rsplit("--set takes ", 1)[1].split(", ")
+    if meant is not None:
+        assert meant in takes, message
+        code, _, err = run(capsys, *COMMANDS[command], "--set", f"{meant}=0.01")
+        assert code == 0, err
+    # window's checks use the exact law: karnopp_band is none of its --set names
+    assert ("karnopp_band" in takes) == (command != "window")
+    if command == "window":
+        assert meant is None or meant != "karnopp_band"
+
+
+@pytest.mark.parametrize(
+    ("name", "listed", "option"),
+    [
+        ("top_inertia", "inertias", "--inertias I0,I1,..."),
+        ("inertia", "inertias", "--inertias I0,I1,..."),
+        ("stiffness", "stiffnesses", "--stiffnesses K0,K1,..."),
+    ],
+)
+def test_a_name_nearest_a_list_points_to_the_list_s_option(name, listed, option, capsys):
+    """A name nearest a list of the chain is sent to the option that sets the list (simulate's
+    --inertias), which then runs; a command without it says only simulate has it."""
+    message = refusal(capsys, [*COMMANDS["simulate"], "--set", f"{name}=1"])
+    assert suggested(message) is None
+    assert f"(the {listed} are a list, one value per " in message and f"give {option})" in message
+    values = {"inertias": "0.5,0.02,0.03", "stiffnesses": "1,1"}[listed]
+    code, _, err = run(capsys, *COMMANDS["simulate"], f"--{listed}", values)
+    assert code == 0, err
+    for command in ("stability", "string", "window"):
+        message = refusal(capsys, [*COMMANDS[command], "--set", f"{name}=1"])
+        assert suggested(message) is None, message
+        assert f"only pydrill simulate changes them, with {option}" in message
+
+
+def test_a_spec_key_nearest_a_list_says_it_is_a_list():
+    """[model] top_inertia = 2500.0 was sent to 'inertias', whose number is refused: the
+    suggestion says it is a list, and a list there is taken."""
+    grid = "[axes]\nwob = [40.0]\ntorque = [8.0]\n"
+    with pytest.raises(ValueError) as info:
+        parse_spec("[model]\ndof = 3\ntop_inertia = 0.5\n" + grid)
+    message = str(info.value)
+    assert "model.top_inertia: unknown parameter (did you mean inertias = [...], a list of one " \
+        "value per inertia?)" in message  # fmt: skip
+    with pytest.raises(
+        ValueError, match=r"model\.inertias: 0\.5 is not allowed: a list of numbers"
+    ):
+        parse_spec("[model]\ndof = 3\ninertias = 0.5\n" + grid)
+    spec = parse_spec("[model]\ndof = 3\ninertias = [0.5, 0.02, 0.03]\n" + grid)
+    assert spec.params_at(spec.coords(0)).inertias[0] == 0.5
+    # a plain typo is still sent to its name
+    with pytest.raises(ValueError, match=r"\(did you mean 'bit_damping'\?\)"):
+        parse_spec("[model]\nbit_dampng = 0.1\n" + grid)
+
+
+def radius_note(err: str) -> str:
+    said = [n for n in notes(err) if "bit_radius" in n]
+    assert len(said) == 1, err
+    return said[0]
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_a_wide_bit_radius_with_its_unit_is_not_called_bare(command, capsys):
+    """--set "bit_radius=8.5 m" was noted "a bare number is m": it has its unit, and is read
+    as written; inches are suggested as what may have been meant. A bare 8.5 is still said to
+    be m. A unit that is inches already suggests no inches."""
+    code, _, err = run(capsys, *COMMANDS[command], "--set", "bit_radius=8.5 m")
+    assert code == 0, err
+    note = radius_note(err)
+    assert "a bare number" not in note and "a bit 17 m across" in note
+    assert note.endswith("read as written, in m: if inches were meant, write bit_radius=8.5in")
+    code, _, err = run(capsys, *COMMANDS[command], "--set", "bit_radius=8.5")
+    assert radius_note(err).endswith("; a bare number is m: for inches write bit_radius=8.5in")
+    code, _, err = run(capsys, *COMMANDS[command], "--set", "bit_radius=8.5 ft")
+    note = radius_note(err)
+    assert f"bit_radius = 8.5 ft ({8.5 * 0.3048:.4g} m): a bit {2 * 8.5 * 0.3048:g} m" in note
+    assert note.endswith("read as written, in ft: if inches were meant, write bit_radius=8.5in")
+    code, _, err = run(capsys, *COMMANDS[command], "--set", "bit_radius=25 in")
+    note = radius_note(err)
+    wide = f"a bit {2 * 25 * INCH:g} m across, wider than any bit (at most some 1 m)"
+    assert note.endswith(f"{wide}; read as written")
+
+
+@pytest.mark.parametrize(
+    ("written", "ending"),
+    [
+        ('"8.5 m"', 'read as written, in m: if inches were meant, write "8.5 in"'),
+        ("8.5", 'a bare number is m: for inches write "8.5 in"'),
+        ('"8.5 ft"', 'read as written, in ft: if inches were meant, write "8.5 in"'),
+        # 850 in would be wider still: no inches suggested
+        ('"850 mm"', "wider than any bit (at most some 1 m); read as written"),
+    ],
+)
+def test_a_spec_s_wide_bit_radius_is_said_as_written(written, ending, capsys):
+    """The same note on a spec's [model] bit_radius: "8.5 ft" was said as "2.5908 m ... a
+    bare number is m: for inches write "2.5908 in"", neither what was written nor meant."""
+    spec_notes(
+        parse_spec(
+            f"[model]\ndof = 3\nbit_radius = {written}\n[axes]\nwob = [40.0]\ntorque = [8.0]\n"
+        )
+    )
+    note = radius_note(capsys.readouterr().err)
+    assert note.startswith("pydrill: note: model.bit_radius = ") and note.endswith(ending)
