@@ -73,7 +73,7 @@ def _string_options(parser: argparse.ArgumentParser, presets: Sequence[str]):
 
 def load_tally_file(path: str):
     """The tally at ``path``; a fault in it is said with the file's name (it said
-    "section[0].odd: unknown", which file left to guess)."""
+    "section 1 (drill-pipe), odd: unknown", which file left to guess)."""
     from .tally import TallyError, load_tally
 
     try:

@@ -36,6 +36,20 @@ STEEL_KEYS = ("shear_modulus", "density")
 SECTION_KEYS = ("kind", "count", "length", "od", "id", "shear_modulus", "density")
 
 
+def _key(where: str, key: str) -> str:
+    """A key as a message names it: ``bit.diameter``, or in a section ``section 2 (heavy-weight),
+    od`` (a section is no key of the file: see :func:`_section_label`)."""
+    return f"{where}, {key}" if where.startswith("section ") else f"{where}.{key}"
+
+
+def _section_label(n: int, sec: Any) -> str:
+    """The ``n``-th [[section]] table (from 0) as the user counts it, top down from 1, with its
+    kind where it names one: ``section 3 (drill-collar)``. Messages said "section[0]", an index
+    from 0 that the file does not show and the guide does not use."""
+    kind = sec.get("kind") if isinstance(sec, dict) else None
+    return f"section {n + 1}" + (f" ({kind})" if isinstance(kind, str) and kind in KINDS else "")
+
+
 def _refuse(key: str, value: Any, allowed: str) -> TallyError:
     return TallyError(f"{key} = {_show(value)} is not allowed: {allowed}")
 
@@ -56,7 +70,7 @@ def _known(table: dict, where: str, allowed: tuple[str, ...]) -> None:
     unknown = sorted(set(table) - set(allowed))
     if unknown:
         raise TallyError(
-            f"{where}.{printable(unknown[0])}: unknown{did_you_mean(unknown[0], allowed)}; "
+            f"{_key(where, printable(unknown[0]))}: unknown{did_you_mean(unknown[0], allowed)}; "
             f"allowed: {', '.join(allowed)}"
         )
 
@@ -75,18 +89,18 @@ def _get(
     """A quantity in driller units, finite and > 0 (>= 0 with ``zero``), at most ``high``."""
     if key not in table:
         if default is None:
-            raise TallyError(f"{where}.{key}: missing")
+            raise TallyError(f"{_key(where, key)}: missing")
         return default
     value = table[key]
     try:
         v = units.parse(value, kind)
     except ValueError as exc:
-        raise TallyError(f"{where}.{key}: {exc}") from None
+        raise TallyError(f"{_key(where, key)}: {exc}") from None
     if not (v >= 0 if zero else v > 0) or not v <= high:
         unit = units.SI[kind]
         bound = f", at most {high:g} {unit}" if high < math.inf else f" {unit}"
         allowed = f"a finite {kind} {'>=' if zero else '>'} 0{bound}{note}"
-        raise _refuse(f"{where}.{key}", value, allowed)
+        raise _refuse(_key(where, key), value, allowed)
     return v
 
 
@@ -98,15 +112,16 @@ def _number(table: dict, key: str, where: str, default: float, allowed: str) -> 
             raise ValueError
         v = float(value)
     except (ValueError, OverflowError):
-        raise _refuse(f"{where}.{key}", value, allowed) from None
+        raise _refuse(_key(where, key), value, allowed) from None
     if not math.isfinite(v):
-        raise _refuse(f"{where}.{key}", value, allowed)
+        raise _refuse(_key(where, key), value, allowed)
     return v
 
 
 def _section(n: int, sec: Any, g: float, rho: float, notes: list[str]) -> Section:
-    """Section ``n``, with a note appended to ``notes`` on a length most likely mistyped."""
-    where = f"section[{n}]"
+    """Section ``n`` (from 0), with a note appended to ``notes`` on a length most likely
+    mistyped."""
+    where = _section_label(n, sec)
     if not isinstance(sec, dict):
         raise TallyError(
             f"malformed tally: {where} = {_show(sec)} is not allowed: a table, [[section]]"
@@ -115,18 +130,18 @@ def _section(n: int, sec: Any, g: float, rho: float, notes: list[str]) -> Sectio
     kind = sec.get("kind", "other")
     if not isinstance(kind, str) or kind not in KINDS:
         raise _refuse(
-            f"{where}.kind",
+            _key(where, "kind"),
             kind,
             f"choose one of {', '.join(KINDS)}{did_you_mean(kind, KINDS)}",
         )
     count = sec.get("count", 1)
     if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-        raise _refuse(f"{where}.count", count, "an integer >= 1 (joints)")
+        raise _refuse(_key(where, "count"), count, "an integer >= 1 (joints)")
     od = _get(sec, "od", where, "length", high=MAX_DIAMETER, note=_inches_hint("od", sec))
     inner = _get(sec, "id", where, "length", 0.0, zero=True)
     if not inner < od:
         raise _refuse(
-            f"{where}.id",
+            _key(where, "id"),
             sec["id"],
             f"need 0 <= id < od = {_show(sec['od'])}"
             + _inches_hint("id", sec, WIDEST_BARE_DIAMETER),
@@ -141,8 +156,8 @@ def _section(n: int, sec: Any, g: float, rho: float, notes: list[str]) -> Sectio
         _get(sec, "density", where, "density", rho),
     )
     notes.extend(_length_note(where, sec["length"], s.length))
-    notes.extend(_diameter_note(f"{where}.od", sec["od"], od))
-    notes.extend(_diameter_note(f"{where}.id", sec.get("id"), inner))
+    notes.extend(_diameter_note(where, "od", sec["od"], od))
+    notes.extend(_diameter_note(where, "id", sec.get("id"), inner))
     k, j = s.joint_stiffness(), s.joint_inertia()
     # Normal floats (not subnormal): springs in series add 1/k, which a subnormal k overflows.
     if not (sys.float_info.min <= k < math.inf and sys.float_info.min <= j < math.inf):
@@ -160,9 +175,9 @@ def _length_note(where: str, value: Any, length: float) -> list[str]:
     if not _bare(value) or length <= LONGEST_JOINT:  # "31 ft" is not bare
         return []
     return [
-        f"{where}.length = {_show(value)} is read as {length:g} m per joint (a bare number is "
-        f"m): longer than any joint of pipe (at most some {LONGEST_JOINT:g} m); for feet write "
-        f'length = "{str(value).strip()} ft"'
+        f"{_key(where, 'length')} = {_show(value)} is read as {length:g} m per joint (a bare "
+        f"number is m): longer than any joint of pipe (at most some {LONGEST_JOINT:g} m); for "
+        f'feet write length = "{str(value).strip()} ft"'
     ]
 
 
@@ -174,15 +189,15 @@ def _bare(value: Any) -> bool:
         return False
 
 
-def _diameter_note(key: str, value: Any, diameter: float) -> list[str]:
+def _diameter_note(where: str, key: str, value: Any, diameter: float) -> list[str]:
     """A note on a diameter written without a unit and wider than any pipe or bit: read as m,
     it was most likely inches; one written with its unit is taken as meant."""
     if not _bare(value) or diameter <= WIDEST_BARE_DIAMETER:
         return []
     return [
-        f"{key} = {_show(value)} is read as {diameter:g} m (a bare number is m): wider than "
-        f"any drill pipe, collar or bit (at most some {WIDEST_BARE_DIAMETER:g} m); for inches "
-        f'write {key.rsplit(".", 1)[1]} = "{str(value).strip()} in"'
+        f"{_key(where, key)} = {_show(value)} is read as {diameter:g} m (a bare number is m): "
+        f"wider than any drill pipe, collar or bit (at most some {WIDEST_BARE_DIAMETER:g} m); "
+        f'for inches write {key} = "{str(value).strip()} in"'
     ]
 
 
@@ -210,7 +225,7 @@ def _bit_note(sections: list[Section]) -> list[str]:
         return []
     n = bits[0]
     return [
-        f"section[{n}] is the bit, with {len(sections) - 1 - n} section(s) listed below it: "
+        f"section {n + 1} is the bit, with {len(sections) - 1 - n} section(s) listed below it: "
         "a tally lists the string top down, from the top drive to the bit (the last section); "
         "read as written"
     ]
@@ -268,14 +283,14 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
     notes: list[str] = []
     length = 0.0
     for n, sec in enumerate(listed):
-        s = _section(n, sec, g, rho, notes)
+        s = _section(n, sec, g, rho, notes)  # n from 0; a message counts from 1
         try:
             length += s.count * s.length
         except OverflowError:  # a count beyond any float: refused below, as too deep
             length = math.inf
         if not length <= MAX_DEPTH:
             raise _refuse(
-                f"section[{n}].count",
+                _key(_section_label(n, sec), "count"),
                 s.count,
                 f"the string reaches {length:g} m here, beyond {MAX_DEPTH:g} m" + _DEEPEST,
             )
@@ -303,7 +318,7 @@ def parse_tally(text: str, name: str = "tally") -> Tally:
     bit_diameter = _get(
         bit, "diameter", "bit", "length", high=MAX_DIAMETER, note=_inches_hint("diameter", bit)
     )
-    notes.extend(_diameter_note("bit.diameter", bit.get("diameter"), bit_diameter))
+    notes.extend(_diameter_note("bit", "diameter", bit.get("diameter"), bit_diameter))
     label = doc.get("name", name)
     # Every output line and figure title begins with the name: an empty one printed
     # ": 3023.6 m ...", and a newline or an escape sequence reached the terminal as it was.

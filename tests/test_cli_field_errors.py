@@ -1,7 +1,7 @@
 """A drilling engineer's audit of bad input to the single-run commands on a real string: every
 refusal is one line that names the file or the option at fault (it said "section[0].odd:
 unknown" of no file, "dof = 1 is not allowed" of --check-dof, "'3000rpm': unit 'rpm' is not
-a length unit" of no option)."""
+a length unit" of no option). A section is named as the file lists it, from 1."""
 
 from pathlib import Path
 
@@ -26,7 +26,7 @@ def refused(capsys, *args):
 @pytest.mark.parametrize(
     "typo, found",
     [
-        (('od = "5 in"', 'odd = "5 in"'), "section[0].odd: unknown"),
+        (('od = "5 in"', 'odd = "5 in"'), "section 1 (drill-pipe), odd: unknown"),
         (("count = 100", "count = 1OO"), "not valid TOML"),
         (("[bit]", "[bitt]"), "bitt: unknown"),
     ],

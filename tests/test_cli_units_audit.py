@@ -43,8 +43,10 @@ def test_a_bare_joint_length_longer_than_any_joint_is_noted(tmp_path, capsys):
     assert out.startswith(f"5.5in-dp-8in-collars: {metres:.1f} m ")
     said = notes(err)
     assert len(said) == 3, err  # one for each section of 31, none for the total (10 km)
-    for n, note in enumerate(said):
-        assert note.startswith(f"pydrill: note: {path}: section[{n}].length = 31 is read as 31 m")
+    kinds = ("drill-pipe", "heavy-weight", "drill-collar")  # sections 1, 2, 3 of its file
+    for n, note in enumerate(said, start=1):
+        length = f"section {n} ({kinds[n - 1]}), length"
+        assert note.startswith(f"pydrill: note: {path}: {length} = 31 is read as 31 m")
         assert 'write length = "31 ft"' in note
 
 
@@ -85,7 +87,7 @@ def test_only_a_bare_length_beyond_a_joint_is_noted(length, noted):
     said = parse_tally(text).notes
     assert len(said) == int(noted), said
     if noted:
-        assert said[0].startswith("section[0].length = ")
+        assert said[0].startswith("section 1 (drill-pipe), length = ")
 
 
 def test_a_length_of_an_integer_beyond_any_float_is_refused(tmp_path, capsys):
@@ -95,14 +97,14 @@ def test_a_length_of_an_integer_beyond_any_float_is_refused(tmp_path, capsys):
     path = collars_with(tmp_path, "1" + "0" * 400)
     code, _, err = run(capsys, "string", path)
     assert code == 2 and err.count("\n") == 1
-    assert "section[0].length: " in err and "beyond the range of a float" in err
+    assert "section 1 (drill-pipe), length: " in err and "beyond the range of a float" in err
 
 
 def test_window_notes_the_joint_length_too(tmp_path, capsys):
     path = collars_with(tmp_path, 31)
     code, _, err = run(capsys, "window", path, "--depth", "3000m")
     assert code == 0
-    assert sum("section[" in note and "31 ft" in note for note in notes(err)) == 3
+    assert sum("section " in note and "31 ft" in note for note in notes(err)) == 3
 
 
 def spec_notes(err: str) -> list[str]:

@@ -11,6 +11,7 @@ kg, 1 ft = 0.3048 m, I_p = π(OD⁴ − ID⁴)/32, c = sqrt(G/ρ)), not taken fr
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -36,9 +37,9 @@ def tally_text(pipe: str = "", bit: str = 'diameter = "8.5 in"', head: str = "")
 @pytest.mark.parametrize(
     ("pipe", "bit", "said"),
     [
-        ("od = 5.5\nid = 0.1", 'diameter = "8.5 in"', "section[0].od = 5.5 is not allowed"),
+        ("od = 5.5\nid = 0.1", 'diameter = "8.5 in"', "section 1 (drill-pipe), od = 5.5 is not"),
         ('od = "5.5 in"', "diameter = 8.5", "bit.diameter = 8.5 is not allowed"),
-        ('od = "5.5 in"\nid = 4.778', 'diameter = "8.5 in"', "section[0].id = 4.778 is not"),
+        ('od = "5.5 in"\nid = 4.778', 'diameter = "8.5 in"', "section 1 (drill-pipe), id = 4.778"),
     ],
 )
 def test_a_bare_diameter_refused_says_it_was_read_as_metres(pipe, bit, said):
@@ -48,7 +49,8 @@ def test_a_bare_diameter_refused_says_it_was_read_as_metres(pipe, bit, said):
         parse_tally(tally_text(pipe, bit))
     message = str(info.value)
     assert message.startswith(said)
-    key, value = said.split(" = ")[0].rsplit(".", 1)[1], said.split(" = ")[1].split()[0]
+    # the key's own name: "bit.diameter" -> diameter, "section 1 (drill-pipe), od" -> od
+    key, value = re.split(r"[ .]", said.split(" = ")[0])[-1], said.split(" = ")[1].split()[0]
     assert f'a bare number is m: for inches write {key} = "{value} in"' in message
 
 
@@ -191,14 +193,14 @@ def test_a_tally_listed_from_the_bit_up_is_said(tmp_path, capsys):
     bit_up = head + bit_ + collars_ + pipe
     assert parse_tally(top_down).notes == ()
     (note,) = parse_tally(bit_up).notes
-    assert note.startswith("section[0] is the bit, with 2 section(s) listed below it")
+    assert note.startswith("section 1 is the bit, with 2 section(s) listed below it")
     kinds = [s.kind for s in parse_tally(bit_up).sections]
     assert kinds == ["bit", "drill-collar", "drill-pipe"]  # read as written, not reordered
     path = tmp_path / "bit-up.toml"
     path.write_text(bit_up)
     code, _, err = run(capsys, "window", path, "--depth", "3000m", "--at-rpm", "60")
     assert code == 0
-    assert f"pydrill: note: {path}: section[0] is the bit" in err
+    assert f"pydrill: note: {path}: section 1 is the bit" in err
 
 
 @pytest.mark.parametrize("command", ["string", "window", "stability"])

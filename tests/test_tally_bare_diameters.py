@@ -41,8 +41,8 @@ def test_bare_inch_diameters_are_read_as_metres_and_said(tmp_path, capsys):
     meant = pipe_inertia(5.0 * INCH, 4.276 * INCH, 31 * 0.3048)
     assert joint.joint_inertia() / meant == pytest.approx(1 / INCH**4)  # 2.4e6 times too heavy
     assert [n.split(" is read as ")[0] for n in tally.notes] == [
-        "section[0].od = 5.0",
-        "section[0].id = 4.276",
+        "section 1 (drill-pipe), od = 5.0",
+        "section 1 (drill-pipe), id = 4.276",
     ]
     assert "read as 5 m" in tally.notes[0] and 'write od = "5.0 in"' in tally.notes[0]
     # every command that builds the string says it on stderr, and goes on (a note, no refusal)
@@ -51,7 +51,8 @@ def test_bare_inch_diameters_are_read_as_metres_and_said(tmp_path, capsys):
     code, _, err = run(capsys, "window", path, "--depth", "3000m", "--at-rpm", "60")
     assert code == 0
     said = notes(err)
-    assert len(said) == 2 and said[0].startswith(f"pydrill: note: {path}: section[0].od = 5.0")
+    od = "section 1 (drill-pipe), od = 5.0"
+    assert len(said) == 2 and said[0].startswith(f"pydrill: note: {path}: {od}")
 
 
 @pytest.mark.parametrize(
