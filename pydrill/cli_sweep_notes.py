@@ -29,12 +29,22 @@ def spec_notes(spec: SweepSpec) -> None:
         name: ("axes." if name in spec.axes else "model.") + name
         for name in ("depth", "wob", "torque")
     }
+    import tomllib
+
+    doc = tomllib.loads(spec.text)
     notes = tally_file_notes(spec)
     depth = largest("depth")
     if depth is not None and depth > LONGEST_WELL:
+        # "a bare number is m" of depth = "30 km" contradicted what was written
+        written = _written_largest(doc, "depth", depth)
+        bare = (
+            f'; a bare number is m: for feet write "{written:g} ft"'
+            if isinstance(written, int | float)
+            else ""
+        )
         notes.append(
             f"{key['depth']} reaches {depth / 1e3:g} km, longer than any well ever drilled (the "
-            f"longest some {LONGEST_WELL / 1e3:g} km); a bare number is m"
+            f"longest some {LONGEST_WELL / 1e3:g} km){bare}"
         )
     if spec.tally_text is not None or spec.preset == "real-string":
         wob, torque = largest("wob"), largest("torque")
@@ -48,17 +58,35 @@ def spec_notes(spec: SweepSpec) -> None:
                 f"{key['torque']} reaches {torque / 1e3:g} kN·m: the strongest top drives give "
                 f"some {TOP_DRIVE_TORQUE / 1e3:g} kN·m"
             )
-    # friction coefficients beyond any bit's, on any string (a laboratory one's too)
+    # friction coefficients beyond any bit's, and a bit radius wider than any bit's, on any
+    # string (a laboratory one's too); a swept bit_radius = [8.5] was said nothing of
     swept: dict[str, float] = {
-        n: float(max(spec.axes[n])) for n in ("mu_static", "mu_coulomb") if n in spec.axes
+        n: float(max(spec.axes[n]))
+        for n in ("mu_static", "mu_coulomb", "bit_radius")
+        if n in spec.axes
     }
-    notes += friction_notes("axes.", swept, "reaches")
-    import tomllib
-
-    written = tomllib.loads(spec.text).get("model", {})  # "8.5 m" or 8.5, as the spec has it
+    radius = {"bit_radius": _written_largest(doc, "bit_radius", swept.get("bit_radius"))}
+    notes += friction_notes("axes.", swept, "reaches", written=radius)
+    written = doc.get("model", {})  # "8.5 m" or 8.5, as the spec has it
     notes += friction_notes("model.", dict(spec.overrides), written=written) + held_in_vain(spec)
     for note in notes:
         print(f"pydrill: note: {note}", file=sys.stderr)
+
+
+def _written_largest(doc: dict, name: str, largest: float | None) -> object:
+    """``name``'s value as the spec writes it (in [axes] or [model]) that is ``largest``:
+    8.5 or "8.5 m", for a note to say whether it was bare; None if none is."""
+    from .atlas_grid import coordinate
+
+    raw = doc.get("axes", {}).get(name, doc.get("model", {}).get(name))
+    items = [raw.get("start"), raw.get("stop")] if isinstance(raw, dict) else raw
+    for item in items if isinstance(items, list) else [items]:
+        try:
+            if largest is not None and coordinate(name, item) == largest:
+                return item
+        except (TypeError, ValueError):  # the spec has refused what it could not read
+            continue
+    return None
 
 
 def tally_file_notes(spec: SweepSpec) -> list[str]:

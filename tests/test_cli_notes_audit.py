@@ -151,3 +151,49 @@ def test_a_spec_s_wide_bit_radius_is_said_as_written(written, ending, capsys):
     )
     note = radius_note(capsys.readouterr().err)
     assert note.startswith("pydrill: note: model.bit_radius = ") and note.endswith(ending)
+
+
+TALLY_SPEC = f'[model]\ntally = "{TALLY}"\n[axes]\nwob = ["100 kN"]\ntorque = ["10 kN*m"]\n'
+
+
+@pytest.mark.parametrize(
+    ("depth", "km", "bare"),
+    [
+        ('["30 km"]', 30, False),
+        ('["100000 ft", 1000.0]', 30.48, False),
+        ("[30000.0]", 30, True),
+        ("{ start = 1000.0, stop = 30000.0, num = 2 }", 30, True),
+    ],
+)
+def test_a_spec_s_depth_beyond_any_well_is_called_bare_only_if_it_is(depth, km, bare, capsys):
+    """depth = "30 km" was noted "a bare number is m"; a bare 30000 still is, with the feet
+    that may have been meant, as --depth says it."""
+    spec_notes(parse_spec(TALLY_SPEC + f"depth = {depth}\n", tally_text=TALLY.read_text()))
+    (note,) = [n for n in notes(capsys.readouterr().err) if "depth" in n]
+    assert note.startswith(f"pydrill: note: axes.depth reaches {km:g} km, longer than any well")
+    assert ("a bare number is m" in note) == bare
+    if bare:
+        assert note.endswith('; a bare number is m: for feet write "30000 ft"')
+    held = TALLY_SPEC.replace("[axes]", 'depth = "30 km"\n[axes]')
+    spec_notes(parse_spec(held, tally_text=TALLY.read_text()))
+    (note,) = [n for n in notes(capsys.readouterr().err) if "depth" in n]
+    assert note.startswith("pydrill: note: model.depth reaches 30 km") and "bare" not in note
+
+
+@pytest.mark.parametrize(
+    ("radii", "ending"),
+    [
+        ("[0.1, 8.5]", 'a bare number is m: for inches write "8.5 in"'),
+        ('["8.5 m", 0.1]', 'read as written, in m: if inches were meant, write "8.5 in"'),
+        ('{ start = "0.1 m", stop = "8.5 ft", num = 3 }', 'if inches were meant, write "8.5 in"'),
+    ],
+)
+def test_a_swept_bit_radius_wider_than_any_bit_is_said(radii, ending, capsys):
+    """A swept bit_radius reaching 8.5 m was said nothing of, where --set and [model] say it."""
+    grid = "[axes]\nwob = [40.0]\ntorque = [8.0]\n"
+    spec_notes(parse_spec(f"[model]\ndof = 3\n{grid}bit_radius = {radii}\n"))
+    note = radius_note(capsys.readouterr().err)
+    assert note.startswith("pydrill: note: axes.bit_radius reaches ") and note.endswith(ending)
+    assert "a bit 17 m across" in note or f"a bit {2 * 8.5 * 0.3048:g} m across" in note
+    spec_notes(parse_spec(f"[model]\ndof = 3\n{grid}bit_radius = [0.1, 0.2]\n"))
+    assert notes(capsys.readouterr().err) == []
