@@ -60,7 +60,7 @@ from .spec_rules import (  # noqa: F401 - the limits and SpecError are spec's AP
 from .spec_sections import record as _record
 from .spec_sections import simulation as _simulation
 from .spec_sections import swept_in_vain as _swept_in_vain
-from .spec_tally import _check_tally, _check_tally_size, _fixed_depth, _read_tally
+from .spec_tally import _check_lists, _check_tally, _check_tally_size, _fixed_depth, _read_tally
 from .suggest import did_you_mean
 
 _PARAMS_KEPT = 16  # strings a spec keeps built (params_at)
@@ -225,6 +225,7 @@ class SweepSpec:
                 tally = tally.at_depth(depth)
             params = tally.to_params(dof=self.dof, lump=self.lump)
             over = {k: v for k, v in self.overrides.items() if k not in ("tally", "lump")}
+            _check_lists(over, params.dof)
             over.update({k: v for k, v in coords.items() if k in SCALAR_AXES})
             return params.replace(**over) if over else params
         dof = self.dof

@@ -98,3 +98,19 @@ def _fixed_depth(value: Any, tally_text: str | None, axes_doc: dict[str, Any]) -
     if not _is_number(depth) or not 0 < depth < math.inf:
         raise _fail("model.depth", f"{value!r} is not allowed: a depth > 0 (m, or '3000 ft')")
     return float(depth)
+
+
+def _check_lists(over: dict[str, Any], dof: int) -> None:
+    """[model]'s inertias, stiffnesses or dampings against a tally's string of ``dof``
+    inertias: a list of another length said "stiffnesses has 321 entries: dof = 2 needs 1" of
+    inertias = [a, b], naming a list the spec did not give (as --inertias did)."""
+    for key in ("inertias", "stiffnesses", "dampings"):
+        need = dof - (key != "inertias")
+        given = len(over.get(key, ()))
+        if key in over and given != need:
+            raise ValueError(
+                f"{key} has {given} value{'' if given == 1 else 's'}, but the tally's string "
+                f"has {dof} inertias: give {need} (one per "
+                f"{'inertia' if key == 'inertias' else 'link'}; dof sets how many), or leave "
+                f"{key} out"
+            )

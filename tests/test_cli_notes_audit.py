@@ -197,3 +197,23 @@ def test_a_swept_bit_radius_wider_than_any_bit_is_said(radii, ending, capsys):
     assert "a bit 17 m across" in note or f"a bit {2 * 8.5 * 0.3048:g} m across" in note
     spec_notes(parse_spec(f"[model]\ndof = 3\n{grid}bit_radius = [0.1, 0.2]\n"))
     assert notes(capsys.readouterr().err) == []
+
+
+def test_a_spec_s_list_of_another_length_on_a_tally_names_that_list():
+    """[model] inertias = [a, b] on a tally's string was refused as "stiffnesses has N
+    entries: dof = 2 needs 1", a list the spec did not give; the count asked is the string's
+    (the tally reduced to dof inertias), and a list of that length is taken."""
+    held = TALLY_SPEC.replace("[axes]", 'depth = "3000 m"\ndof = 3\n{}[axes]')
+    text = TALLY.read_text()
+    for line, key, given, need in [
+        ("inertias = [2500.0, 100.0]\n", "inertias", "2 values", 3),
+        ("dampings = [1.0]\n", "dampings", "1 value", 2),
+    ]:
+        with pytest.raises(ValueError) as info:
+            parse_spec(held.format(line), tally_text=text)
+        assert str(info.value) == (
+            f"model: {key} has {given}, but the tally's string has 3 inertias: give {need} (one "
+            f"per {'inertia' if need == 3 else 'link'}; dof sets how many), or leave {key} out"
+        )
+    spec = parse_spec(held.format("dampings = [1.0, 2.0]\n"), tally_text=text)
+    assert list(spec.params_at({}).dampings) == [1.0, 2.0]
