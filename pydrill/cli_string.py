@@ -170,6 +170,9 @@ def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = N
             for api in ("dof", "pipes"):  # a size given as 1e9: "--dof = ...", not "dof = ..."
                 if str(exc).startswith(f"{api} "):
                     raise for_option(exc, f"--{api}", api) from None
+            for key in overrides or {}:  # "inertias has 2 entries" of --inertias 1,2
+                if str(exc).startswith(f"{key} "):
+                    raise type(exc)(f"--{exc}") from None
             raise _set_refused(exc, sets) from None
         if args.preset == "real-string":
             unit_notes(args)

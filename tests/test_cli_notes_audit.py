@@ -217,3 +217,20 @@ def test_a_spec_s_list_of_another_length_on_a_tally_names_that_list():
         )
     spec = parse_spec(held.format("dampings = [1.0, 2.0]\n"), tally_text=text)
     assert list(spec.params_at({}).dampings) == [1.0, 2.0]
+
+
+@pytest.mark.parametrize(
+    ("given", "said"),
+    [
+        (["--dof", "4", "--inertias", "1,2"], "--inertias has 2 entries: dof = 4 needs 4"),
+        (["--dampings", "1"], "--dampings has 1 entry: dof = 4 needs 3"),
+        (["--dof", "3", "--stiffnesses", "1,2,3"], "--stiffnesses has 3 entries: dof = 3 needs 2"),
+    ],
+)
+def test_simulate_s_list_of_another_length_names_its_option(given, said, capsys):
+    """simulate --dof 4 --inertias 1,2 said "inertias has 2 entries", of no option; --set's
+    refusals already named theirs. A list of the right length runs."""
+    point = ["simulate", "--wob", "100", "--torque", "8", "--t-end", "1"]
+    assert refusal(capsys, [*point, *given]).startswith(f"pydrill simulate: error: {said} (one per")
+    code, _, err = run(capsys, *point, "--dof", "3", "--dampings", "1,1")
+    assert code == 0, err
