@@ -326,12 +326,15 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _run(line: list[str]) -> int:
+    from .cli_set import option_names
+
     parser = build_parser()
     _Parser.line = (parser, line)
     try:
         args = parser.parse_args(line)
     finally:
         _Parser.line = None
+    args.option_names = option_names(parser, args)  # for --set's refusal of an option's name
     from . import SolverError
     from .sweep import AtlasError, SchedulerError
     from .tally import TallyError

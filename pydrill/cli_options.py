@@ -228,7 +228,9 @@ def as_options(exc: Exception, names: dict[str, str] = OPTION_NAMES) -> Exceptio
     them (``max_steps`` -> ``--max-steps``): the same exception, its other attributes kept."""
     import re
 
-    if exc.args and isinstance(exc.args[0], str):
+    # --set's refusals are in the words typed: "--set 't_end=1': t_end has an option of its
+    # own" became "--set '--t-end=1': --t-end has ...", quoting what was not typed
+    if exc.args and isinstance(exc.args[0], str) and not exc.args[0].startswith("--set "):
         pattern = r"(?<![\w-])(" + "|".join(map(re.escape, names)) + r")(?![\w])"
         exc.args = (re.sub(pattern, lambda m: names[m.group(1)], exc.args[0]), *exc.args[1:])
     return exc

@@ -45,9 +45,36 @@ def _unknown_hint(name: str, args: argparse.Namespace) -> str:
     # a scalar near the name as well ("damping": top_damping, bit_damping) may be the one meant
     scalar = did_you_mean(name, takes).removeprefix(" (").removesuffix(")")
     also = f"; or {scalar}" if scalar else ""
-    if hasattr(args, listed):
+    if _own_option(listed, args):
         return f" ({each}: give {option}{also})"
     return f" ({each}: only pydrill simulate changes them, with {option}{also})"
+
+
+def option_names(parser: argparse.ArgumentParser, args: argparse.Namespace) -> dict[str, str]:
+    """What the user types for each value of the command ``args`` ran: ``{"wob_max":
+    "--wob-max", "tally": "TALLY.toml"}`` (an option, or a positional argument's metavar)."""
+    for dest in ("command", "atlas_command"):
+        sub = next((a for a in parser._actions if isinstance(a, argparse._SubParsersAction)), None)
+        if sub is None or getattr(args, dest, None) not in sub.choices:
+            break
+        parser = sub.choices[getattr(args, dest)]
+    names = {}
+    for action in parser._actions:
+        if action.dest in (argparse.SUPPRESS, "help", "set_params"):
+            continue
+        longest = max(action.option_strings, key=len, default=None)
+        names[action.dest] = longest or str(action.metavar or action.dest)
+    return names
+
+
+def _own_option(name: str, args: argparse.Namespace) -> str | None:
+    """The option (or argument) of this command that sets ``name``, if one does: --set wob=1
+    is refused naming --wob. "give --wob_max" and "give --set_params", "--handler" named no
+    option: the names of the namespace are not all options, nor spelt as options are."""
+    names = getattr(args, "option_names", None)
+    if names is None:  # a namespace built without the parser: the options spelt so
+        return f"--{name}" if hasattr(args, name) and name not in _SCALARS else None
+    return names.get(name)
 
 
 def set_params(args: argparse.Namespace) -> dict[str, float]:
@@ -64,12 +91,15 @@ def set_params(args: argparse.Namespace) -> dict[str, float]:
                 f"--set {item!r}: expected NAME=VALUE, e.g. bit_damping=0.05 or bit_radius=4.5in"
             )
         if name not in _SCALARS:
+            own = _own_option(name, args)
             what = (
                 f"{name} is a list, one value per {_EACH[name]}"
-                + (f": give --{name} {_METAVARS[name]}" if hasattr(args, name) else "")
+                + (f": give {own} {_METAVARS[name]}" if own else "")
                 if name in _LISTS
-                else f"{name} has an option of its own: give --{name}"
-                if hasattr(args, name)
+                else f"{name} has an option of its own: give {own}"
+                if own and own.startswith("-")
+                else f"{name} is given as {own}, the command's argument"
+                if own
                 else f"{name} is not one of the string's parameters" + _unknown_hint(name, args)
             )
             raise ValueError(f"--set {item!r}: {what}; --set takes " + ", ".join(_takes(args)))

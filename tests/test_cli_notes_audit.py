@@ -234,3 +234,37 @@ def test_simulate_s_list_of_another_length_names_its_option(given, said, capsys)
     assert refusal(capsys, [*point, *given]).startswith(f"pydrill simulate: error: {said} (one per")
     code, _, err = run(capsys, *point, "--dof", "3", "--dampings", "1,1")
     assert code == 0, err
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+@pytest.mark.parametrize(
+    "name", ["t_end", "wob_max", "rpm_max", "at_rpm", "check_dof", "tally", "n_out", "max_steps"]
+)
+def test_a_set_name_that_is_an_option_points_to_the_option_as_typed(command, name, capsys):
+    """window --set wob_max=1 said "give --wob_max" (the option is --wob-max), --set tally=1
+    "give --tally" (window takes its tally as an argument), simulate --set t_end=1 quoted
+    "--set '--t-end=1'", which was not typed: the option given is in the command's --help."""
+    message = refusal(capsys, [*COMMANDS[command], "--set", f"{name}=1"])
+    assert message.split(": ")[1:3] == ["error", f"--set '{name}=1'"]
+    found = re.search(r"give (\S+);|is given as (\S+), the command's argument", message)
+    if found is None:
+        assert f"{name} is not one of the string's parameters;" in message
+        return
+    option = found.group(1) or found.group(2)
+    code, out, _ = run(capsys, *COMMANDS[command][:1], "--help")
+    assert code == 0 and re.search(rf"(^|[\s\[]){re.escape(option)}([\s\]]|$)", out), option
+    assert "_" not in option.lstrip("-") or option.isupper()
+
+
+@pytest.mark.parametrize(
+    ("command", "name", "said"),
+    [
+        ("window", "wob_max", "wob_max has an option of its own: give --wob-max;"),
+        ("window", "tally", "tally is given as TALLY.toml, the command's argument;"),
+        ("simulate", "t_end", "t_end has an option of its own: give --t-end;"),
+        ("simulate", "handler", "handler is not one of the string's parameters;"),
+        ("window", "set_params", "set_params is not one of the string's parameters;"),
+    ],
+)
+def test_the_option_named_is_the_one_typed(command, name, said, capsys):
+    assert said in refusal(capsys, [*COMMANDS[command], "--set", f"{name}=1"])
