@@ -148,7 +148,26 @@ def set_notes(args: argparse.Namespace) -> list[str]:
     for item in getattr(args, "set_params", None) or []:
         name, _, value = (part.strip() for part in item.partition("="))
         written[name] = value
-    return friction_notes("--set ", set_params(args), written=written)
+    sets = set_params(args)
+    return friction_notes("--set ", sets, written=written) + _band_in_vain(args, sets)
+
+
+def _band_in_vain(args: argparse.Namespace, sets: dict[str, float]) -> list[str]:
+    """A note on --set karnopp_band where nothing uses it: the band is the Karnopp law's, which
+    only simulate --friction karnopp runs (the analyses and the exact law have none); it was
+    taken and printed as changed, silently changing nothing, where a spec's is noted."""
+    if "karnopp_band" not in sets or getattr(args, "friction", None) == "karnopp":
+        return []
+    band = f"--set karnopp_band = {sets['karnopp_band']:g} rad/s"
+    if getattr(args, "friction", None) is not None:
+        return [
+            f"{band} has no effect with --friction {args.friction} (the band is the Karnopp "
+            "law's); give --friction karnopp to use it"
+        ]
+    return [
+        f"{band} has no effect on what pydrill {args.command} computes (the band is the "
+        "Karnopp friction law's, which only pydrill simulate --friction karnopp uses)"
+    ]
 
 
 def friction_notes(

@@ -7,6 +7,7 @@ window's --set karnopp_bnd=1 suggested karnopp_band, which window refuses; and -
 suggestion is checked here by doing what it says: the name or option it gives is taken.
 """
 
+import json
 import re
 from pathlib import Path
 
@@ -268,3 +269,32 @@ def test_a_set_name_that_is_an_option_points_to_the_option_as_typed(command, nam
 )
 def test_the_option_named_is_the_one_typed(command, name, said, capsys):
     assert said in refusal(capsys, [*COMMANDS[command], "--set", f"{name}=1"])
+
+
+@pytest.mark.parametrize("command", ["simulate", "stability", "string"])
+def test_a_karnopp_band_that_nothing_uses_is_said(command, capsys):
+    """--set karnopp_band=0.1 was taken and printed as changed, silently changing nothing,
+    except in simulate --friction karnopp (a spec's is noted): what the command computes is
+    the same without it, and the note says so; with --friction karnopp it is used, unnoted."""
+    code, out, err = run(capsys, *COMMANDS[command], "--set", "karnopp_band=0.1", "--json")
+    assert code == 0, err
+    (note,) = notes(err)
+    assert note.startswith("pydrill: note: --set karnopp_band = 0.1 rad/s has no effect ")
+    code, plain, _ = run(capsys, *COMMANDS[command], "--json")
+    changed = json.loads(out)
+    assert changed.pop("set") == {"karnopp_band": 0.1}
+    # what was computed (the inputs echo the band, the solver its own timing)
+    kept = ("units", "inputs", "solver")
+    assert {k: v for k, v in changed.items() if k not in kept} == {
+        k: v for k, v in json.loads(plain).items() if k not in kept
+    }
+    if command == "simulate":
+        assert note.endswith("give --friction karnopp to use it")
+        # in stick-slip under the Karnopp law the band is the bit's least speed: used
+        karnopp = ["simulate", "--dof", "3", "--wob", "60", "--torque", "8.3", "--t-end", "30"]
+        karnopp += ["--friction", "karnopp", "--json"]
+        code, out, err = run(capsys, *karnopp, "--set", "karnopp_band=0.5")
+        assert code == 0 and notes(err) == []
+        slowest = json.loads(out)["bit_velocity"]["min"]
+        assert slowest == pytest.approx(0.5, rel=1e-6)
+        assert json.loads(run(capsys, *karnopp)[1])["bit_velocity"]["min"] != pytest.approx(0.5)
