@@ -298,3 +298,17 @@ def test_a_karnopp_band_that_nothing_uses_is_said(command, capsys):
         slowest = json.loads(out)["bit_velocity"]["min"]
         assert slowest == pytest.approx(0.5, rel=1e-6)
         assert json.loads(run(capsys, *karnopp)[1])["bit_velocity"]["min"] != pytest.approx(0.5)
+
+
+@pytest.mark.parametrize(
+    ("given", "half"), [("bit_diameter=8.5in", "4.25in"), ("diameter=0.2", "0.1")]
+)
+def test_a_bit_diameter_points_to_the_radius_it_takes(given, half, capsys):
+    """--set bit_diameter=8.5in (a tally's bit.diameter) was refused with no word of
+    bit_radius: the hint gives half of it, which builds the same bit (8.5 in across)."""
+    message = refusal(capsys, [*COMMANDS["simulate"], "--set", given])
+    assert f"(the bit is given by its radius: bit_radius={half})" in message
+    code, out, err = run(capsys, *COMMANDS["simulate"], "--set", f"bit_radius={half}", "--json")
+    assert code == 0, err
+    across = 8.5 * INCH if "in" in half else 0.2
+    assert 2 * json.loads(out)["set"]["bit_radius"] == pytest.approx(across, rel=1e-12)
