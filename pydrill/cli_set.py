@@ -8,7 +8,7 @@ import argparse
 from typing import Any
 
 from .model import _LISTS, _SCALARS, _UNITS
-from .suggest import did_you_mean
+from .suggest import did_you_mean, radius_hint
 
 
 def add_set_option(parser: Any, help: str) -> None:
@@ -30,16 +30,6 @@ def _takes(args: argparse.Namespace) -> tuple[str, ...]:
     return tuple(getattr(args, "set_names", None) or _SCALARS)
 
 
-def _radius_hint(value: str) -> str:
-    """For a bit's diameter given to --set (a tally's bit.diameter): the radius it takes, half
-    of it in the unit written (bit_diameter=8.5in was refused with no word of bit_radius)."""
-    from .units import _NUMBER
-
-    match = _NUMBER.match(value)
-    half = f"{float(match.group(1)) / 2:g}{match.group(2)}" if match else "R"
-    return f" (the bit is given by its radius: bit_radius={half})"
-
-
 def _unknown_hint(name: str, args: argparse.Namespace, value: str = "") -> str:
     """The "did you mean" of a ``--set`` name that is none of the string's: one this command's
     --set takes; or, when the name is closest to a list of the chain (top_inertia, inertia:
@@ -47,7 +37,7 @@ def _unknown_hint(name: str, args: argparse.Namespace, value: str = "") -> str:
     --set inertias=..., which is refused as a list."""
     takes = _takes(args)
     if name.lower().endswith("diameter"):
-        return _radius_hint(value)
+        return radius_hint(value)
     hint = did_you_mean(name, takes + _LISTS)
     listed = next((key for key in _LISTS if hint == f" (did you mean {key!r}?)"), None)
     if listed is None:

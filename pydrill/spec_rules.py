@@ -19,7 +19,7 @@ from .model import (
     MAX_DOF,
     MAX_LOAD,
 )  # MAX_DOF: the largest string, explained there
-from .suggest import did_you_mean
+from .suggest import key_hint
 
 T = TypeVar("T")
 
@@ -296,16 +296,6 @@ def _check_size(dof: Any, pipes: Any) -> int | None:
     return dof
 
 
-def _model_hint(key: str) -> str:
-    """The "did you mean" of an unknown [model] key; one nearest a list of the chain says it
-    is a list (top_inertia = 2500.0 was sent to 'inertias', whose scalar is refused)."""
-    hint = did_you_mean(key, _MODEL_KEYS)
-    for name, each in (("inertias", "inertia"), ("stiffnesses", "link"), ("dampings", "link")):
-        if hint == f" (did you mean {name!r}?)":
-            return f" (did you mean {name} = [...], a list of one value per {each}?)"
-    return hint
-
-
 def _check_parameters(model: dict[str, Any]) -> None:
     """Each model parameter of its type: a number, or a list of numbers; what values are
     allowed is the model's to say (on the corners, in :func:`parse_spec`)."""
@@ -313,7 +303,10 @@ def _check_parameters(model: dict[str, Any]) -> None:
         if key not in _LISTS + _SCALARS:
             raise _fail(
                 f"model.{printable(key)}",
-                "unknown parameter" + _model_hint(key) + "; allowed: " + ", ".join(_MODEL_KEYS),
+                "unknown parameter"
+                + key_hint(key, value, _MODEL_KEYS)
+                + "; allowed: "
+                + ", ".join(_MODEL_KEYS),
             )
         if key in _SCALARS and not _is_number(value):
             raise _fail(f"model.{key}", f"{value!r} is not a finite number")

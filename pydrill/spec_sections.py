@@ -12,9 +12,9 @@ from .spec_rules import (
     SIMULATION_KEYS,
     _fail,
     _is_number,
-    did_you_mean,
     printable,
 )
+from .suggest import did_you_mean
 
 
 def with_defaults(doc: dict[str, Any], section: str, defaults: dict[str, Any]) -> dict[str, Any]:

@@ -32,3 +32,36 @@ def did_you_mean(name: object, choices: Iterable[str]) -> str:
     if not close and len(text) >= 3:  # (two letters are one edit from too much)
         close = [c for c in options if _one_edit(text.lower(), c.lower())][:1]
     return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def radius_hint(value: object, toml: bool = False) -> str:
+    """For a bit's diameter given where its radius belongs (a tally's bit.diameter, typed to
+    --set or a spec's [model]): the radius, half of it in the unit written,
+    ``" (the bit is given by its radius: bit_radius=4.25in)"``; in a spec's words with
+    ``toml`` (``bit_radius = "4.25 in"``)."""
+    from .units import _NUMBER
+
+    match = _NUMBER.match(value) if isinstance(value, str) else None
+    if match:
+        number, unit = float(match.group(1)) / 2, match.group(2)
+    elif isinstance(value, int | float) and not isinstance(value, bool):
+        number, unit = value / 2, ""
+    else:
+        return " (the bit is given by its radius: bit_radius)"
+    if toml:
+        half = f'"{number:g} {unit}"' if unit else f"{number:g}"
+        return f" (the bit is given by its radius: bit_radius = {half})"
+    return f" (the bit is given by its radius: bit_radius={number:g}{unit})"
+
+
+def key_hint(key: str, value: object, keys: Iterable[str]) -> str:
+    """The "did you mean" of an unknown key of a spec's [model] (``keys`` its keys): one
+    nearest a list of the chain says it is a list (top_inertia = 2500.0 was sent to
+    'inertias', whose number is refused), and a bit's diameter the radius [model] takes."""
+    if str(key).lower().endswith("diameter"):
+        return radius_hint(value, toml=True)
+    hint = did_you_mean(key, keys)
+    for name, each in (("inertias", "inertia"), ("stiffnesses", "link"), ("dampings", "link")):
+        if hint == f" (did you mean {name!r}?)":
+            return f" (did you mean {name} = [...], a list of one value per {each}?)"
+    return hint

@@ -312,3 +312,19 @@ def test_a_bit_diameter_points_to_the_radius_it_takes(given, half, capsys):
     assert code == 0, err
     across = 8.5 * INCH if "in" in half else 0.2
     assert 2 * json.loads(out)["set"]["bit_radius"] == pytest.approx(across, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("line", "hint", "radius"),
+    [
+        ('bit_diameter = "8.5 in"', 'bit_radius = "4.25 in"', 4.25 * INCH),
+        ("diameter = 0.2", "bit_radius = 0.1", 0.1),
+    ],
+)
+def test_a_spec_s_bit_diameter_points_to_the_radius_it_takes(line, hint, radius):
+    """The same in a spec's [model]: the radius hinted, written there, is the bit's."""
+    grid = "[axes]\nwob = [40.0]\ntorque = [8.0]\n"
+    with pytest.raises(ValueError, match=re.escape(f"(the bit is given by its radius: {hint})")):
+        parse_spec(f"[model]\ndof = 3\n{line}\n{grid}")
+    spec = parse_spec(f"[model]\ndof = 3\n{hint}\n{grid}")
+    assert spec.params_at({}).bit_radius == pytest.approx(radius, rel=1e-12)
