@@ -212,10 +212,11 @@ def _radius_note(label: str, radius: float, written: object) -> str:
     """A bit radius as its note shows it: "8.5 m" (bare, or in m), '"8.5 ft" (2.591 m)'."""
     from .units import _NUMBER
 
-    match = _NUMBER.match(written) if isinstance(written, str) else None
+    text = written.strip() if isinstance(written, str) else ""
+    match = _NUMBER.match(text)
     if match is None or match.group(2) in ("", "m"):
         return f"{radius:g} m"
-    shown = written.strip() if label.startswith("--") else f'"{written.strip()}"'
+    shown = text if label.startswith("--") else f'"{text}"'
     return f"{shown} ({radius:.4g} m)"
 
 
