@@ -284,11 +284,11 @@ def preset(
     overrides = {k: _as_list(k, v, 0) for k, v in overrides.items()}
     default = 2 if name == "real-string" else 4
     if dof is None and pipes is None:
-        # A full list of inertias (or springs) says how long the string is.
+        # A full list of inertias says how long the string is. The springs' lists do not:
+        # two stiffnesses for the 4-inertia preset made a 3-inertia string without a word
+        # (mostly an entry left out), where two dampings were refused; both must agree now.
         if "inertias" in overrides:
             default = len(_as_list("inertias", overrides["inertias"], 0))
-        elif "stiffnesses" in overrides:
-            default = len(_as_list("stiffnesses", overrides["stiffnesses"], 0)) + 1
         if default > MAX_DOF:
             raise ValueError(
                 f"a string of {default} inertias is not allowed: at most {MAX_DOF} (MAX_DOF)"

@@ -153,11 +153,15 @@ def test_dof_and_pipes_given_together_agree_only_as_dof_equals_pipes_plus_three(
 
 
 @pytest.mark.parametrize("springs", [1, 3, 7])
-def test_a_full_stiffness_list_sets_dof_to_one_more_than_its_length(springs):
-    # One spring joins each pair of neighbouring inertias: dof = springs + 1.
+def test_a_full_stiffness_list_must_agree_with_dof_as_a_damping_list_must(springs):
+    # One spring joins each pair of neighbouring inertias: with dof = springs + 1 (given, or
+    # 4 by default) the list is taken; alone it does not set dof (test_spring_lists_dof.py).
     k = [0.05 + 0.01 * i for i in range(springs)]
-    p = preset("reduced-scale", stiffnesses=k)
+    p = preset("reduced-scale", dof=springs + 1, stiffnesses=k)
     assert p.dof == springs + 1 and p.stiffnesses == tuple(k) and len(p.dampings) == springs
+    if springs != 3:
+        with pytest.raises(ValueError, match=r"stiffnesses has .*dof = 4 needs 3"):
+            preset("reduced-scale", stiffnesses=k)
 
 
 # --- from_dict and list shapes --------------------------------------------------------------
