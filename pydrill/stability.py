@@ -85,7 +85,8 @@ class Crossing:
         return boundary_wob(params, self.delta, omega)
 
     def criticality(self, params: Params) -> str | None:
-        """ "subcritical" or "supercritical" (the sign of :meth:`lyapunov`); None for a fold."""
+        """ "subcritical" or "supercritical" (the sign of :meth:`lyapunov`), "degenerate" where
+        it is 0 (every Hopf point of a string with no damping at all); None for a fold."""
         return criticality(self.lyapunov(params))
 
     def lyapunov(self, params: Params) -> float | None:
@@ -115,7 +116,7 @@ class StabilityPoint:
     torque: float  #: N·m needed to hold Ω
     delta: float  #: Stribeck slope at (Ω, W_ob), N·m·s/rad
     unstable: int  #: eigenvalues in the right half-plane
-    stable: bool
+    stable: bool  #: no eigenvalue in the right half-plane (``unstable == 0``)
     delta_margin: float  #: distance in δ to the nearest crossing (negative when unstable)
     spectral_abscissa: float  #: largest real part of the eigenvalues, 1/s
     eigenvalues: tuple[complex, ...]  #: sorted by decreasing real part

@@ -45,7 +45,7 @@ class SweepPlan:
     point_seconds_high: float  #: high end of that mean's 95 % range, s
     atlas_bytes: int  #: the atlas's data, uncompressed (compression makes it smaller)
     journal_bytes: int  #: the journal at its largest (one JSON line per point; removed at the end)
-    memory_bytes: int = 0  #: what the sweep's own process holds (:func:`memory_bytes`)
+    memory_bytes: int = 0  #: memory of the sweep's own process: the whole atlas, and more to write
 
     @property
     def compute_seconds(self) -> tuple[float, float, float]:

@@ -103,7 +103,7 @@ class Tally:
     that :func:`pydrill.simulate` and the stability analysis take.
     """
 
-    sections: tuple[Section, ...]
+    sections: tuple[Section, ...]  #: the tally's sections, top down (kind, joints, sizes)
     top_inertia: float  #: J_0 of top drive and gearbox, kg·m²
     top_damping: float  #: c_r, N·m·s/rad
     bit_radius: float  #: R_b, m (half the bit diameter)
