@@ -74,10 +74,16 @@ def _search(data: bytes | mmap.mmap, limit: int | None) -> str | None:
     at = data.find(SIGNATURE, 0, end)
     while at >= 0:
         size = struct.unpack_from("<Q", data, at + 8)[0] if at + HEADER <= len(data) else 0
-        if size < MIN_SIZE or at + size > len(data):
+        # Said apart: "where 4096 ... 2952 fit", an empty range, was all a copy cut short heard.
+        if size < MIN_SIZE:
             return (
-                f"its global heap at byte {at} claims {size} bytes, where {MIN_SIZE} ... "
-                f"{len(data) - at} fit"
+                f"its global heap at byte {at} claims {size} bytes, fewer than any HDF5 "
+                f"writes ({MIN_SIZE})"
+            )
+        if at + size > len(data):
+            return (
+                f"its global heap at byte {at} claims {size} bytes, past the file's end (byte "
+                f"{len(data)}): the file is cut short, or the heap's size is damaged"
             )
         problem = _walk(data, at, size)
         if problem:
