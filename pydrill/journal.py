@@ -177,8 +177,10 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
         except (OSError, KeyError, ValueError, TypeError, AttributeError, RuntimeError) as exc:
             if not jp.exists():
                 what = str(exc) if isinstance(exc, _Damaged) else "not a readable HDF5 atlas"
+                # What to do next, as every other refusal here says it: nothing can mend it.
                 raise AtlasError(
-                    f"{out} is damaged ({what}) and has no journal to rebuild it from"
+                    f"{out} is damaged ({what}) and has no journal to rebuild it from; remove "
+                    "it to sweep anew, or choose another out=PATH"
                 ) from None
     if not out.exists():
         # A journal alone (the atlas was removed, or a kill came before it was made): say so,
