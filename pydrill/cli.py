@@ -250,6 +250,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     plot = args.plot if unsaved is None else None
     if args.json:
         data = result.to_dict()
+        data["note"] = data["note"] and cli_note(data["note"])
         inputs = {"inputs": data.pop("inputs"), **string_json(args)}
         if args.tally is not None:  # as the text names it: the tally's name and length
             inputs["string"] = result.params.name
@@ -301,10 +302,16 @@ def _describe(result: Any, plot: str | None, tally: bool = False) -> str:
         f"{counted(st.switches, 'switch', 'switches')}, {1e3 * st.wall_time:.1f} ms in the core",
     ]
     if s.note:
-        lines.append(f"note            {s.note}")
+        lines.append(f"note            {cli_note(s.note)}")
     if plot:
         lines.append(f"figure          {plot}")
     return "\n".join(lines)
+
+
+def cli_note(note: str) -> str:
+    """A run's note as the command line's user acts on it: its advice names the option
+    (``--window``), not the keyword of ``simulate`` (``window_fraction``)."""
+    return note.replace("(window_fraction)", "(--window)")
 
 
 def _surface_torque(torque: float, big: bool) -> str:
