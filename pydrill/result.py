@@ -76,9 +76,10 @@ class Summary:
     window_start: float  #: s, the judged window's start
     window_end: float  #: s, its end (t_end)
     # The extremes are of the motion, not of the output samples (each step's values and
-    # slopes place a peak between steps), so they do not depend on n_out.
-    bit_min: float  #: rad/s, least ω_b in the window (of the motion, whatever ``n_out``)
-    bit_max: float  #: rad/s, greatest ω_b in the window (of the motion, whatever ``n_out``)
+    # slopes place a peak between steps): n_out changes them by 1e-4 at most (5e-5 on the
+    # 4-inertia stick-slip peak with n_out = 2, as a sweep runs it, against 2e-7 at 3001).
+    bit_min: float  #: rad/s, least ω_b in the window (of the motion to 1e-4, any ``n_out``)
+    bit_max: float  #: rad/s, greatest ω_b in the window (of the motion to 1e-4, any ``n_out``)
     bit_mean: float  #: rad/s, exact: from the angle turned over the window
     top_min: float  #: rad/s, least top-drive velocity ω_0 in the window
     top_max: float  #: rad/s, greatest ω_0 in the window
