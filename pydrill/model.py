@@ -304,6 +304,22 @@ def preset(
                     f"{key} has {entries}: dof = {n} needs {need}"
                     + (" (one per inertia)" if key == "inertias" else " (one per spring)")
                 )
+    if name == "real-string" and n != 2:
+        # Refused here, not by the core: its message names C++'s Params::inertias.
+        size = (
+            f"dof = {n}"
+            if dof is not None
+            else f"pipes = {pipes} (dof = {n})"
+            if pipes is not None
+            else f"a string of {n} inertias (inertias has {n} entries)"
+        )
+        raise ValueError(
+            f"{size} is not allowed for preset 'real-string': it is the paper's 2-DOF string "
+            "(Eq. 53); use dof = 2, or give a longer string element by element "
+            "(pydrill.Params(inertias=..., stiffnesses=..., dampings=..., ...)) or from a pipe "
+            f"tally (pydrill.load_tally(path).to_params(dof={n}); "
+            "examples/tallies/paper-eq53.toml is the paper's)"
+        )
     core = _core.preset(name, n)
     fields = {key: getattr(core, key) for key in _LISTS + _SCALARS}
     params = Params(**fields, name=name)

@@ -359,7 +359,14 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
         except ValueError as exc:
             # Name the swept values that made the string (pipes = 50 means dof = 53).
             where = ", ".join(f"axes.{k} = {v:g}" for k, v in corner.items())
-            raise _fail(f"model (at {where})" if where else "model", str(exc)) from None
+            message = str(exc)
+            if "for preset 'real-string'" in message:  # preset()'s advice is Python's
+                message = message.split("; use dof = 2", 1)[0] + (
+                    "; give dof = 2, or the string pipe by pipe from a tally: [model] tally = "
+                    '"TALLY.toml" with dof, lump or depth (examples/tallies/paper-eq53.toml '
+                    "is the paper's)"
+                )
+            raise _fail(f"model (at {where})" if where else "model", message) from None
     return spec
 
 
