@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import functools
 import math
-import re
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from types import MappingProxyType
@@ -21,8 +20,6 @@ from .model import _LISTS, _SCALARS, PRESETS, Params
 Regime = Literal["steady", "stick-slip", "stuck", "oscillation"]
 REGIMES: tuple[str, ...] = ("steady", "stick-slip", "stuck", "oscillation")
 MODES: tuple[str, ...] = tuple(_core.mode_names())  # index = value in SimulationResult.modes
-#: the parameter the core's short-window note names, at its end
-_WINDOW_ADVICE = re.compile(r"\(window\)$")
 
 UNITS = {
     "time": "s",
@@ -137,9 +134,8 @@ class SimulationResult:
         self.stats: SolverStats = SolverStats(**core.stats)  #: the solver's work
         summary = dict(core.summary)
         summary["omega_equilibrium"] = tuple(summary["omega_equilibrium"])
-        # The core's short-window note ends "judge a larger fraction of the run (window)":
-        # the spec's key; what simulate() takes is window_fraction (window= is refused).
-        summary["note"] = _WINDOW_ADVICE.sub("(window_fraction)", summary["note"])
+        # (The core's short-window note ends "(window_fraction)", the keyword simulate() takes
+        # as C++'s SimulationOptions does: kept as it is; the command line's says --window.)
         self.summary: Summary = Summary(**summary)  #: the regime and its metrics
 
     def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:

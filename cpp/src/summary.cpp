@@ -444,13 +444,15 @@ Summary summarize(const Chain& chain, const Trace& tr, const std::vector<ModeCha
   // mode: a shorter one sees part of a stick-slip cycle as an oscillation, or a slip phase
   // as steady (a 3 s window of a 17.5 s cycle did both). Not for a bit held for good.
   // Over a window that short a swing's trend says nothing either: this note replaces it.
+  // Its advice names SimulationOptions::window_fraction, as simulate() takes it in C++ and in
+  // Python; the command line's pydrill.cli_note says --window instead.
   const bool settled_stuck = s.regime == Regime::Stuck && s.note.empty();
   if (!settled_stuck && T < slowest && (s.note.empty() || growing || unresolved || approaching)) {
     std::ostringstream o;
     o.precision(3);
     o << "the judged window (" << T << " s) is shorter than the string's slowest period (about "
       << slowest << " s): too short to judge the regime; simulate longer, or judge a larger "
-      << "fraction of the run (window)";
+      << "fraction of the run (window_fraction)";
     s.note = o.str();
     s.caveat = "short-window";
   }
