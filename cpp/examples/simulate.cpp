@@ -1,13 +1,14 @@
 // pydrill from C++: simulate a laboratory string, judge its regime, and analyse the stability
 // of its steady states.
 //
-//   pydrill_example [W_ob N] [u N·m] [dof] [seconds of wall time allowed]
+//   pydrill_example [wob N] [torque N·m] [dof] [seconds of wall time allowed]
+//   pydrill_example --help
 //
-// Each argument a plain decimal number (100, 8.3, -5, 1e2; not 0x10, inf or nan).
-// Without arguments: the paper's Fig. 4 case, a 4-DOF string at W_ob = 100 N and
-// u = 8.3 N·m, which sticks and slips. Exit status 0, 2 for bad input (a string too large for
-// this machine's memory included, as the pydrill command says), 3 when the integrator fails,
-// 4 when the time allowed runs out.
+// Each argument a plain decimal number (100, 8.3, -5, 1e2; not 0x10, inf or nan), named in
+// messages as the library names it (wob, torque, dof). Without arguments: the paper's Fig. 4
+// case, a 4-DOF string at wob = 100 N and torque = 8.3 N·m, which sticks and slips. Exit
+// status 0, 2 for bad input (a string too large for this machine's memory included, as the
+// pydrill command says), 3 when the integrator fails, 4 when the time allowed runs out.
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -27,7 +28,8 @@ namespace {
 // A command-line number: a plain decimal one, all of it ("8.3", "-5", "1e2"). std::stod alone
 // took "8.3x" for 8.3, and also read hexadecimal ("0x10" as 16), "inf", "nan" and leading
 // blanks; a value beyond a double ("1e999") said "not a number". One too small for a double
-// ("1e-400") rounds to 0, as any decimal rounds to the nearest double.
+// ("1e-400") is refused too: it rounded to 0, and the library then refused "wob = 0", a value
+// nobody typed. A literal zero ("0", "0.0e5") stays 0.
 double number(const char* text, const char* what) {
   const std::string s(text);
   std::size_t i = 0;
@@ -37,11 +39,13 @@ double number(const char* text, const char* what) {
     return i - from;
   };
   if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+  const std::size_t start = i;
   std::size_t mantissa = digits();
   if (i < s.size() && s[i] == '.') {
     ++i;
     mantissa += digits();
   }
+  const bool nonzero = s.find_first_not_of("0.", start) < i;  // a mantissa digit other than 0
   bool plain = mantissa > 0;
   if (plain && i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
     ++i;
@@ -58,15 +62,28 @@ double number(const char* text, const char* what) {
     throw std::invalid_argument(std::string(what) + " = '" + s +
                                 "' is out of range: must be a decimal number of size below 1.8e308");
   }
+  if (value == 0.0 && nonzero) {
+    throw std::invalid_argument(std::string(what) + " = '" + s +
+                                "' is out of range: too small for a double, it would be read as 0 "
+                                "(the smallest is 4.9e-324)");
+  }
   return value;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+    std::printf(
+        "usage: pydrill_example [wob N] [torque N·m] [dof] [seconds of wall time allowed]\n"
+        "Simulates the reduced-scale string from rest for 300 s, judges its regime and the\n"
+        "stability of its steady states. Defaults: wob 100, torque 8.3, dof 4, 60 s allowed.\n"
+        "Exit status 0; 2 for bad input; 3 when the integrator fails; 4 out of time.\n");
+    return 0;
+  }
   try {
-    const double wob = argc > 1 ? number(argv[1], "W_ob") : 100.0;        // N
-    const double torque = argc > 2 ? number(argv[2], "u") : 8.3;          // N·m
+    const double wob = argc > 1 ? number(argv[1], "wob") : 100.0;         // N
+    const double torque = argc > 2 ? number(argv[2], "torque") : 8.3;     // N·m
     const double dof_given = argc > 3 ? number(argv[3], "dof") : 4.0;
     if (!std::isfinite(dof_given) || dof_given != std::floor(dof_given)) {
       throw std::invalid_argument("dof = '" + std::string(argv[3]) + "' is not a whole number");
@@ -90,7 +107,7 @@ int main(int argc, char** argv) {
     // Asked every 0.1 s of wall time: a program's cancel button, here a deadline.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(allowed);
     options.interrupt = [deadline] { return std::chrono::steady_clock::now() > deadline; };
-    std::printf("pydrill %s: reduced-scale string, dof %d: W_ob %g N, u %g N·m, from rest for %g s\n",
+    std::printf("pydrill %s: reduced-scale string, dof %d: wob %g N, torque %g N·m, from rest for %g s\n",
                 pydrill::version(), dof, wob, torque, options.t_end);
 
     const pydrill::Result r = pydrill::simulate(params, wob, torque, options);
@@ -108,7 +125,7 @@ int main(int argc, char** argv) {
                 pydrill::method_name(r.stats.method), r.stats.steps, r.stats.switches,
                 1e3 * r.stats.wall_time);
 
-    // The steady states at the same (W_ob, u) and their stability. The crossings depend on
+    // The steady states at the same (wob, torque) and their stability. The crossings depend on
     // the string alone: a program that visits many operating points finds them once.
     const std::vector<pydrill::Crossing> crossings = pydrill::critical_deltas(params, options.interrupt);
     for (const pydrill::Crossing& c : crossings) {
@@ -120,7 +137,7 @@ int main(int argc, char** argv) {
     }
     const std::vector<pydrill::StabilityPoint> points =
         pydrill::stability_at_torque(params, crossings, wob, torque, options.interrupt);
-    if (points.empty()) std::printf("no steady state at this (W_ob, u)\n");
+    if (points.empty()) std::printf("no steady state at this (wob, torque)\n");
     for (const pydrill::StabilityPoint& p : points) {
       std::printf("steady state at Omega = %.4f rad/s: %s (%d eigenvalues in the right half-plane)\n",
                   p.omega, p.stable ? "stable" : "unstable", p.unstable);
