@@ -86,14 +86,21 @@ class Crossing:
 
     def criticality(self, params: Params) -> str | None:
         """ "subcritical" or "supercritical" (the sign of :meth:`lyapunov`), "degenerate" where
-        it is 0 (every Hopf point of a string with no damping at all); None for a fold."""
+        it is 0 (every Hopf point of a string with no damping at all); None for a fold. A
+        pair that is no Hopf point of ``params`` is refused, as :meth:`lyapunov` says."""
         return criticality(self.lyapunov(params))
 
     def lyapunov(self, params: Params) -> float | None:
         """The first Lyapunov coefficient l₁ of this Hopf crossing (None for a fold), from the
         normal form on the reduced Jacobian (banded solves, O(dof)): l₁ > 0 subcritical (past
         it the bit jumps to stick-slip; before it the two coexist), l₁ < 0 supercritical (a
-        small stable oscillation is born)."""
+        small stable oscillation is born).
+
+        The crossing must be a Hopf point of ``params``: i·frequency an eigenvalue at ``delta``.
+        A pair whose i·frequency lies more than 1 % of the frequency from every eigenvalue at
+        ``delta`` (a crossing made by hand, or another string's) is refused with
+        ``ValueError`` naming both, since its coefficient would belong to no Hopf point. Every
+        crossing of :func:`critical_deltas` passes, as does one typed to six digits."""
         core = _params(params).to_core()
         if self.type != "hopf" or self.frequency is None:
             return None
