@@ -52,6 +52,44 @@ def _unknown_hint(name: str, args: argparse.Namespace, value: str = "") -> str:
     return f" ({each}: only pydrill simulate changes them, with {option}{also})"
 
 
+#: the friction laws --friction picks between (simulate's choices)
+_LAWS = ("exact", "karnopp")
+_COEFFICIENTS = "the bit's friction coefficients are mu_coulomb (sliding) and mu_static (at rest)"
+
+
+def _misnamed(name: str, value: str, args: argparse.Namespace, own: str | None) -> str | None:
+    """What a ``--set`` name no typo-hint serves means: friction=0.5 was sent to --friction,
+    which takes the friction law (exact|karnopp), not a coefficient; mu=0.5 and beta=0.2 got
+    no hint (the coefficients are mu_coulomb and mu_static; beta is a tally's element
+    damping, its [damping] beta, which --set does not change). None for any other name."""
+    lower = name.lower()
+    if lower == "friction" and own == "--friction" and value.lower() in _LAWS:
+        return f"friction has an option of its own: give --friction {value.lower()}"
+    if lower in ("beta", "damping.beta", "damping_beta", "β"):
+        return (
+            "beta is a tally's element damping (every element's c = beta·k, in s), set as "
+            "beta in the [damping] table of the TALLY.toml, which --set does not change: "
+            "edit it there"
+        )
+    if did_you_mean(name, _takes(args)) or not (
+        "friction" in lower or lower.startswith("mu") or lower in ("coulomb", "static")
+    ):
+        return None
+    law = (
+        f" ({own} picks the friction law, {' or '.join(_LAWS)}, not a coefficient)"
+        if lower == "friction" and own == "--friction"
+        else ""
+    )
+    try:
+        example = f"{float(value):g}"
+    except ValueError:
+        example = "0.5"
+    return (
+        f"{name} is not one of the string's parameters{law}: {_COEFFICIENTS}, "
+        f"e.g. --set mu_coulomb={example}"
+    )
+
+
 def option_names(parser: argparse.ArgumentParser, args: argparse.Namespace) -> dict[str, str]:
     """What the user types for each value of the command ``args`` ran: ``{"wob_max":
     "--wob-max", "tally": "TALLY.toml"}`` (an option, or a positional argument's metavar)."""
@@ -94,7 +132,7 @@ def set_params(args: argparse.Namespace) -> dict[str, float]:
             )
         if name not in _SCALARS:
             own = _own_option(name, args)
-            what = (
+            what = _misnamed(name, value, args, own) or (
                 f"{name} is a list, one value per {_EACH[name]}"
                 + (f": give {own} {_METAVARS[name]}" if own else "")
                 if name in _LISTS
