@@ -297,9 +297,10 @@ class Atlas:
         given in ``at`` (numbers, or strings with a unit: ``torque="9 kN·m"``), the runs of
         consecutive grid points of :meth:`safe_region` as (first, last) grid values, in SI
         (split where the grid jumps over 0: u = 0 is stuck). The true edges lie within one
-        grid step beyond them. Points not computed (missing, failed) are not safe; each row
-        counts them (``not_done``). An axis the atlas has not, or a value of ``at`` past the
-        grid, is a ``CoordinateError``; what the spec holds may be given at its value."""
+        grid step beyond them. Points without a result (missing, failed) are not safe; each
+        row counts them (``not_done``), and of them those that failed (``failed``). An axis
+        the atlas has not, or a value of ``at`` past the grid, is a ``CoordinateError``; what
+        the spec holds may be given at its value."""
         from .atlas_safe import safe_windows
 
         coords = {name: coordinate(name, v) for name, v in _without_held(self, at).items()}

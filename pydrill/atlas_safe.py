@@ -7,7 +7,8 @@ A window is given by its first and last safe grid points: the true edges lie bet
 and their unsafe neighbours, within one grid step. A point not computed (missing, failed) is
 not safe, so it ends a window; each row counts them, so that a gap is not taken for danger.
 Nor does a window run over 0 (a torque axis of both signs): u = 0 is stuck, between the
-grid points either side of it."""
+grid points either side of it. A failed point (the solver gave up) is counted apart from
+a missing one (not computed yet, until the sweep is resumed)."""
 
 from __future__ import annotations
 
@@ -34,6 +35,10 @@ class SafeRow:
     safe: int  #: safe points along the axis
     points: int  #: points along the axis
     not_done: int  #: of them, missing or failed (not safe, for want of a result)
+    #: of those not done, failed: computed, and the solver gave up (the rest are missing, not
+    #: computed yet); "not computed" of a failed point sent the user to resume a sweep that
+    #: had done all it could
+    failed: int = 0
 
 
 def default_along(atlas: Atlas) -> str:
@@ -58,7 +63,8 @@ def safe_windows(
     if unknown:
         raise not_an_axis(unknown[0], names)
     safe = atlas.safe_region()  # refuses an atlas without stability
-    done = atlas._file()["status"][...] == fmt.STATUS["done"]
+    status = atlas._file()["status"][...]
+    done, failed = status == fmt.STATUS["done"], status == fmt.STATUS["failed"]
     # Each other axis: the grid point nearest its held value, or every one of them.
     choices: list[list[int]] = []
     for name in names:
@@ -97,6 +103,7 @@ def safe_windows(
                 safe=int(ok.sum()),
                 points=len(values),
                 not_done=int((~computed).sum()),
+                failed=int(failed[index].sum()),
             )
         )
     return rows

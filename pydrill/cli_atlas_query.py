@@ -198,12 +198,23 @@ def _verdict(safe: bool, v: dict[str, Any]) -> str:
     if safe:  # in the words of 'atlas safe': "steady from rest and from equilibrium"
         starts = " and from ".join(v["regime"])
         return f"yes (steady from {starts}, the fastest steady state stable)"
-    why = [f"{regime} from {init}" for init, regime in v["regime"].items() if regime != "steady"]
+    status = v["status"]
+    # A start that ended as the point did (failed, missing) is said once, with the point:
+    # "the point is failed, failed from rest, failed from equilibrium" said it three times.
+    why = [
+        f"{regime} from {init}"
+        for init, regime in v["regime"].items()
+        if regime not in ("steady", status)
+    ]
     unstable = v["stability"]["unstable"]
     if not why and unstable and unstable[0]:
         why.append("the fastest steady state is unstable")
-    if v["status"] != "done":
-        why.insert(0, f"the point is {v['status']}")
+    if status == "failed":
+        starts = [init for init, regime in v["regime"].items() if regime == status]
+        whence = f" from {' and from '.join(starts)}" if starts else ""
+        why.insert(0, f"the point failed{whence}: the solver gave up, no result to judge")
+    elif status != "done":
+        why.insert(0, f"the point is {status}: not computed yet")
     return "no" + (f" ({', '.join(why)})" if why else "")
 
 

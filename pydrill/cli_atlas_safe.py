@@ -17,9 +17,9 @@ DESCRIPTION = (
     "atlas holds and the fastest steady state is stable, for each value of the other axes "
     "(or only at those given with --set). A window is given by its first and last safe grid "
     "values: the true edges lie within one grid step beyond them (at the grid's own ends, "
-    "the atlas says nothing of what lies past them). A point not computed "
-    "(missing, failed) is not safe and ends a window: a row counts them. Needs an atlas swept "
-    "with stability recorded."
+    "the atlas says nothing of what lies past them). A point without a result is not safe "
+    "and ends a window: a row counts those that failed (the solver gave up) and those not "
+    "computed (missing). Needs an atlas swept with stability recorded."
 )
 
 
@@ -37,8 +37,8 @@ def register_safe(asub, raw) -> None:
         "JSON fields: along, criterion, rows [{at {AXIS: value}, windows [[first, last]],\n"
         "  beyond [[below, above]] (the grid values just outside each window, between which\n"
         "  and its ends the true edges lie; null past the grid's end), safe_points, points,\n"
-        "  not_done}], fixed {NAME: value} (what the spec holds for the\n"
-        "  whole sweep), units {along, at {AXIS: unit}, fixed}; values in SI",
+        "  not_done (failed + missing), failed, missing}], fixed {NAME: value} (what the\n"
+        "  spec holds for the whole sweep), units {along, at {AXIS: unit}, fixed}; values in SI",
     )
     safe.add_argument("atlas", metavar="ATLAS.h5")
     safe.add_argument(
@@ -98,6 +98,8 @@ def cmd_safe(args: argparse.Namespace) -> int:
                     "safe_points": row.safe,
                     "points": row.points,
                     "not_done": row.not_done,
+                    "failed": row.failed,
+                    "missing": row.not_done - row.failed,
                 }
                 for row in rows
             ],
@@ -165,6 +167,9 @@ def _windows(row: Any, along: str, unit: tuple[str, float]) -> str:
 
     what = f"{along} " + ", ".join(show(*w) for w in row.windows) if row.windows else "none"
     count = f"{row.safe} of {row.points} points"
-    if row.not_done:
-        count += f"; {row.not_done} not computed"
+    # a failed point was computed, and its solver gave up: "not computed" is a missing one's
+    if row.failed:
+        count += f"; {row.failed} failed"
+    if row.not_done > row.failed:
+        count += f"; {row.not_done - row.failed} not computed"
     return f"{what} ({count})"
