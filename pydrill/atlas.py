@@ -31,7 +31,7 @@ from .atlas_summary import summary as _summary
 from .atlas_xarray import COUNT_FIELDS, Chunks, with_regime_names  # noqa: F401 (pydrill.atlas.*)
 from .atlas_xarray import to_xarray as _to_xarray
 from .file_kinds import misplaced
-from .journal import AtlasError, journal_hint
+from .journal import AtlasError, empty_file, journal_hint
 from .spec import SpecError, parse_spec
 
 if TYPE_CHECKING:
@@ -68,9 +68,11 @@ class Atlas:
         try:
             self._f = h5py.File(self._source(), "r")
         except OSError as exc:
-            # A whole spec, tally or figure given for the atlas: not "truncated or corrupt?"
+            # A whole spec, tally or figure given for the atlas: not "truncated or corrupt?";
+            # nor a file of 0 bytes (touched, or a shell's > made it), which holds nothing
             raise AtlasError(
                 misplaced(self.path, "atlas")
+                or (empty_file(self.path) if self._empty() else None)
                 or f"{self.path} is not a readable HDF5 atlas (truncated or corrupt?): {exc}"
                 + journal_hint(self.path)
             ) from None
@@ -133,6 +135,13 @@ class Atlas:
             f"<pydrill.Atlas {str(self.path)!r}: {self.spec.size} points ({grid}), "
             f"from {', '.join(self.initials)}{state}>"
         )
+
+    def _empty(self) -> bool:
+        """Whether what was opened (the file, or its copy) has no bytes at all."""
+        try:
+            return len(self._image or self.path.read_bytes()[:1]) == 0
+        except OSError:
+            return False
 
     def _source(self) -> Path | io.BytesIO:
         """What to open: the file, or the copy taken while a sweep was writing it."""

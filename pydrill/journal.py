@@ -175,6 +175,12 @@ def read_existing(spec: SweepSpec, out: Path, *, resume: bool) -> fmt.AtlasTable
         # RuntimeError: h5py's for a damaged B-tree or checksum; TypeError, AttributeError: a
         # dataset replaced by a group, an attribute of another type
         except (OSError, KeyError, ValueError, TypeError, AttributeError, RuntimeError) as exc:
+            if not jp.exists() and out.stat().st_size == 0:
+                raise AtlasError(
+                    f"{out} is empty (0 bytes), not an atlas (nothing was ever written to "
+                    "it), and has no journal to rebuild it from; remove it to sweep anew, "
+                    "or choose another out=PATH"
+                ) from None
             if not jp.exists():
                 what = str(exc) if isinstance(exc, _Damaged) else "not a readable HDF5 atlas"
                 # What to do next, as every other refusal here says it: nothing can mend it.
@@ -390,6 +396,20 @@ def _damaged_record(jp: Path, spec: SweepSpec, exc: Exception) -> AtlasError:
     return AtlasError(
         f"{jp} holds a record that cannot be replayed ({type(exc).__name__}: {exc}); remove "
         "the journal to start the sweep over"
+    )
+
+
+def empty_file(path: Path) -> str:
+    """The refusal of an atlas file of 0 bytes (touched, or made by a shell's ``>``), which
+    holds nothing: "truncated or corrupt?" and "damaged" sent the user looking for damage.
+    What to do: its journal's rebuild, if there is one, else sweep into it anew."""
+    hint = journal_hint(path)
+    if hint:
+        return f"{path} is empty (0 bytes), not an atlas" + hint
+    return (
+        f"{path} is empty (0 bytes), not an atlas: nothing was ever written to it; give an "
+        f"atlas a sweep wrote, or remove it and sweep into it (pydrill sweep SPEC.toml --out "
+        f"{path})"
     )
 
 
