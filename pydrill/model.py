@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
-from .model_values import _integer, _number, _plain, _show  # noqa: F401 (re-exported)
+from .model_values import _integer, _number, _plain, _show, check_new_length  # noqa: F401
 from .suggest import did_you_mean
 
 PRESETS = tuple(_core.preset_names())
@@ -175,6 +175,7 @@ class Params:
             coulomb = value if mu[0] == "mu_coulomb" else self.mu_coulomb
             static = value if mu[0] == "mu_static" else self.mu_static
             _check_friction(coulomb, static, changed=mu[0])
+        check_new_length(self, changes)
         return dataclasses.replace(self, **changes)
 
     def to_core(self) -> _core.Params:

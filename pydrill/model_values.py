@@ -1,7 +1,7 @@
 """Checks of single values given to the Python API (shared by the model, simulate, the
 analyses): a number or an integer as a Python value, refused by name with ``TypeError`` for a
-wrong type, ``ValueError`` for a bad value. Apart from model.py (which re-exports them) to
-keep it short."""
+wrong type, ``ValueError`` for a bad value; and ``Params.replace``'s check of a new chain
+length. Apart from model.py (which re-exports them) to keep it short."""
 
 from __future__ import annotations
 
@@ -54,3 +54,30 @@ def _integer(name: str, value: Any, low: int, high: int, *, hint: str = "") -> i
             f"{name} = {reprlib.repr(plain)} is not allowed: need an integer {low} ... {high}{hint}"
         )
     return int(plain)
+
+
+def check_new_length(params: Any, changes: dict[str, Any]) -> None:
+    """Refuse new inertias of another count than the string's without the springs to match:
+    replace(inertias=[5 values]) on 4 inertias was refused as "stiffnesses has 3 entries: dof
+    = 5 needs 4", blaming the lists kept for the one changed; say what changed the length, and
+    what else a string of that length needs."""
+    from . import _core
+
+    try:
+        n = len(changes["inertias"])
+    except (KeyError, TypeError):  # inertias kept, or not a list: refused as they are
+        return
+    kept = [key for key in ("stiffnesses", "dampings") if key not in changes]
+    if n == params.dof or not kept or n < 2:
+        return
+    build = (
+        f"pydrill.preset({params.name!r}, dof={n})"
+        if params.name in _core.preset_names()
+        else f"pydrill.preset(NAME, dof={n}) or Tally.to_params(dof={n})"
+    )
+    raise ValueError(
+        f"inertias has {n} entries, where the string has {params.dof}: a string of {n} "
+        f"inertias needs {n - 1} stiffnesses and {n - 1} dampings, and replace() would keep "
+        f"this one's {params.dof - 1}; give {' and '.join(kept)} of {n - 1} entries as well, "
+        f"or build the {n}-inertia string with {build}"
+    )
