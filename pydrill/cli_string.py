@@ -289,11 +289,14 @@ def run_notes(args: argparse.Namespace) -> list[str]:
     ]
 
 
-def depth_note(depth: float, text: str) -> None:
+def depth_note(depth: float, text: str, feet: str | None = None) -> None:
     """A depth beyond the longest well ever drilled (--depth 30000m built a 3334-inertia string
-    and said nothing): most likely mistyped. Said on stderr; the command goes on."""
+    and said nothing): most likely mistyped. Said on stderr; the command goes on. ``text`` is
+    the depth as written; a bare number's note says how to write feet (``feet``, else it
+    with ft: window's list of depths gives the whole list in feet)."""
     if depth > LONGEST_WELL:
-        bare = f"; a bare number is m: for feet write {text.strip()}ft" if _bare(text) else ""
+        feet = feet or f"{text.strip()}ft"
+        bare = f"; a bare number is m: for feet write {feet}" if _bare(text) else ""
         _say(
             [
                 f"--depth {depth / 1e3:g} km is longer than any well ever drilled (the longest "

@@ -123,7 +123,7 @@ def _window_notes(args: argparse.Namespace, depths, at_rpm, at_wob) -> None:
 
     deepest = max(depths)
     if deepest > LONGEST_WELL:
-        depth_note(deepest, args.depth if len(depths) == 1 else f"{deepest:g}m")
+        depth_note(deepest, *_as_written(args.depth, deepest))
     notes = []
     for option, fastest in (("--rpm-max", args.rpm_max), ("--at-rpm", max(at_rpm))):
         if fastest > TOP_DRIVE_RPM:
@@ -142,6 +142,30 @@ def _window_notes(args: argparse.Namespace, depths, at_rpm, at_wob) -> None:
                 f"some {HEAVIEST_WOB / 1e3:g} kN, {HEAVIEST_WOB / 1e4:g} t)"
             )
     _say(notes + run_notes(argparse.Namespace(t_end=args.t_end_given)))
+
+
+def _as_written(text: str, depth: float) -> tuple[str, str | None]:
+    """The depth of ``--depth text`` (a list, or ranges) as written, and the whole option in
+    feet where its depths are all bare numbers (m): --depth 30000,1000 was noted as "30000m",
+    without the "a bare number is m" that --depth 30000 gets."""
+    from .cli_string import _bare
+
+    parts = [part.strip() for part in text.split(",") if part.strip()]
+    ends = [end.strip() for part in parts for end in part.split(":")[:2]]  # (not a count)
+    written = next((end for end in ends if _parses_to(end, depth)), f"{depth:g}m")
+    if not all(_bare(end) for end in ends):
+        return written, None
+    feet = [":".join(b + "ft" if k < 2 else b for k, b in enumerate(p.split(":"))) for p in parts]
+    return written, ",".join(feet)
+
+
+def _parses_to(text: str, depth: float) -> bool:
+    from . import units
+
+    try:
+        return units.parse(text, "length") == depth
+    except ValueError:
+        return False
 
 
 def _rpms(text: str) -> list[float]:
