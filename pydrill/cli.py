@@ -327,7 +327,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     _Parser.argv, _Parser.json_sent = line, False
     try:
         with writable_output():
-            return _run(line)
+            code = _run(line)
+            try:  # here, not at exit: a reader gone before it made that flush fail, status 120
+                sys.stdout.flush()
+            except BrokenPipeError:
+                quiet_stdout()
+            return code
     finally:
         _Parser.argv = None
 

@@ -43,7 +43,15 @@ def error_json(kind: str, message: str, status: int, **extra: Any) -> None:
         import json
 
         error = {"kind": kind, "message": message, "exit_status": status, **extra}
-        print(json.dumps({"error": error}, indent=2, allow_nan=False))
+        # Flushed here, in the handler: a reader gone (| head, a closed pipe) raised from it a
+        # traceback over the message just said (PYTHONUNBUFFERED), or made the flush at exit
+        # fail, with exit status 120 for the command's 2.
+        try:
+            print(json.dumps({"error": error}, indent=2, allow_nan=False), flush=True)
+        except BrokenPipeError:
+            from .cli import quiet_stdout
+
+            quiet_stdout()
 
 
 # The metavar of the sub-command argument (pydrill COMMAND; 'pydrill atlas' alone is
