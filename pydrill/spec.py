@@ -61,7 +61,7 @@ from .spec_sections import record as _record
 from .spec_sections import simulation as _simulation
 from .spec_sections import swept_in_vain as _swept_in_vain
 from .spec_tally import _check_lists, _check_tally, _check_tally_size, _fixed_depth, _read_tally
-from .suggest import did_you_mean
+from .suggest import did_you_mean, meant_hint
 
 _PARAMS_KEPT = 16  # strings a spec keeps built (params_at)
 
@@ -320,7 +320,7 @@ def parse_spec(text: str, tally_text: str | None = None, base: Path | None = Non
             raise _fail(
                 f"axes.{printable(key)}",
                 "cannot be swept"
-                + did_you_mean(key, allowed_axes)
+                + (did_you_mean(key, allowed_axes) or meant_hint(key))
                 + "; allowed: "
                 + ", ".join(allowed_axes),
             )

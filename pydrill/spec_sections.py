@@ -84,7 +84,18 @@ def simulation(doc: dict[str, Any]) -> dict[str, Any]:
             f"{steps!r} is not allowed: an integer >= 1 (below 2**62)",
         )
     if sim["friction"] not in ("exact", "karnopp"):
-        raise _fail("simulation.friction", f"{sim['friction']!r}: choose 'exact' or 'karnopp'")
+        # friction = 0.5: a coefficient given where the law is picked
+        number = isinstance(sim["friction"], int | float) and not isinstance(sim["friction"], bool)
+        coefficient = (
+            " (the law; the bit's friction coefficients are [model] mu_coulomb, sliding, and "
+            "mu_static, at rest)"
+            if number
+            else ""
+        )
+        raise _fail(
+            "simulation.friction",
+            f"{sim['friction']!r}: choose 'exact' or 'karnopp'{coefficient}",
+        )
     if sim["method"] not in ("auto", "dop853", "bdf", "adams", "erk"):
         raise _fail(
             "simulation.method", f"{sim['method']!r}: choose auto, dop853, bdf, adams or erk"

@@ -54,6 +54,29 @@ def radius_hint(value: object, toml: bool = False) -> str:
     return f" (the bit is given by its radius: bit_radius={number:g}{unit})"
 
 
+#: names that mean a tally's element damping (its [damping] beta)
+BETA_NAMES = ("beta", "damping.beta", "damping_beta", "β")
+
+
+def meant_hint(name: object, law: str = "") -> str:
+    """What a name no typo-hint serves most likely meant, for a spec's key: a friction
+    coefficient (friction, mu: mu_coulomb and mu_static; ``law`` says where the friction law
+    is picked, for "friction"), or a tally's beta, which is the tally's to set; else ""."""
+    lower = str(name).lower()
+    if lower in BETA_NAMES:
+        return (
+            " (beta is a tally's element damping, every element's c = beta·k: set it as "
+            "beta in the [damping] table of the TALLY.toml)"
+        )
+    if "friction" in lower or lower.startswith("mu") or lower in ("coulomb", "static"):
+        where = f"; {law} picks the friction law, 'exact' or 'karnopp'" if law else ""
+        return (
+            " (the bit's friction coefficients are mu_coulomb, sliding, and mu_static, at rest"
+            f"{where})"
+        )
+    return ""
+
+
 def key_hint(key: str, value: object, keys: Iterable[str]) -> str:
     """The "did you mean" of an unknown key of a spec's [model] (``keys`` its keys): one
     nearest a list of the chain says it is a list (top_inertia = 2500.0 was sent to
@@ -64,4 +87,5 @@ def key_hint(key: str, value: object, keys: Iterable[str]) -> str:
     for name, each in (("inertias", "inertia"), ("stiffnesses", "link"), ("dampings", "link")):
         if hint == f" (did you mean {name!r}?)":
             return f" (did you mean {name} = [...], a list of one value per {each}?)"
-    return hint
+    # model.friction = 0.5, model.mu, model.beta: no typo, a name from elsewhere
+    return hint or meant_hint(key, law="[simulation] friction" if key == "friction" else "")

@@ -208,3 +208,45 @@ def test_several_bare_depths_get_the_bare_number_hint(capsys):
     assert note == single.replace("16000ft", "16000ft,1000ft"), note
     _, err = ran(capsys, "window", PAPER, "--depth", "16km,1000", "--at-rpm", "60")
     assert "a bare number is m" not in err  # the deepest written with its unit
+
+
+# --- 1b. the same names in a sweep's spec -------------------------------------------------------
+
+SPEC = """
+[model]
+preset = "reduced-scale"
+dof = 4
+{model}
+[axes]
+wob = [20.0, 100.0]
+torque = [6.0]
+{axes}
+[simulation]
+{simulation}
+"""
+
+
+@pytest.mark.parametrize(
+    ("parts", "said"),
+    [
+        (dict(model="mu = 0.5"), "model.mu: unknown parameter (the bit's friction coefficients "
+         "are mu_coulomb, sliding, and mu_static, at rest); allowed: "),
+        (dict(model="friction = 0.5"), "mu_static, at rest; [simulation] friction picks the "
+         "friction law, 'exact' or 'karnopp'); allowed: "),
+        (dict(model="beta = 0.2"), "model.beta: unknown parameter (beta is a tally's element "
+         "damping, every element's c = beta·k: set it as beta in the [damping] table of the "
+         "TALLY.toml); allowed: "),
+        (dict(axes="mu = [0.3, 0.5]"), "axes.mu: cannot be swept (the bit's friction "
+         "coefficients are mu_coulomb, sliding, and mu_static, at rest); allowed: "),
+        (dict(simulation="friction = 0.5"), "simulation.friction: 0.5: choose 'exact' or "
+         "'karnopp' (the law; the bit's friction coefficients are [model] mu_coulomb, "),
+    ],
+)  # fmt: skip
+def test_a_spec_names_the_coefficients_and_where_beta_is_set(parts, said):
+    text = SPEC.format(**{"model": "", "axes": "", "simulation": "", **parts})
+    with pytest.raises(pydrill.SpecError) as exc:
+        parse_spec(text)
+    assert said in str(exc.value), str(exc.value)
+    # a typo of a coefficient keeps its did-you-mean
+    with pytest.raises(pydrill.SpecError, match=r"\(did you mean 'mu_coulomb'\?\); allowed"):
+        parse_spec(SPEC.format(model="mu_coulom = 0.5", axes="", simulation=""))
