@@ -210,8 +210,8 @@ def _verdict(safe: bool, v: dict[str, Any]) -> str:
     if not why and unstable and unstable[0]:
         why.append("the fastest steady state is unstable")
     if status == "failed":
-        starts = [init for init, regime in v["regime"].items() if regime == status]
-        whence = f" from {' and from '.join(starts)}" if starts else ""
+        gave_up = [init for init, regime in v["regime"].items() if regime == status]
+        whence = f" from {' and from '.join(gave_up)}" if gave_up else ""
         why.insert(0, f"the point failed{whence}: the solver gave up, no result to judge")
     elif status != "done":
         why.insert(0, f"the point is {status}: not computed yet")
