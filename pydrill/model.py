@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from . import _core
 from .model_values import _integer, _number, _plain, _show, check_new_length  # noqa: F401
-from .suggest import did_you_mean
+from .suggest import param_hint
 
 PRESETS = tuple(_core.preset_names())
 
@@ -166,7 +166,7 @@ class Params:
         if unknown:
             raise ValueError(
                 f"unknown parameter {sorted(unknown)[0]!r}"
-                f"{did_you_mean(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
+                f"{param_hint(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
                 + ", ".join(_LISTS + _SCALARS)
             )
         mu = [k for k in ("mu_coulomb", "mu_static") if k in changes]
@@ -206,7 +206,7 @@ class Params:
         if unknown:
             raise ValueError(
                 f"unknown parameter {sorted(unknown)[0]!r}"
-                f"{did_you_mean(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
+                f"{param_hint(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
                 + ", ".join((*_LISTS, *_SCALARS, "name", "dof"))
             )
         lost = [k for k in _LISTS + _SCALARS[:-2] if k not in data]  # (the last two: defaults)
@@ -278,7 +278,7 @@ def preset(
     if unknown:
         raise ValueError(
             f"unknown parameter {sorted(unknown)[0]!r}"
-            f"{did_you_mean(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
+            f"{param_hint(sorted(unknown)[0], _LISTS + _SCALARS)}: allowed are "
             + ", ".join(_LISTS + _SCALARS)
         )
     # Each list read once: a generator, read again below, was found empty ("has 0 entries").

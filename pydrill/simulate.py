@@ -23,7 +23,7 @@ from .result import (  # re-exported: pydrill.simulate.SimulationResult and kin 
     Switch,
 )
 from .simulate_checks import _check_normal_times, _check_output_size
-from .suggest import did_you_mean
+from .suggest import param_hint
 
 #: The longest run, s: 317 years, beyond the life of any bit or rig. Beyond it a run cannot be
 #: done: CVODES's first step overflows (t_end = 1e300 failed at t = 0 with h = 1e109), and
@@ -295,7 +295,7 @@ def _check_keys(overrides: dict[str, Any]) -> None:
             "set with preset=..., or label a string with Params.replace(name=...) and pass it"
         )
     for key in sorted(set(overrides) - set(_LISTS) - set(_SCALARS)):
-        hint = did_you_mean(key, _OPTIONS + _LISTS + _SCALARS)
+        hint = param_hint(key, _OPTIONS + _LISTS + _SCALARS)
         raise ValueError(
             f"unknown parameter {key!r}{hint}: not an option of simulate nor a model parameter; "
             f"the options are {', '.join(_OPTIONS)}; the model parameters are "

@@ -89,3 +89,12 @@ def key_hint(key: str, value: object, keys: Iterable[str]) -> str:
             return f" (did you mean {name} = [...], a list of one value per {each}?)"
     # model.friction = 0.5, model.mu, model.beta: no typo, a name from elsewhere
     return hint or meant_hint(key, law="[simulation] friction" if key == "friction" else "")
+
+
+def param_hint(name: object, choices: Iterable[str]) -> str:
+    """The hint of the Python API's refusal of a model parameter ``name`` (``choices`` the
+    allowed ones): a typo's "did you mean", else what a name from elsewhere meant, as the
+    CLI's --set and a spec's [model] say it (preset(friction=0.5): the coefficients, and
+    simulate's friction= picks the law; Params.replace(mu=...); beta, a tally's)."""
+    law = "simulate(..., friction=...)" if str(name).lower() == "friction" else ""
+    return did_you_mean(name, choices) or meant_hint(name, law=law)
