@@ -18,7 +18,6 @@ from .cli_options import (
     _finite,
     _fraction,
     _integer,
-    _list,
     _positive,
     as_options,
     figure_path,
@@ -35,6 +34,7 @@ from .cli_string import (
     string_params,
     string_units,
 )
+from .cli_string_lists import add_list_options, list_overrides
 
 EXIT_SOLVER = 3
 #: --max-steps at most: a trillion steps is days of computing (simulate() takes up to 2**62)
@@ -87,26 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=SIMULATE_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    model = _string_options(sim, PRESETS)
-    model.add_argument(
-        "--inertias",
-        type=_list("--inertias"),
-        metavar="I0,I1,...",
-        help="override every inertia (kg m^2, each > 0), top drive first; without --dof "
-        "their number is the dof, with it they must agree",
-    )
-    model.add_argument(
-        "--stiffnesses",
-        type=_list("--stiffnesses"),
-        metavar="K0,...",
-        help="override every spring stiffness (N m/rad, each > 0), one fewer than the inertias",
-    )
-    model.add_argument(
-        "--dampings",
-        type=_list("--dampings"),
-        metavar="C0,...",
-        help="override every spring damping (N m s/rad, each >= 0), one per spring",
-    )
+    add_list_options(_string_options(sim, PRESETS))
     op = sim.add_argument_group("operating point")
     op.add_argument(
         "--wob",
@@ -205,12 +186,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from . import SolverError, simulate
     from .simulate import _check_output_size
 
-    overrides: dict[str, Any] = {}
-    for key in ("inertias", "stiffnesses", "dampings"):
-        if getattr(args, key) is not None:
-            overrides[key] = getattr(args, key)
     try:  # the string first: a refused one is one line, not a note on the load and then it
-        params = string_params(args, overrides)
+        params = string_params(args, list_overrides(args))
         _check_output_size(None, args.n_out, params.dof)  # before the note on its size
     except ValueError as exc:
         raise as_options(exc) from None

@@ -29,6 +29,7 @@ from .cli_string import (
     string_params,
     string_units,
 )
+from .cli_string_lists import add_list_options, list_overrides
 from .cli_window import register_tally
 
 #: s per inertia squared: what stability's eigenvalues (at n = 4000: 9.4 s), hopf's crossings
@@ -79,7 +80,7 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         "only between crossings of one string).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    _string_options(hopf, PRESETS)
+    add_list_options(_string_options(hopf, PRESETS))
     hopf.add_argument(
         "--omega-max",
         type=_positive("--omega-max", "velocity"),
@@ -103,7 +104,7 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         "units: wob N, torque N*m, omega rad/s, eigenvalues 1/s.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    _string_options(stab, PRESETS)
+    add_list_options(_string_options(stab, PRESETS))
     stab.add_argument(
         "--wob",
         type=_positive("--wob", "force"),
@@ -145,7 +146,7 @@ def register_analysis(sub, PRESETS: Sequence[str]) -> None:
         "sign is what counts; see pydrill hopf --help).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    _string_options(bif, PRESETS)
+    add_list_options(_string_options(bif, PRESETS))
     bif.add_argument(
         "--vary", choices=("wob", "torque"), required=True, help="the parameter along the branch"
     )
@@ -182,7 +183,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
 
     if args.omega_max is not None and not args.plot:  # it would be ignored
         raise ValueError("--omega-max needs --plot: it is the plot's largest steady velocity")
-    params = string_params(args)
+    params = string_params(args, list_overrides(args))
     slow_note("hopf", params.dof)
     crossings = critical_deltas(params)
     if args.plot:
@@ -255,7 +256,7 @@ def _cmd_hopf(args: argparse.Namespace) -> int:
 def _cmd_stability(args: argparse.Namespace) -> int:
     from .stability import stability
 
-    params = string_params(args)
+    params = string_params(args, list_overrides(args))
     slow_note("stability", params.dof)
     try:
         points = stability(params, args.wob, omega=args.omega, torque=args.torque)

@@ -10,6 +10,7 @@ import math
 from .cli_options import json_document, kilo, print_json
 from .cli_set import say_changed
 from .cli_string import string_inputs, string_params, string_units
+from .cli_string_lists import list_overrides
 
 
 def _cmd_bifurcation(args: argparse.Namespace) -> int:
@@ -24,7 +25,7 @@ def _cmd_bifurcation(args: argparse.Namespace) -> int:
         raise ValueError("--wob is not allowed with --vary wob: the branch varies it")
     if args.vary == "torque" and args.torque is not None:
         raise ValueError("--torque is not allowed with --vary torque: the branch varies it")
-    params = string_params(args)
+    params = string_params(args, list_overrides(args))
     slow_note("bifurcation", params.dof)
     omega_max_note(args.omega_max)
     b = branch(params, vary=args.vary, torque=args.torque, wob=args.wob, omega_max=args.omega_max)

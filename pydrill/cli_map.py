@@ -28,6 +28,7 @@ from .cli_string import (
     string_params,
     string_units,
 )
+from .cli_string_lists import add_list_options, list_overrides
 
 
 def register_map(sub, PRESETS: Sequence[str]) -> None:
@@ -46,7 +47,7 @@ def register_map(sub, PRESETS: Sequence[str]) -> None:
         'wob[j],\nas category_axes says: ["torque", "wob"]; safe_torque_min[j] is at wob[j].',
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    _string_options(omap, PRESETS)
+    add_list_options(_string_options(omap, PRESETS))
     omap.add_argument(
         "--wob-max",
         type=_positive("--wob-max", "force"),
@@ -87,7 +88,7 @@ def _cmd_map(args: argparse.Namespace) -> int:
         raise ValueError(f"--check = {args.check} is not allowed: need 0 <= K <= 40")
     if not args.check and args.t_end is not None:
         raise ValueError("--t-end needs --check K: it is the simulated time of each check")
-    params = string_params(args)
+    params = string_params(args, list_overrides(args))
     from .cli_analysis import slow_note  # (not at the top: cli_analysis registers map)
 
     slow_note("map", params.dof)

@@ -49,7 +49,10 @@ def _unknown_hint(name: str, args: argparse.Namespace, value: str = "") -> str:
     also = f"; or {scalar}" if scalar else ""
     if _own_option(listed, args):
         return f" ({each}: give {option}{also})"
-    return f" ({each}: only pydrill simulate changes them, with {option}{also})"
+    return (  # the commands that take the lists (add_list_options)
+        f" ({each}: this command does not change them; pydrill simulate, stability, hopf, "
+        f"bifurcation and map do, with {option}{also})"
+    )
 
 
 #: the friction laws --friction picks between (simulate's choices)

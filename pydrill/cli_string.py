@@ -21,6 +21,7 @@ from .cli_options import (
     typed_bare,
 )
 from .cli_set import _set_refused, add_set_option, friction_notes, set_notes, set_params
+from .cli_string_lists import list_refused
 from .model import _SCALARS, _UNITS, MAX_DOF
 
 
@@ -170,10 +171,7 @@ def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = N
             for api in ("dof", "pipes"):  # a size given as 1e9: "--dof = ...", not "dof = ..."
                 if str(exc).startswith(f"{api} "):
                     raise for_option(exc, f"--{api}", api) from None
-            for key in overrides or {}:  # "inertias has 2 entries" of --inertias 1,2
-                if str(exc).startswith(f"{key} "):
-                    raise type(exc)(f"--{exc}") from None
-            raise _set_refused(exc, sets) from None
+            raise list_refused(exc, overrides or {}) or _set_refused(exc, sets) from None
         if args.preset == "real-string":
             unit_notes(args)
         else:
@@ -202,8 +200,8 @@ def string_params(args: argparse.Namespace, overrides: dict[str, Any] | None = N
         params = params.replace(
             name=f"{tally.name} at {tally.length:.1f} m", **(overrides or {}), **sets
         )
-    except ValueError as exc:
-        raise _set_refused(exc, sets) from None
+    except ValueError as exc:  # a tally's string of --dampings -1,...: named as a preset's
+        raise list_refused(exc, overrides or {}) or _set_refused(exc, sets) from None
     unit_notes(args)
     return params
 
@@ -355,6 +353,10 @@ def point_command(args: argparse.Namespace, wob: float, torque: float, **more: A
     for key, value in options.items():
         if value is not None:
             words += [f"--{key.replace('_', '-')}", shlex.quote(str(value))]
+    from .cli_string_lists import list_overrides
+
+    for key, values in list_overrides(args).items():  # map's check of a string of lists
+        words += [f"--{key}", ",".join(repr(v) for v in values)]
     for item in getattr(args, "set_params", None) or []:  # the string --set changed
         words += ["--set", shlex.quote(item)]
     return " ".join(words)
@@ -377,13 +379,19 @@ def string_inputs(args: argparse.Namespace, params: Any) -> dict[str, Any]:
     name under ``preset``; a tally's file, depth and lump under ``tally`` and the string it made
     under ``string``, with ``preset`` null (it held "paper-eq53 at 3001.5 m", no preset); the
     parameters ``--set`` changed under ``set``."""
+    from .cli_string_lists import list_overrides
+
+    lists = list_overrides(args)  # as simulate's inputs echo them: those given
     if args.tally is None:
-        return {"preset": params.name, **string_json(args)}
-    return {"preset": None, **string_json(args), "string": params.name}
+        return {"preset": params.name, **string_json(args), **lists}
+    return {"preset": None, **string_json(args), "string": params.name, **lists}
 
 
 def string_units(args: argparse.Namespace) -> dict[str, str]:
-    """The units of what :func:`string_json` echoes."""
+    """The units of what :func:`string_json` and :func:`string_inputs` echo."""
+    from .cli_string_lists import LIST_UNITS, list_overrides
+
     # (a friction coefficient is a pure number, as the JSON's other ratios)
     units = {n: "1" if n.startswith("mu_") else _UNITS[n] for n in set_params(args)}
+    units.update({key: LIST_UNITS[key] for key in list_overrides(args)})
     return units if args.tally is None else {"depth": "m", **units}

@@ -71,17 +71,23 @@ def test_a_set_name_suggested_is_one_set_takes(command, name, capsys):
 )
 def test_a_name_nearest_a_list_points_to_the_list_s_option(name, listed, option, capsys):
     """A name nearest a list of the chain is sent to the option that sets the list (simulate's
-    --inertias), which then runs; a command without it says only simulate has it."""
-    message = refusal(capsys, [*COMMANDS["simulate"], "--set", f"{name}=1"])
-    assert suggested(message) is None
-    assert f"(the {listed} are a list, one value per " in message and f"give {option})" in message
+    --inertias, and stability's), which then runs; a command without it names those that have
+    it (it said "only pydrill simulate" once stability had it too)."""
     values = {"inertias": "0.5,0.02,0.03", "stiffnesses": "1,1"}[listed]
-    code, _, err = run(capsys, *COMMANDS["simulate"], f"--{listed}", values)
-    assert code == 0, err
-    for command in ("stability", "string", "window"):
+    for command in ("simulate", "stability"):
+        message = refusal(capsys, [*COMMANDS[command], "--set", f"{name}=1"])
+        assert suggested(message) is None
+        assert f"(the {listed} are a list, one value per " in message
+        assert f"give {option})" in message
+        code, _, err = run(capsys, *COMMANDS[command], f"--{listed}", values)
+        assert code == 0, err
+    for command in ("string", "window"):
         message = refusal(capsys, [*COMMANDS[command], "--set", f"{name}=1"])
         assert suggested(message) is None, message
-        assert f"only pydrill simulate changes them, with {option}" in message
+        assert "only pydrill simulate" not in message
+        assert f"pydrill simulate, stability, hopf, bifurcation and map do, with {option}" in (
+            message
+        )
 
 
 def test_a_spec_key_nearest_a_list_says_it_is_a_list():

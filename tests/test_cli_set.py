@@ -91,7 +91,8 @@ def test_a_tally_string_takes_set_too():
          "you mean 'bit_damping'?); --set takes top_damping"),
         ("stability", "wob=3", "--set 'wob=3': wob has an option of its own: give --wob"),
         ("simulate", "inertias=1", "inertias is a list, one value per inertia: give --inertias"),
-        ("stability", "stiffnesses=1", "stiffnesses is a list, one value per link; --set"),
+        ("stability", "stiffnesses=1", "stiffnesses is a list, one value per link: give "
+         "--stiffnesses K0,K1,...; --set"),
         ("stability", "bit_radius=3 kg", "--set 'bit_radius=3 kg': bit_radius = '3 kg': unit "
          "'kg' is not a length unit"),
         ("stability", "bit_radius", "--set 'bit_radius': expected NAME=VALUE"),
