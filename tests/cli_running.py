@@ -1,6 +1,8 @@
 """Running ``pydrill`` in the test's own process, for tests of what it prints."""
 
 import json
+import subprocess
+import sys
 
 from pydrill import cli
 
@@ -30,3 +32,17 @@ def ok_text(capsys, *args) -> str:
 def ok_json(capsys, *args):
     """The document ``pydrill ARGS --json`` prints; its exit status must be 0."""
     return json.loads(ok_text(capsys, *args, "--json"))
+
+
+def spawn(*args):
+    """``pydrill ARGS`` run as a new process (``python -m pydrill``), as a shell runs it: its
+    completed process, stdout and stderr as text."""
+    cmd = [sys.executable, "-m", "pydrill", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+
+
+def spawn_json(*args):
+    """The document ``pydrill ARGS --json`` prints as a new process; its exit status must be 0."""
+    proc = spawn(*args, "--json")
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout)

@@ -4,18 +4,16 @@ Python API builds from the same lists (``pydrill.Params``, every other value typ
 the reduced-scale preset's documented values, not read from the preset), a list of the wrong
 length is refused naming its option, and --set's hint on a list's name points to the option."""
 
-import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+from cli_running import spawn as run
+from cli_running import spawn_json as run_json
 
 import pydrill
 from pydrill import stability as st
 from pydrill.cli import build_parser
 
-CMD = [sys.executable, "-m", "pydrill"]
 TALLY = Path(__file__).resolve().parents[1] / "examples" / "tallies" / "paper-eq53.toml"
 
 INERTIAS, STIFFNESSES, DAMPINGS = (0.5, 0.3, 0.4), (2.0, 3.0), (0.01, 0.02)
@@ -40,16 +38,6 @@ COMMANDS = {
     "bifurcation": ["bifurcation", "--vary", "wob", "--torque", "8.3"],
     "map": ["map"],
 }
-
-
-def run(*args):
-    return subprocess.run([*CMD, *args], capture_output=True, text=True, timeout=300)
-
-
-def run_json(*args):
-    proc = run(*args, "--json")
-    assert proc.returncode == 0, proc.stderr
-    return json.loads(proc.stdout)
 
 
 def test_stability_of_lists_is_the_apis_of_that_string():

@@ -3,27 +3,16 @@ every command that builds a string (simulate, stability, hopf, map, bifurcation)
 compared with the Python API on the same parameters, built independently."""
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+from cli_running import spawn as run
+from cli_running import spawn_json as run_json
 
 import pydrill
 from pydrill import stability as st
 
-CMD = [sys.executable, "-m", "pydrill"]
 TALLY = Path(__file__).resolve().parents[1] / "examples" / "tallies" / "paper-eq53.toml"
-
-
-def run(*args):
-    return subprocess.run([*CMD, *args], capture_output=True, text=True, timeout=300)
-
-
-def run_json(*args):
-    proc = run(*args, "--json")
-    assert proc.returncode == 0, proc.stderr
-    return json.loads(proc.stdout)
 
 
 def test_simulate_takes_set_values_with_their_units():
